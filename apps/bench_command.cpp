@@ -1,0 +1,81 @@
+// `fibrodem bench`: Google Benchmark suites of the hot loops. Speed is
+// measured here, never in timed tests. Reported counter: cell_steps_per_s
+// (cells x steps / wall time, Hustad & Cai 2022).
+#include <benchmark/benchmark.h>
+
+#include <iostream>
+
+#include "apps/commands.hpp"
+#include "integrate/fixed_step.hpp"
+#include "model/plugin_registry.hpp"
+#include "model/population.hpp"
+
+namespace fibrodem::cli {
+
+namespace {
+
+constexpr std::size_t kBlockCells = 10000;
+
+Population block_of(std::shared_ptr<const CellModel> model) {
+  Population pop;
+  pop.model = std::move(model);
+  for (const auto& p : pop.info().parameters) pop.params.push_back(p.default_value);
+  for (const auto& s : pop.info().states) pop.initial_state.push_back(s.initial);
+  pop.voltage_state = pop.info().voltage_state;
+  pop.cells.resize(kBlockCells);
+  pop.reset();
+  return pop;
+}
+
+// One evaluation of the model's derivatives over a block of 10^4 cells.
+void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> model) {
+  Population pop = block_of(std::move(model));
+  for (auto _ : state) {
+    pop.evaluate(0.0);
+    benchmark::DoNotOptimize(pop.a.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["cell_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
+}
+
+// A whole Rush-Larsen step (evaluate + update) over a block of 10^4 cells.
+void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel> model) {
+  Population pop = block_of(std::move(model));
+  FixedStepIntegrator rl(FixedStepIntegrator::Rule::rush_larsen, 0.01);
+  for (auto _ : state) {
+    pop.evaluate(0.0);
+    rl.update_states(pop, 0.01);
+    benchmark::ClobberMemory();
+  }
+  state.counters["cell_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+int bench_command(const char* program, const std::vector<std::string>& args) {
+  PluginRegistry registry;
+  std::vector<std::shared_ptr<const CellModel>> models;
+  for (const auto& name : registry.available()) {
+    auto model = registry.load(name);
+    if (model->info().kind != ModelKind::ionic) continue;
+    models.push_back(model);
+    benchmark::RegisterBenchmark(("evaluate_block_1e4/" + name).c_str(), evaluate_block, model)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model)
+        ->Unit(benchmark::kMicrosecond);
+  }
+  std::vector<std::string> storage = {program};
+  storage.insert(storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : storage) argv.push_back(s.data());
+  int argc = static_cast<int>(argv.size());
+  benchmark::Initialize(&argc, argv.data());
+  if (benchmark::ReportUnrecognizedArguments(argc, argv.data())) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace fibrodem::cli

@@ -1,0 +1,41 @@
+// The `fibrodem` command line (DESIGN.md, "Command line").
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <unistd.h>
+
+#include "apps/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fibrodem: cardiac tissue cell by cell (electrophysiology, coupling, mechanics)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("fibrodem ") + FIBRODEM_VERSION);
+
+  fibrodem::cli::RunArgs run_args;
+  auto* run = app.add_subcommand("run", "Run the scene of a manifest and write its output directory");
+  run->add_option("manifest", run_args.manifest, "experiment manifest (JSON)")->required();
+  run->add_option("--out", run_args.out, "output directory (default: the manifest's output.dir, else out/NAME)");
+  run->add_option("--set", run_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
+  run->add_flag("--quiet", run_args.quiet, "log to run.log only");
+
+  fibrodem::cli::RunArgs validate_args;
+  auto* validate = app.add_subcommand("validate", "Check a manifest (and build its scene) without running it");
+  validate->add_option("manifest", validate_args.manifest, "experiment manifest (JSON)")->required();
+  validate->add_option("--set", validate_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
+
+  bool plugins_json = false;
+  auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
+  plugins->add_flag("--json", plugins_json, "print JSON instead of text");
+
+  auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through)");
+  bench->allow_extras();
+
+  CLI11_PARSE(app, argc, argv);
+
+  if (*run) return fibrodem::cli::run_command(run_args);
+  if (*validate) return fibrodem::cli::validate_command(validate_args);
+  if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
+  if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
+  return 0;
+}

@@ -1,0 +1,20 @@
+// A Coupler computes the currents that flow between cells (seed paper eq. 4-5)
+// and can advance the coupling alone implicitly, so that strong coupling stays
+// stable at the step the cell models need (operator splitting).
+#pragma once
+
+namespace fibrodem {
+
+class Coupler {
+ public:
+  virtual ~Coupler() = default;
+  // Adds the current into each cell [pA, + depolarising] for potentials V [mV].
+  virtual void add_current(const double* V_mV, double* i_ext_pA) const = 0;
+  // Advances C dV/dt = I_gap(V) alone over dt by backward Euler, in place.
+  virtual void implicit_step(double* V_mV, double dt_ms) = 0;
+  // Gershgorin bound on the fastest coupling rate |lambda| [1/ms]: forward
+  // Euler on the coupling is stable for dt < 2 / rate.
+  virtual double max_rate_per_ms() const = 0;
+};
+
+}  // namespace fibrodem

@@ -1,0 +1,203 @@
+#include "integrate/cvode_integrator.hpp"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_band.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_band.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace fibrodem {
+
+namespace {
+
+// Where each cell's states live in CVODE's vector (cell-major).
+struct Layout {
+  std::vector<std::size_t> offset;  // per global cell
+  std::size_t size = 0;
+  long half_bandwidth = 0;
+
+  explicit Layout(const CellSystem& sys) {
+    offset.resize(sys.cell_count());
+    for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
+      offset[cell] = size;
+      size += population(sys, cell).n_states();
+    }
+    // A cell's derivatives depend on all its own states and, through the
+    // coupling current, on its neighbours' potentials.
+    for (std::size_t cell = 0; cell < sys.cell_count(); ++cell)
+      half_bandwidth = std::max(half_bandwidth, static_cast<long>(population(sys, cell).n_states()) - 1);
+    if (sys.coupler)
+      for (const auto& [i, j] : sys.coupled_pairs) {
+        half_bandwidth = std::max({half_bandwidth, reach(sys, i, j), reach(sys, j, i)});
+      }
+  }
+
+ private:
+  static const Population& population(const CellSystem& sys, std::size_t cell) {
+    return sys.populations[sys.where[cell].first];
+  }
+  // Farthest distance from the rows of `cell` to the potential of `neighbour`.
+  long reach(const CellSystem& sys, int cell, int neighbour) const {
+    const long v = static_cast<long>(offset[neighbour]) + population(sys, neighbour).voltage_state;
+    const long first = static_cast<long>(offset[cell]);
+    const long last = first + static_cast<long>(population(sys, cell).n_states()) - 1;
+    return std::max(std::abs(first - v), std::abs(last - v));
+  }
+};
+
+struct Context {
+  CellSystem* system = nullptr;
+  const Layout* layout = nullptr;
+  double t_stimulus = 0;  // the stimulus is evaluated here for the whole interval
+  std::string error;
+};
+
+void unpack(const Layout& layout, CellSystem& sys, const double* y) {
+  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
+    const auto [p, c] = sys.where[cell];
+    Population& pop = sys.populations[p];
+    const std::size_t n = pop.size();
+    for (std::size_t k = 0; k < pop.n_states(); ++k) pop.y[k * n + c] = y[layout.offset[cell] + k];
+  }
+}
+
+int right_hand_side(double t, N_Vector y, N_Vector ydot, void* user) {
+  auto& ctx = *static_cast<Context*>(user);
+  CellSystem& sys = *ctx.system;
+  unpack(*ctx.layout, sys, N_VGetArrayPointer(y));
+  sys.compute_inputs(ctx.t_stimulus);
+  sys.evaluate(t);
+  double* f = N_VGetArrayPointer(ydot);
+  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
+    const auto [p, c] = sys.where[cell];
+    const Population& pop = sys.populations[p];
+    const std::size_t n = pop.size();
+    for (std::size_t k = 0; k < pop.n_states(); ++k) {
+      const double value = pop.a[k * n + c] + pop.b[k * n + c] * pop.y[k * n + c];
+      if (!std::isfinite(value)) return 1;  // recoverable: CVODE retries with a smaller step
+      f[ctx.layout->offset[cell] + k] = value;
+    }
+  }
+  return 0;
+}
+
+void record_error(int /*code*/, const char* module, const char* function, char* message, void* user) {
+  auto& ctx = *static_cast<Context*>(user);
+  ctx.error = std::string(module) + "::" + function + ": " + message;
+}
+
+void check(int flag, const char* what, const Context& ctx) {
+  if (flag < 0)
+    throw std::runtime_error(std::string("CVODE ") + what + " failed (flag " + std::to_string(flag) +
+                             ")" + (ctx.error.empty() ? "" : ": " + ctx.error));
+}
+
+}  // namespace
+
+void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, StepObserver& observer) {
+  Layout layout(system);
+  Context ctx;
+  ctx.system = &system;
+  ctx.layout = &layout;
+
+  SUNContext sun = nullptr;
+  if (SUNContext_Create(nullptr, &sun) != 0) throw std::runtime_error("CVODE: cannot create a context");
+  struct Guard {
+    SUNContext sun;
+    void* mem = nullptr;
+    N_Vector y = nullptr, dky = nullptr;
+    SUNMatrix A = nullptr;
+    SUNLinearSolver ls = nullptr;
+    ~Guard() {
+      if (ls) SUNLinSolFree(ls);
+      if (A) SUNMatDestroy(A);
+      if (y) N_VDestroy(y);
+      if (dky) N_VDestroy(dky);
+      if (mem) CVodeFree(&mem);
+      SUNContext_Free(&sun);
+    }
+  } g{sun};
+
+  const auto n = static_cast<sunindextype>(layout.size);
+  g.y = N_VNew_Serial(n, sun);
+  g.dky = N_VNew_Serial(n, sun);
+  double* y = N_VGetArrayPointer(g.y);
+  for (std::size_t cell = 0; cell < system.cell_count(); ++cell) {
+    const auto [p, c] = system.where[cell];
+    const Population& pop = system.populations[p];
+    for (std::size_t k = 0; k < pop.n_states(); ++k) y[layout.offset[cell] + k] = pop.state(static_cast<int>(k), c);
+  }
+
+  g.mem = CVodeCreate(CV_BDF, sun);
+  check(CVodeSetErrHandlerFn(g.mem, record_error, &ctx), "SetErrHandlerFn", ctx);
+  check(CVodeInit(g.mem, right_hand_side, t_start, g.y), "Init", ctx);
+  check(CVodeSStolerances(g.mem, spec_.rtol, spec_.atol), "SStolerances", ctx);
+  check(CVodeSetUserData(g.mem, &ctx), "SetUserData", ctx);
+  check(CVodeSetMaxNumSteps(g.mem, 10000000), "SetMaxNumSteps", ctx);
+
+  // A band solver pays only when the band is narrow compared with the system.
+  const long half = std::min<long>(layout.half_bandwidth, n - 1);
+  const bool band = spec_.linear_solver == "band" ||
+                    (spec_.linear_solver == "auto" && n > 200 && 4 * (2 * half + 1) < n);
+  if (band) {
+    g.A = SUNBandMatrix(n, half, half, sun);
+    g.ls = SUNLinSol_Band(g.y, g.A, sun);
+    linear_solver_used_ = "band (half-bandwidth " + std::to_string(half) + ")";
+  } else {
+    g.A = SUNDenseMatrix(n, n, sun);
+    g.ls = SUNLinSol_Dense(g.y, g.A, sun);
+    linear_solver_used_ = "dense";
+  }
+  check(CVodeSetLinearSolver(g.mem, g.ls, g.A), "SetLinearSolver", ctx);
+
+  double max_step = spec_.max_step_ms;
+  if (max_step <= 0) max_step = system.stimulus.shortest_pulse_ms();
+  if (std::isfinite(max_step)) check(CVodeSetMaxStep(g.mem, max_step), "SetMaxStep", ctx);
+
+  std::vector<double> dVdt(system.cell_count());
+  double t = t_start;
+  while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
+  while (t < t_end - kTimeEpsilon_ms) {
+    const double stop = std::min(t_end, system.stimulus.next_edge_after(t));
+    ctx.t_stimulus = 0.5 * (t + stop);
+    check(CVodeReInit(g.mem, t, g.y), "ReInit", ctx);
+    check(CVodeSetStopTime(g.mem, stop), "SetStopTime", ctx);
+    while (t < stop - kTimeEpsilon_ms) {
+      const double t_old = t;
+      const int flag = CVode(g.mem, stop, g.y, &t, CV_ONE_STEP);
+      check(flag, "step", ctx);
+      ++steps_;
+      // Samples inside the step, from CVODE's interpolating polynomial.
+      while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) {
+        const double ts = observer.next_sample_ms();
+        check(CVodeGetDky(g.mem, std::min(ts, t), 0, g.dky), "GetDky", ctx);
+        unpack(layout, system, N_VGetArrayPointer(g.dky));
+        observer.on_sample(ts);
+      }
+      unpack(layout, system, y);
+      check(CVodeGetDky(g.mem, t, 1, g.dky), "GetDky", ctx);
+      const double* dy = N_VGetArrayPointer(g.dky);
+      for (std::size_t cell = 0; cell < system.cell_count(); ++cell)
+        dVdt[cell] = dy[layout.offset[cell] + system.populations[system.where[cell].first].voltage_state];
+      observer.on_step(t_old, t, dVdt.data());
+    }
+    t = stop;
+  }
+  unpack(layout, system, y);
+}
+
+std::string CvodeIntegrator::describe() const {
+  std::ostringstream s;
+  s << "CVODE BDF/Newton, rtol " << spec_.rtol << ", atol " << spec_.atol << ", "
+    << (linear_solver_used_.empty() ? spec_.linear_solver : linear_solver_used_) << " linear solver";
+  return s.str();
+}
+
+}  // namespace fibrodem

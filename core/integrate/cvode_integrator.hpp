@@ -1,0 +1,35 @@
+// SUNDIALS CVODE (BDF + Newton) over the coupled system of a small tissue:
+// every cell's states and the gap-junction currents between them in one ODE
+// system, with a dense or banded direct linear solver (finite-difference
+// Jacobian). The stiff, accurate reference.
+//
+// Hygiene (Myokit issue #67, Chaste AbstractCvodeCell): CVODE stops at every
+// stimulus edge and is re-initialised there, and its step never exceeds the
+// shortest pulse, so it cannot step over a stimulus. Within an interval
+// between edges the stimulus is constant (its value at the interval's middle).
+// States are packed cell by cell, so a strand gives a narrow band.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "integrate/integrator.hpp"
+
+namespace fibrodem {
+
+class CvodeIntegrator final : public Integrator {
+ public:
+  explicit CvodeIntegrator(const SolverSpec& spec) : spec_(spec) {}
+  void advance(CellSystem& system, double t_start_ms, double t_end_ms,
+               StepObserver& observer) override;
+  std::string describe() const override;
+
+  long steps_taken() const { return steps_; }
+
+ private:
+  SolverSpec spec_;
+  long steps_ = 0;
+  std::string linear_solver_used_;
+};
+
+}  // namespace fibrodem

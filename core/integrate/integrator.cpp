@@ -1,0 +1,15 @@
+#include "integrate/integrator.hpp"
+
+#include "integrate/cvode_integrator.hpp"
+#include "integrate/fixed_step.hpp"
+
+namespace fibrodem {
+
+std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver) {
+  if (solver.method == "cvode") return std::make_unique<CvodeIntegrator>(solver);
+  const auto rule = solver.method == "euler" ? FixedStepIntegrator::Rule::euler
+                                             : FixedStepIntegrator::Rule::rush_larsen;
+  return std::make_unique<FixedStepIntegrator>(rule, solver.dt_ms);
+}
+
+}  // namespace fibrodem

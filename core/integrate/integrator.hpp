@@ -1,0 +1,39 @@
+// An Integrator advances a CellSystem in time and reports each of its own
+// steps (so biomarkers see every step, not only output samples) and the
+// states at requested sample times.
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "integrate/cell_system.hpp"
+#include "scene/scene.hpp"
+
+namespace fibrodem {
+
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  // The next time at which the observer wants the state (+inf: none).
+  virtual double next_sample_ms() const = 0;
+  // The populations hold the state at t.
+  virtual void on_sample(double t_ms) = 0;
+  // One integrator step done; the populations hold the state at t_new.
+  // dVdt (per global cell) is the integrator's own derivative at t_new where it
+  // has one (CVODE); null means: use the difference quotient over the step.
+  virtual void on_step(double t_old_ms, double t_new_ms, const double* dVdt) = 0;
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // Advances from t_start to t_end.
+  virtual void advance(CellSystem& system, double t_start_ms, double t_end_ms,
+                       StepObserver& observer) = 0;
+  virtual std::string describe() const = 0;
+};
+
+std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver);
+
+}  // namespace fibrodem

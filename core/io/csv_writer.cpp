@@ -1,0 +1,39 @@
+#include "io/csv_writer.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+namespace fibrodem {
+
+std::string format_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+CsvWriter::CsvWriter(const std::filesystem::path& file, const std::vector<std::string>& header)
+    : out_(file, std::ios::trunc) {
+  if (!out_) throw std::runtime_error("cannot write " + file.string());
+  for (const auto& h : header) cell(h);
+  end_row();
+}
+
+CsvWriter& CsvWriter::cell(const std::string& value) {
+  if (!first_in_row_) out_ << ',';
+  out_ << value;
+  first_in_row_ = false;
+  return *this;
+}
+
+CsvWriter& CsvWriter::cell(double value) { return cell(format_number(value)); }
+CsvWriter& CsvWriter::cell(long long value) { return cell(std::to_string(value)); }
+
+void CsvWriter::end_row() {
+  out_ << '\n';
+  first_in_row_ = true;
+}
+
+}  // namespace fibrodem

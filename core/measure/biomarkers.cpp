@@ -1,0 +1,91 @@
+#include "measure/biomarkers.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fibrodem {
+
+BiomarkerTracker::BiomarkerTracker(std::vector<CellType> types, std::vector<double> onsets,
+                                   double from_ms, std::function<void(const BeatBiomarkers&)> on_beat)
+    : types_(std::move(types)), onsets_(std::move(onsets)), from_ms_(from_ms),
+      on_beat_(std::move(on_beat)), cells_(types_.size()) {}
+
+void BiomarkerTracker::start(double /*t_ms*/, const double* V) {
+  for (std::size_t c = 0; c < cells_.size(); ++c) cells_[c] = Cell{V[c], V[c]};
+  // Without stimulus the run is one beat whose RMP is the initial V; with one,
+  // beats open at the onsets.
+  beat_ = onsets_.empty() ? 0 : -1;
+}
+
+void BiomarkerTracker::open_beat(double onset, double t_old, double t_new, const double* V) {
+  close_beat();
+  ++beat_;
+  const double w = t_new > t_old ? std::clamp((onset - t_old) / (t_new - t_old), 0.0, 1.0) : 0.0;
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    const double v_onset = cells_[c].v_prev + w * (V[c] - cells_[c].v_prev);
+    cells_[c] = Cell{cells_[c].v_prev, v_onset};
+  }
+}
+
+void BiomarkerTracker::step(double t_old, double t_new, const double* V, const double* dVdt) {
+  while (next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new - 1e-9) {
+    open_beat(onsets_[next_onset_], t_old, t_new, V);
+    ++next_onset_;
+  }
+  if (beat_ < 0) {
+    for (std::size_t c = 0; c < cells_.size(); ++c) cells_[c].v_prev = V[c];
+    return;
+  }
+  const double h = t_new - t_old;
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    Cell& s = cells_[c];
+    const double slope = dVdt ? dVdt[c] : (V[c] - s.v_prev) / h;
+    const double t_slope = dVdt ? t_new : t_old + 0.5 * h;
+    if (slope > s.dvdt_max) {
+      s.dvdt_max = slope;
+      s.t_act = t_slope;
+    }
+    if (V[c] > s.peak) {
+      s.peak = V[c];
+      s.t_peak = t_new;
+      s.cross50 = s.cross90 = -1;  // a new peak: repolarisation not yet seen
+    } else {
+      const double amplitude = s.peak - s.rmp;
+      auto crossing = [&](double fraction, double& t_cross) {
+        const double level = s.peak - fraction * amplitude;
+        if (s.v_prev >= level && V[c] < level)
+          t_cross = t_old + h * (s.v_prev - level) / (s.v_prev - V[c]);
+      };
+      crossing(0.5, s.cross50);
+      crossing(0.9, s.cross90);
+    }
+    s.v_prev = V[c];
+  }
+}
+
+void BiomarkerTracker::close_beat() {
+  if (beat_ < 0) return;
+  const double onset = onsets_.empty() ? 0.0 : onsets_[beat_];
+  if (onset + 1e-9 < from_ms_) return;
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    const Cell& s = cells_[c];
+    BeatBiomarkers b;
+    b.cell = static_cast<int>(c);
+    b.type = types_[c];
+    b.beat = beat_;
+    b.activation_ms = s.t_act;
+    b.rmp_mV = s.rmp;
+    b.apo_mV = s.peak;
+    b.dvdt_max_mV_per_ms = s.dvdt_max;
+    if (s.cross50 >= 0) b.apd50_ms = s.cross50 - s.t_act;
+    if (s.cross90 >= 0) b.apd90_ms = s.cross90 - s.t_act;
+    on_beat_(b);
+  }
+}
+
+void BiomarkerTracker::finish() {
+  close_beat();
+  beat_ = -1;
+}
+
+}  // namespace fibrodem

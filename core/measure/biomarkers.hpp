@@ -1,0 +1,61 @@
+// Action-potential biomarkers per cell and beat, measured on the fly at every
+// integrator step (REFERENCES.md section 3; seed paper section 3):
+//   activation time  time of max dV/dt in the beat
+//   RMP              V just before the beat's stimulus onset
+//   APO              peak potential (signed: a fibroblast's may be negative)
+//   APD_X            activation to the last downward crossing of
+//                    V_peak - X/100 * (V_peak - RMP) after the peak (APD90, APD50)
+//   max dV/dt        from the integrator's own steps
+// A beat runs from one stimulus onset to the next (or to the end of the run);
+// without stimulus the whole run is one beat.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+struct BeatBiomarkers {
+  int cell = 0;
+  CellType type = CellType::myocyte;
+  int beat = 0;
+  double activation_ms = 0, rmp_mV = 0, apo_mV = 0;
+  double apd50_ms = std::numeric_limits<double>::quiet_NaN();
+  double apd90_ms = std::numeric_limits<double>::quiet_NaN();
+  double dvdt_max_mV_per_ms = 0;
+};
+
+class BiomarkerTracker {
+ public:
+  // onsets: beat starts [ms]; beats starting before from_ms are not reported.
+  BiomarkerTracker(std::vector<CellType> types, std::vector<double> onsets_ms, double from_ms,
+                   std::function<void(const BeatBiomarkers&)> on_beat);
+
+  void start(double t_ms, const double* V_mV);
+  // One step from t_old to t_new; V at t_new per cell; dVdt at t_new or null.
+  void step(double t_old_ms, double t_new_ms, const double* V_mV, const double* dVdt);
+  // Ends the last beat (call once at the end of the run).
+  void finish();
+
+ private:
+  struct Cell {
+    double v_prev = 0, rmp = 0, peak = -1e300, t_peak = 0, dvdt_max = -1e300, t_act = 0;
+    double cross50 = -1, cross90 = -1;
+  };
+  void open_beat(double onset, double t_old, double t_new, const double* V);
+  void close_beat();
+
+  std::vector<CellType> types_;
+  std::vector<double> onsets_;
+  double from_ms_;
+  std::function<void(const BeatBiomarkers&)> on_beat_;
+  std::vector<Cell> cells_;
+  int beat_ = -1;           // index of the open beat
+  std::size_t next_onset_ = 0;
+};
+
+}  // namespace fibrodem

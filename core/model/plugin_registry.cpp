@@ -1,0 +1,131 @@
+#include "model/plugin_registry.hpp"
+
+#include <openssl/evp.h>
+
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/dll/shared_library.hpp>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+namespace fibrodem {
+namespace fs = std::filesystem;
+
+namespace {
+constexpr const char* kPrefix = "libfibrodem_";
+constexpr const char* kSuffix = ".so";
+
+std::string join_paths(const std::vector<fs::path>& paths) {
+  std::string s;
+  for (const auto& p : paths) s += (s.empty() ? "" : ", ") + p.string();
+  return s.empty() ? "(empty)" : s;
+}
+}  // namespace
+
+std::string sha256_of_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw PluginError("cannot read " + file.string() + " to hash it");
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
+  EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr);
+  std::vector<char> buf(1 << 16);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  EVP_DigestFinal_ex(ctx.get(), digest, &len);
+  std::ostringstream hex;
+  for (unsigned int i = 0; i < len; ++i)
+    hex << std::hex << std::setw(2) << std::setfill('0') << static_cast<int>(digest[i]);
+  return hex.str();
+}
+
+std::vector<fs::path> PluginRegistry::default_search_path() {
+  std::vector<fs::path> path;
+  if (const char* env = std::getenv("FIBRODEM_PLUGIN_PATH")) {
+    std::stringstream ss(env);
+    std::string dir;
+    while (std::getline(ss, dir, ':'))
+      if (!dir.empty()) path.emplace_back(dir);
+  }
+  const fs::path exe_dir = boost::dll::program_location().parent_path();
+  path.push_back(exe_dir / "plugins");
+  path.push_back(exe_dir.parent_path() / "plugins");
+  path.push_back(exe_dir.parent_path() / "lib" / "fibrodem" / "plugins");
+  return path;
+}
+
+PluginRegistry::PluginRegistry(std::vector<fs::path> search_path)
+    : search_path_(std::move(search_path)) {}
+
+std::vector<std::string> PluginRegistry::available() const {
+  std::set<std::string> names;
+  for (const auto& dir : search_path_) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string file = entry.path().filename().string();
+      if (file.rfind(kPrefix, 0) == 0 && file.size() > std::string(kPrefix).size() + 3 &&
+          file.substr(file.size() - 3) == kSuffix)
+        names.insert(file.substr(std::string(kPrefix).size(),
+                                 file.size() - std::string(kPrefix).size() - 3));
+    }
+  }
+  return {names.begin(), names.end()};
+}
+
+fs::path PluginRegistry::find_file(const std::string& name) const {
+  for (const auto& dir : search_path_) {
+    const fs::path candidate = dir / (kPrefix + name + kSuffix);
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec)) return candidate;
+  }
+  std::string found;
+  for (const auto& n : available()) found += (found.empty() ? "" : ", ") + n;
+  throw PluginError("no cell-model plugin named '" + name + "' (looked for " + kPrefix + name +
+                    kSuffix + " in: " + join_paths(search_path_) +
+                    "; models found: " + (found.empty() ? "none" : found) +
+                    "; set FIBRODEM_PLUGIN_PATH to add a directory)");
+}
+
+std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
+  if (auto it = models_.find(name); it != models_.end()) return it->second;
+  const fs::path file = find_file(name);
+
+  auto library = std::make_shared<boost::dll::shared_library>();
+  boost::dll::fs::error_code ec;
+  library->load(file, ec, boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local);
+  if (ec) throw PluginError("cannot load plugin " + file.string() + ": " + ec.message());
+  for (const char* symbol : {"fibrodem_abi_version", "fibrodem_create_cell_model"})
+    if (!library->has(symbol))
+      throw PluginError("plugin " + file.string() + " has no entry point '" + symbol +
+                        "' (define it with FIBRODEM_CELL_MODEL_PLUGIN)");
+  const int abi = library->get<int()>("fibrodem_abi_version")();
+  if (abi != kPluginAbiVersion)
+    throw PluginError("plugin " + file.string() + " was built for plugin ABI " +
+                      std::to_string(abi) + " but this fibrodem expects ABI " +
+                      std::to_string(kPluginAbiVersion) + "; rebuild the plugin");
+
+  CellModel* raw = library->get<CellModel*()>("fibrodem_create_cell_model")();
+  if (raw == nullptr) throw PluginError("plugin " + file.string() + " created no model");
+  // The deleter owns the library: it is unloaded only after the model is gone.
+  std::shared_ptr<const CellModel> model(raw, [library](const CellModel* m) { delete m; });
+  if (model->info().name != name)
+    throw PluginError("plugin " + file.string() + " calls its model '" + model->info().name +
+                      "', expected '" + name + "'");
+
+  records_[name] = PluginRecord{name, model->info().version, file, sha256_of_file(file)};
+  models_[name] = model;
+  return model;
+}
+
+std::vector<PluginRecord> PluginRegistry::loaded() const {
+  std::vector<PluginRecord> out;
+  for (const auto& [name, record] : records_) out.push_back(record);
+  return out;
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,47 @@
+#include "model/population.hpp"
+
+namespace fibrodem {
+
+void Population::reset() {
+  const std::size_t n = size();
+  y.assign(n_states() * n, 0.0);
+  a.assign(n_states() * n, 0.0);
+  b.assign(n_states() * n, 0.0);
+  inputs.assign(std::max<std::size_t>(1, info().inputs.size()) * n, 0.0);
+  outputs.assign(info().outputs.size() * n, 0.0);
+  for (std::size_t k = 0; k < n_states(); ++k)
+    for (std::size_t c = 0; c < n; ++c) y[k * n + c] = initial_state[k];
+}
+
+BlockView Population::view() {
+  BlockView v;
+  v.begin = 0;
+  v.end = size();
+  v.stride = size();
+  v.y = y.data();
+  v.params = params.data();
+  v.inputs = inputs.data();
+  v.a = a.data();
+  v.b = b.data();
+  v.outputs = outputs.empty() ? nullptr : outputs.data();
+  return v;
+}
+
+void Population::evaluate(double t_ms) { model->evaluate(view(), t_ms); }
+
+namespace {
+template <class List>
+int find_named(const List& list, const std::string& name) {
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+}  // namespace
+
+int find_state(const ModelInfo& info, const std::string& name) { return find_named(info.states, name); }
+int find_parameter(const ModelInfo& info, const std::string& name) {
+  return find_named(info.parameters, name);
+}
+int find_output(const ModelInfo& info, const std::string& name) { return find_named(info.outputs, name); }
+
+}  // namespace fibrodem

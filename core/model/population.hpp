@@ -1,0 +1,46 @@
+// A Population is the block of all cells of one cell type, run by one cell
+// model: states, derivatives (a, b), inputs and outputs in structure-of-arrays
+// layout, and one parameter vector for the block.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/cell_model.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+struct Population {
+  CellType type = CellType::myocyte;
+  std::shared_ptr<const CellModel> model;
+  std::string variant;
+  std::vector<int> cells;  // global cell index of each local cell
+  std::vector<double> params;
+  std::vector<double> initial_state;  // per state (after the variant)
+  std::vector<double> y, a, b, inputs, outputs;
+  int voltage_state = -1;
+  double capacitance_pF = 0;
+
+  const ModelInfo& info() const { return model->info(); }
+  std::size_t size() const { return cells.size(); }
+  std::size_t n_states() const { return info().states.size(); }
+
+  // Sizes the arrays and puts every cell at the initial state.
+  void reset();
+  double& state(int k, std::size_t local) { return y[k * size() + local]; }
+  double state(int k, std::size_t local) const { return y[k * size() + local]; }
+  double* voltage() { return y.data() + voltage_state * size(); }
+  double* i_ext() { return inputs.data(); }  // input 0 of an ionic model
+  // Evaluates a, b and outputs for the whole block at time t.
+  void evaluate(double t_ms);
+  BlockView view();
+};
+
+// Index of a named state / parameter / output, or -1.
+int find_state(const ModelInfo& info, const std::string& name);
+int find_parameter(const ModelInfo& info, const std::string& name);
+int find_output(const ModelInfo& info, const std::string& name);
+
+}  // namespace fibrodem

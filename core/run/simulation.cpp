@@ -1,0 +1,431 @@
+#include "run/simulation.hpp"
+
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/sinks/null_sink.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "coupling/gap_junction.hpp"
+#include "integrate/cell_system.hpp"
+#include "integrate/integrator.hpp"
+#include "io/csv_writer.hpp"
+#include "run/population_setup.hpp"
+
+namespace fibrodem {
+namespace fs = std::filesystem;
+
+namespace {
+
+// A traced quantity: a state or an output of one cell.
+struct TraceColumn {
+  std::string variable;
+  int cell = 0;
+  int population = 0;
+  std::size_t local = 0;
+  bool is_output = false;
+  int index = 0;
+};
+
+std::string list_names(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+}  // namespace
+
+struct Simulation::Impl : StepObserver {
+  Scene scene;
+  RunOptions options;
+  std::shared_ptr<PluginRegistry> registry;
+  Tissue tissue;
+  ProcessPlan plan;
+  CellSystem system;
+  std::unique_ptr<Integrator> integrator;
+  std::shared_ptr<spdlog::logger> log;
+
+  std::vector<TraceColumn> columns;
+  bool traces_need_outputs = false;
+  std::vector<double> times;
+  std::vector<std::vector<double>> samples;  // per column
+  long long next_sample_index = 0;
+  std::vector<BeatBiomarkers> beats;
+  std::unique_ptr<BiomarkerTracker> tracker;
+
+  fs::path out;
+  CsvWriter traces_csv, biomarkers_csv;
+  std::string status = "set up";
+  std::string error;
+  double wall_s = 0;
+  long long steps = 0;
+  std::chrono::steady_clock::time_point started, last_progress, last_flush;
+
+  Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
+      : scene(s), options(o), registry(std::move(r)) {
+    if (!registry) registry = std::make_shared<PluginRegistry>();
+    make_logger();
+    tissue = scene.tissue->build(scene.seed);
+    plan = plan_processes(scene, tissue);
+    build_populations();
+    build_coupling();
+    system.stimulus = Stimulus(scene.stimuli, tissue);
+    resolve_traces();
+    integrator = make_integrator(scene.solver);
+    check_explicit_stability();
+  }
+
+  void make_logger() {
+    std::vector<spdlog::sink_ptr> sinks;
+    if (options.console_log) sinks.push_back(std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
+    if (sinks.empty()) sinks.push_back(std::make_shared<spdlog::sinks::null_sink_mt>());
+    log = std::make_shared<spdlog::logger>("fibrodem", sinks.begin(), sinks.end());
+    log->set_pattern("[%H:%M:%S.%e] [%l] %v");
+    log->set_level(spdlog::level::info);
+  }
+
+  void build_populations() {
+    std::map<CellType, int> population_of;
+    for (CellType type : {CellType::myocyte, CellType::fibroblast}) {
+      const std::size_t count = tissue.count(type);
+      const auto spec = scene.cells.find(type);
+      if (count == 0) {
+        if (spec != scene.cells.end())
+          plan.notes.push_back(std::string("cells.") + cell_type_name(type) +
+                               " not loaded: the tissue has no " + cell_type_name(type));
+        continue;
+      }
+      if (spec == scene.cells.end())
+        throw ManifestError(std::string("cells.") + cell_type_name(type),
+                            "the tissue has " + std::to_string(count) + " " + cell_type_name(type) +
+                                "(s) but the manifest gives them no cell model");
+      population_of[type] = static_cast<int>(system.populations.size());
+      system.populations.push_back(make_population(type, spec->second, *registry));
+    }
+    system.where.resize(tissue.cell_count());
+    for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell) {
+      const int p = population_of.at(tissue.type[cell]);
+      system.where[cell] = {p, system.populations[p].cells.size()};
+      system.populations[p].cells.push_back(static_cast<int>(cell));
+    }
+    for (auto& pop : system.populations) pop.reset();
+    system.V_mV.assign(tissue.cell_count(), 0.0);
+    system.i_ext_pA.assign(tissue.cell_count(), 0.0);
+  }
+
+  void build_coupling() {
+    if (!plan.has("coupling")) return;
+    std::vector<double> capacitance(tissue.cell_count());
+    for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
+      capacitance[cell] = system.populations[system.where[cell].first].capacitance_pF;
+    system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.D_m_nS,
+                                                          scene.coupling.D_f_nS, capacitance);
+    system.coupled_pairs = tissue.cell_edges;
+    system.implicit_coupling = scene.coupling.scheme == "implicit" && scene.solver.method != "cvode";
+  }
+
+  void resolve_traces() {
+    const TraceSpec& spec = scene.output.traces;
+    for (std::size_t i = 0; i < spec.cells.size(); ++i) {
+      const int cell = spec.cells[i];
+      if (cell >= static_cast<int>(tissue.cell_count()))
+        throw ManifestError(index_path("output.traces.cells", i),
+                            "cell " + std::to_string(cell) + " does not exist (the tissue has " +
+                                std::to_string(tissue.cell_count()) + " cells)");
+      for (std::size_t j = 0; j < spec.variables.size(); ++j) {
+        const std::string& var = spec.variables[j];
+        const auto [p, local] = system.where[cell];
+        const ModelInfo& info = system.populations[p].info();
+        TraceColumn col{var, cell, p, static_cast<std::size_t>(local), false, find_state(info, var)};
+        if (col.index < 0) {
+          col.is_output = true;
+          col.index = find_output(info, var);
+        }
+        if (col.index < 0) {
+          std::vector<std::string> names;
+          for (const auto& s : info.states) names.push_back(s.name);
+          for (const auto& o : info.outputs) names.push_back(o.name);
+          throw ManifestError(index_path("output.traces.variables", j),
+                              "\"" + var + "\" is neither a state nor an output of model " + info.name +
+                                  " (cell " + std::to_string(cell) + "); it has: " + list_names(names));
+        }
+        traces_need_outputs = traces_need_outputs || col.is_output;
+        columns.push_back(col);
+      }
+    }
+    samples.assign(columns.size(), {});
+    if (scene.solver.method != "cvode") {
+      for (const auto& [value, path] : {std::pair{spec.every_ms, "output.traces.every_ms"},
+                                        std::pair{spec.from_ms, "output.traces.from_ms"}}) {
+        const double steps_per = value / scene.solver.dt_ms;
+        if (std::abs(steps_per - std::round(steps_per)) > 1e-6 * std::max(1.0, steps_per))
+          throw ManifestError(path, "expected a multiple of solver.dt_ms (" +
+                                        format_number(scene.solver.dt_ms) + " ms) for a fixed-step "
+                                        "method, got " + format_number(value));
+      }
+    }
+  }
+
+  void check_explicit_stability() {
+    if (scene.solver.method == "cvode" || !system.coupler || system.implicit_coupling) return;
+    const double rate = system.coupler->max_rate_per_ms();
+    if (rate > 0 && scene.solver.dt_ms > 2.0 / rate)
+      log->warn("solver.dt_ms = {} ms exceeds the stability limit of explicit coupling, 2/lambda = {:.4g} "
+                "ms (Gershgorin bound, lambda = {:.4g} /ms): expect a blow-up; use dt <= {:.4g} ms or "
+                "coupling.scheme \"implicit\"",
+                scene.solver.dt_ms, 2.0 / rate, rate, 1.0 / rate);
+  }
+
+  // ---- the run --------------------------------------------------------------
+
+  void open_outputs() {
+    if (scene.output.dir.empty()) return;
+    out = scene.output.dir;
+    fs::create_directories(out);
+    auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), true);
+    file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
+    log->sinks().push_back(file_sink);
+    std::vector<std::string> header = {"t_ms"};
+    for (const auto& c : columns) header.push_back(c.variable + "_" + std::to_string(c.cell));
+    traces_csv = CsvWriter(out / "traces.csv", header);
+    biomarkers_csv = CsvWriter(out / "biomarkers.csv",
+                               {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
+                                "dvdt_max_mV_per_ms"});
+    write_summary();
+  }
+
+  void log_setup() {
+    log->info("scene '{}': {} cells ({} myocytes, {} fibroblasts), {} particles, {} cell-graph edges",
+              scene.name, tissue.cell_count(), tissue.count(CellType::myocyte),
+              tissue.count(CellType::fibroblast), tissue.particles.size(), tissue.cell_edges.size());
+    for (const auto& p : plan.built) log->info("process built: {} ({})", p.name, p.reason);
+    for (const auto& note : plan.notes) log->info("{}", note);
+    for (const auto& pop : system.populations)
+      log->info("{}: model {} {}{}, {} cells x {} states", cell_type_name(pop.type), pop.info().name,
+                pop.info().version, pop.variant.empty() ? "" : ", variant " + pop.variant, pop.size(),
+                pop.n_states());
+    if (system.coupler)
+      log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS,
+                scene.coupling.D_f_nS, system.implicit_coupling ? "backward Euler (split)" : "explicit");
+    log->info("integrator: {}", integrator->describe());
+  }
+
+  double next_sample_ms() const override {
+    if (columns.empty()) return std::numeric_limits<double>::infinity();
+    const double t = scene.output.traces.from_ms +
+                     static_cast<double>(next_sample_index) * scene.output.traces.every_ms;
+    return t <= scene.duration_ms + kTimeEpsilon_ms ? t : std::numeric_limits<double>::infinity();
+  }
+
+  void on_sample(double t) override {
+    if (traces_need_outputs) {
+      system.compute_inputs(t);
+      system.evaluate(t);
+    }
+    times.push_back(t);
+    if (traces_csv.is_open()) traces_csv.cell(t);
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      const TraceColumn& c = columns[i];
+      const Population& pop = system.populations[c.population];
+      const double value = c.is_output ? pop.outputs[c.index * pop.size() + c.local]
+                                       : pop.y[c.index * pop.size() + c.local];
+      samples[i].push_back(value);
+      if (traces_csv.is_open()) traces_csv.cell(value);
+    }
+    if (traces_csv.is_open()) traces_csv.end_row();
+    ++next_sample_index;
+  }
+
+  void on_step(double t_old, double t_new, const double* dVdt) override {
+    ++steps;
+    check_states(t_new);
+    system.gather_voltage();
+    tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_flush > std::chrono::seconds(1)) {
+      if (traces_csv.is_open()) traces_csv.flush();
+      last_flush = now;
+    }
+    if (options.progress && scene.output.progress_every_s > 0 &&
+        std::chrono::duration<double>(now - last_progress).count() >= scene.output.progress_every_s) {
+      const double elapsed = std::chrono::duration<double>(now - started).count();
+      const double left = elapsed / t_new * (scene.duration_ms - t_new);
+      std::fprintf(stderr, "\r  t = %.1f / %.1f ms   %.3g ms simulated per s   about %.0f s left   ",
+                   t_new, scene.duration_ms, t_new / elapsed, left);
+      std::fflush(stderr);
+      last_progress = now;
+    }
+  }
+
+  // A state outside its physical range (or NaN/Inf) stops the run.
+  void check_states(double t) const {
+    for (const auto& pop : system.populations) {
+      const std::size_t n = pop.size();
+      const auto& states = pop.info().states;
+      for (std::size_t k = 0; k < states.size(); ++k) {
+        const double lo = states[k].lower, hi = states[k].upper;
+        const double* y = pop.y.data() + k * n;
+        for (std::size_t c = 0; c < n; ++c)
+          if (!(y[c] >= lo && y[c] <= hi)) blow_up(t, pop, k, c, y[c]);
+      }
+    }
+  }
+
+  [[noreturn]] void blow_up(double t, const Population& pop, std::size_t k, std::size_t c, double value) const {
+    std::ostringstream s;
+    s << "blow-up at t = " << format_number(t) << " ms: cell " << pop.cells[c] << " ("
+      << cell_type_name(pop.type) << ", model " << pop.info().name << "), state '" << pop.info().states[k].name
+      << "' = " << format_number(value) << " " << pop.info().states[k].unit << ", expected within ["
+      << format_number(pop.info().states[k].lower) << ", " << format_number(pop.info().states[k].upper)
+      << "]";
+    if (scene.solver.method != "cvode")
+      s << "; " << integrator->describe() << " may be unstable here: try a smaller solver.dt_ms"
+        << (system.coupler && !system.implicit_coupling ? ", coupling.scheme \"implicit\"" : "")
+        << " or solver.method \"cvode\"";
+    throw BlowUpError(s.str());
+  }
+
+  void record_beat(const BeatBiomarkers& b) {
+    beats.push_back(b);
+    if (!biomarkers_csv.is_open()) return;
+    biomarkers_csv.cell(static_cast<long long>(b.cell))
+        .cell(std::string(cell_type_name(b.type)))
+        .cell(static_cast<long long>(b.beat))
+        .cell(b.activation_ms)
+        .cell(b.rmp_mV)
+        .cell(b.apo_mV)
+        .cell(b.apd90_ms)
+        .cell(b.dvdt_max_mV_per_ms);
+    biomarkers_csv.end_row();
+    biomarkers_csv.flush();
+  }
+
+  void run() {
+    started = last_progress = last_flush = std::chrono::steady_clock::now();
+    status = "running";
+    try {
+      open_outputs();
+      log_setup();
+      tracker = std::make_unique<BiomarkerTracker>(
+          tissue.type, system.stimulus.onsets(scene.duration_ms), scene.output.biomarkers_from_ms,
+          [this](const BeatBiomarkers& b) { record_beat(b); });
+      system.gather_voltage();
+      tracker->start(0.0, system.V_mV.data());
+      integrator->advance(system, 0.0, scene.duration_ms, *this);
+      tracker->finish();
+      status = "completed";
+    } catch (const std::exception& e) {
+      status = "failed";
+      error = e.what();
+    }
+    if (options.progress) std::fprintf(stderr, "\n");
+    wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (traces_csv.is_open()) traces_csv.flush();
+    if (status == "failed") log->error("run failed: {}", error);
+    else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
+    if (!out.empty()) {
+      write_summary();
+      log->info("outputs in {}", fs::absolute(out).string());
+    }
+    log->flush();
+    if (status == "failed") throw std::runtime_error(error);
+  }
+
+  // ---- summary ----------------------------------------------------------------
+
+  json mean_biomarkers() const {
+    json means = json::object();
+    for (CellType type : {CellType::myocyte, CellType::fibroblast}) {
+      const char* fields[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
+      double sum[4] = {0, 0, 0, 0};
+      int count[4] = {0, 0, 0, 0};
+      for (const auto& b : beats) {
+        if (b.type != type) continue;
+        const double values[4] = {b.rmp_mV, b.apo_mV, b.apd90_ms, b.dvdt_max_mV_per_ms};
+        for (int i = 0; i < 4; ++i)
+          if (std::isfinite(values[i])) {
+            sum[i] += values[i];
+            ++count[i];
+          }
+      }
+      if (count[0] == 0) continue;
+      json m;
+      for (int i = 0; i < 4; ++i) m[fields[i]] = count[i] ? json(sum[i] / count[i]) : json(nullptr);
+      m["beats_measured"] = count[0];
+      means[cell_type_name(type)] = m;
+    }
+    return means;
+  }
+
+  json summary() const {
+    json s;
+    s["fibrodem_version"] = FIBRODEM_VERSION;
+    s["name"] = scene.name;
+    s["status"] = status;
+    if (!error.empty()) s["error"] = error;
+    s["manifest"] = scene.manifest;
+    s["plugins"] = json::array();
+    for (const auto& r : registry->loaded())
+      s["plugins"].push_back({{"name", r.name}, {"version", r.version}, {"file", r.file.string()},
+                              {"sha256", r.sha256}});
+    s["effects"] = json::array();
+    s["processes"] = json::array();
+    for (const auto& p : plan.built) {
+      s["effects"].push_back(p.name);
+      s["processes"].push_back({{"name", p.name}, {"reason", p.reason}});
+    }
+    s["notes"] = plan.notes;
+    s["integrator"] = integrator->describe();
+    s["wall_time_s"] = wall_s;
+    s["steps"] = steps;
+    s["simulated_ms"] = times.empty() ? 0.0 : times.back();
+    const auto myocytes = tissue.count(CellType::myocyte), fibroblasts = tissue.count(CellType::fibroblast);
+    s["cells"] = {{"myocyte", myocytes}, {"fibroblast", fibroblasts}};
+    s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))
+                             : json(nullptr);
+    s["mean_biomarkers"] = mean_biomarkers();
+    // Not measured by this version (tissue-scale measurement and mechanics come later).
+    s["cv_cm_per_s"] = nullptr;
+    s["peak_strain"] = nullptr;
+    return s;
+  }
+
+  void write_summary() const {
+    const fs::path tmp = out / "summary.json.tmp";
+    {
+      std::ofstream f(tmp, std::ios::trunc);
+      f << summary().dump(2) << '\n';
+    }
+    fs::rename(tmp, out / "summary.json");  // atomic: never a half-written summary
+  }
+};
+
+Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> registry, RunOptions options)
+    : impl_(std::make_unique<Impl>(scene, std::move(registry), options)) {}
+Simulation::~Simulation() = default;
+
+void Simulation::run() { impl_->run(); }
+const Tissue& Simulation::tissue() const { return impl_->tissue; }
+const ProcessPlan& Simulation::processes() const { return impl_->plan; }
+const std::vector<BeatBiomarkers>& Simulation::biomarkers() const { return impl_->beats; }
+const std::vector<double>& Simulation::trace_times() const { return impl_->times; }
+json Simulation::mean_biomarkers() const { return impl_->mean_biomarkers(); }
+json Simulation::summary() const { return impl_->summary(); }
+std::string Simulation::integrator_description() const { return impl_->integrator->describe(); }
+
+const std::vector<double>& Simulation::trace(const std::string& variable, int cell) const {
+  for (std::size_t i = 0; i < impl_->columns.size(); ++i)
+    if (impl_->columns[i].variable == variable && impl_->columns[i].cell == cell) return impl_->samples[i];
+  throw std::out_of_range("no trace of '" + variable + "' for cell " + std::to_string(cell) +
+                          " (add it to output.traces)");
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,61 @@
+// A Simulation sets up a scene (tissue, populations, coupling, stimulus,
+// integrator, observers: everything the scene's effects call for and nothing
+// else), runs it, and writes the output directory as it goes:
+//   summary.json, biomarkers.csv, traces.csv, run.log   (DESIGN.md)
+// Setting up checks what only the plugins and the built tissue can tell (model,
+// variant and parameter names, stimulus targets, traced variables) and throws
+// ManifestError naming the JSON path.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "measure/biomarkers.hpp"
+#include "model/plugin_registry.hpp"
+#include "scene/effects.hpp"
+#include "scene/scene.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+// The run stopped because a state left its physical range or became NaN/Inf.
+class BlowUpError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RunOptions {
+  bool console_log = false;  // also log to stderr
+  bool progress = false;     // progress line on a terminal
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> registry = nullptr,
+                      RunOptions options = {});
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Runs to the scene's duration. On failure the output written so far stays,
+  // summary.json says what failed, and the error is rethrown.
+  void run();
+
+  const Tissue& tissue() const;
+  const ProcessPlan& processes() const;
+  const std::vector<BeatBiomarkers>& biomarkers() const;
+  const std::vector<double>& trace_times() const;
+  // Samples of a traced variable of a cell; throws if it was not traced.
+  const std::vector<double>& trace(const std::string& variable, int cell) const;
+  // Per-cell-type means of the biomarkers recorded (summary.json's mean_biomarkers).
+  json mean_biomarkers() const;
+  json summary() const;
+  std::string integrator_description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fibrodem

@@ -1,0 +1,244 @@
+#include "scene/scene.hpp"
+
+#include <fstream>
+#include <limits>
+#include <regex>
+
+namespace fibrodem {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::vector<int> read_cell_indices(const json& list, const std::string& path) {
+  std::vector<int> cells;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].is_number_integer() || list[i].get<long long>() < 0)
+      throw ManifestError(index_path(path, i),
+                          "expected a cell index (integer >= 0), got " + describe_json(list[i]));
+    cells.push_back(list[i].get<int>());
+  }
+  return cells;
+}
+
+CellTypeSpec read_cell_type_spec(JsonReader r) {
+  CellTypeSpec spec;
+  spec.path = r.path();
+  spec.model = r.text("model", std::nullopt);
+  spec.variant = r.text("variant", std::string());
+  spec.myofilament = r.text("myofilament", std::string());
+  spec.calcium_feedback = r.boolean("calcium_feedback", false);
+  const json& params = r.raw("parameters");
+  if (!params.is_null()) {
+    if (!params.is_object())
+      throw ManifestError(r.path_of("parameters"),
+                          "expected an object of parameter names to numbers, got " +
+                              describe_json(params));
+    for (const auto& [name, value] : params.items()) {
+      if (!value.is_number())
+        throw ManifestError(join_path(r.path_of("parameters"), name),
+                            "expected a number, got " + describe_json(value));
+      spec.parameters[name] = value.get<double>();
+    }
+  }
+  r.finish();
+  return spec;
+}
+
+StimulusTarget read_target(const json& t, const std::string& path) {
+  StimulusTarget target;
+  if (t.is_string()) {
+    target.kind = StimulusTarget::Kind::cell_type;
+    const std::string s = t.get<std::string>();
+    if (s == "myocyte") target.type = CellType::myocyte;
+    else if (s == "fibroblast") target.type = CellType::fibroblast;
+    else
+      throw ManifestError(path, "expected a cell type (\"myocyte\" or \"fibroblast\"), a list of "
+                                "cell indices or a region object, got " + describe_json(t));
+  } else if (t.is_array()) {
+    target.kind = StimulusTarget::Kind::cells;
+    target.cells = read_cell_indices(t, path);
+    if (target.cells.empty()) throw ManifestError(path, "expected at least one cell index");
+  } else if (t.is_object()) {
+    target.kind = StimulusTarget::Kind::region;
+    JsonReader r(t, path);
+    target.x_min_frac = r.number("x_min_frac", 0.0, 0.0, 1.0);
+    target.x_max_frac = r.number("x_max_frac", 1.0, 0.0, 1.0);
+    target.y_min_frac = r.number("y_min_frac", 0.0, 0.0, 1.0);
+    target.y_max_frac = r.number("y_max_frac", 1.0, 0.0, 1.0);
+    if (r.has("type")) target.region_type = read_cell_type(r, "type", CellType::myocyte);
+    r.finish();
+    if (target.x_min_frac > target.x_max_frac || target.y_min_frac > target.y_max_frac)
+      throw ManifestError(path, "expected min fractions <= max fractions");
+  } else {
+    throw ManifestError(path, "expected a cell type, a list of cell indices or a region object, got " +
+                                  describe_json(t));
+  }
+  return target;
+}
+
+StimulusSpec read_stimulus(JsonReader r) {
+  StimulusSpec s;
+  s.path = r.path();
+  if (!r.has("target")) throw ManifestError(r.path_of("target"), "required value is missing");
+  s.target = read_target(r.raw("target"), r.path_of("target"));
+  s.start_ms = r.number("start_ms", 0.0, 0.0, kInf);
+  s.duration_ms = r.number("duration_ms", 2.0, 1e-9, kInf);
+  s.amplitude_pA = r.number("amplitude_pA", std::nullopt, -1e7, 1e7);
+  s.period_ms = r.number("period_ms", 0.0, 0.0, kInf);
+  const long long unlimited = std::numeric_limits<int>::max();
+  s.count = r.integer("count", s.period_ms > 0 ? unlimited : 1, 1, unlimited);
+  if (s.period_ms > 0 && s.period_ms < s.duration_ms)
+    throw ManifestError(r.path_of("period_ms"), "expected a period >= duration_ms (" +
+                                                    std::to_string(s.duration_ms) + " ms)");
+  if (s.period_ms == 0 && s.count > 1)
+    throw ManifestError(r.path_of("count"), "a count above 1 needs a period_ms > 0");
+  r.finish();
+  return s;
+}
+
+SolverSpec read_solver(JsonReader r) {
+  SolverSpec s;
+  s.method = r.text("method", s.method, {"euler", "rush_larsen", "cvode"});
+  s.dt_ms = r.number("dt_ms", s.dt_ms, 1e-7, 10.0);
+  s.rtol = r.number("rtol", s.rtol, 1e-14, 1e-1);
+  s.atol = r.number("atol", s.atol, 1e-16, 1.0);
+  s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
+  s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band"});
+  r.finish();
+  return s;
+}
+
+OutputSpec read_output(JsonReader r) {
+  OutputSpec o;
+  o.dir = r.text("dir", std::string());
+  o.progress_every_s = r.number("progress_every_s", 1.0, 0.0, kInf);
+  if (r.has("traces")) {
+    JsonReader t = r.object("traces");
+    const json& cells = t.raw("cells");
+    if (!cells.is_null()) {
+      if (!cells.is_array())
+        throw ManifestError(t.path_of("cells"), "expected a list of cell indices, got " +
+                                                    describe_json(cells));
+      o.traces.cells = read_cell_indices(cells, t.path_of("cells"));
+    }
+    o.traces.variables = t.text_list("variables", o.traces.variables);
+    o.traces.every_ms = t.number("every_ms", o.traces.every_ms, 1e-6, kInf);
+    o.traces.from_ms = t.number("from_ms", 0.0, 0.0, kInf);
+    t.finish();
+  }
+  if (r.has("biomarkers")) {
+    JsonReader b = r.object("biomarkers");
+    o.biomarkers_from_ms = b.number("from_ms", 0.0, 0.0, kInf);
+    b.finish();
+  }
+  r.finish();
+  return o;
+}
+
+CouplingSpec read_coupling(JsonReader r) {
+  CouplingSpec c;
+  c.present = true;
+  c.law = r.text("law", c.law, {"gap_junction"});
+  c.D_m_nS = r.number("D_m_nS", c.D_m_nS, 0.0, 1e9);
+  c.D_f_nS = r.number("D_f_nS", c.D_f_nS, 0.0, 1e9);
+  c.scheme = r.text("scheme", c.scheme, {"explicit", "implicit"});
+  r.finish();
+  return c;
+}
+}  // namespace
+
+Scene parse_scene(const json& manifest) {
+  JsonReader top(manifest, "");
+  Scene scene;
+  scene.manifest = manifest;
+  top.integer("fibrodem", std::nullopt, kManifestFormat, kManifestFormat);
+  scene.name = top.text("name", std::string("scene"));
+  if (!std::regex_match(scene.name, std::regex("[A-Za-z0-9_.+-]+")))
+    throw ManifestError("name", "expected letters, digits and _ . + - only, got " +
+                                    describe_json(manifest.at("name")));
+  scene.seed = static_cast<std::uint64_t>(top.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
+  scene.duration_ms = top.number("duration_ms", std::nullopt, 1e-9, 1e9);
+
+  scene.effects_listed = top.has("effects");
+  scene.effects = top.text_list("effects", {});
+  for (std::size_t i = 0; i < scene.effects.size(); ++i)
+    if (std::find(known_effects().begin(), known_effects().end(), scene.effects[i]) ==
+        known_effects().end()) {
+      std::string list;
+      for (const auto& e : known_effects()) list += (list.empty() ? "" : ", ") + e;
+      throw ManifestError(index_path("effects", i),
+                          "unknown effect \"" + scene.effects[i] + "\" (expected one of " + list + ")");
+    }
+
+  JsonReader tissue = top.object("tissue");
+  scene.tissue = make_tissue_builder(tissue);
+
+  JsonReader cells = top.object("cells");
+  for (const auto& [type_name, spec] : manifest.at("cells").items()) {
+    CellType type;
+    if (type_name == "myocyte") type = CellType::myocyte;
+    else if (type_name == "fibroblast") type = CellType::fibroblast;
+    else
+      throw ManifestError(cells.path_of(type_name),
+                          "unknown cell type (expected \"myocyte\" or \"fibroblast\")");
+    scene.cells[type] = read_cell_type_spec(cells.object(type_name));
+  }
+
+  if (top.has("coupling")) scene.coupling = read_coupling(top.object("coupling"));
+
+  const json& stimuli = top.raw("stimulus");
+  if (!stimuli.is_null()) {
+    if (!stimuli.is_array())
+      throw ManifestError("stimulus", "expected a list of stimulus objects, got " + describe_json(stimuli));
+    for (std::size_t i = 0; i < stimuli.size(); ++i)
+      scene.stimuli.push_back(read_stimulus(JsonReader(stimuli[i], index_path("stimulus", i))));
+  }
+
+  if (top.has("solver")) scene.solver = read_solver(top.object("solver"));
+  if (top.has("output")) scene.output = read_output(top.object("output"));
+  top.finish();
+  return scene;
+}
+
+json read_manifest_file(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw ManifestError("", "cannot open manifest file '" + file + "'");
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw ManifestError("", "'" + file + "' is not valid JSON: " + e.what());
+  }
+}
+
+void apply_override(json& manifest, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ManifestError("", "--set expects PATH=VALUE, got '" + assignment + "'");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;
+
+  json* node = &manifest;
+  std::string walked;
+  static const std::regex part(R"(([^.\[\]]+)|\[(\d+)\])");
+  for (auto it = std::sregex_iterator(path.begin(), path.end(), part); it != std::sregex_iterator(); ++it) {
+    const auto& m = *it;
+    if (m[1].matched) {
+      walked = join_path(walked, m[1].str());
+      if (!node->is_null() && !node->is_object())
+        throw ManifestError(walked, "--set " + path + ": this value is not an object");
+      node = &(*node)[m[1].str()];
+    } else {
+      const std::size_t index = std::stoul(m[2].str());
+      walked = index_path(walked, index);
+      if (!node->is_array() || index >= node->size())
+        throw ManifestError(walked, "--set " + path + ": no such list entry");
+      node = &(*node)[index];
+    }
+  }
+  if (walked.empty()) throw ManifestError("", "--set expects PATH=VALUE, got '" + assignment + "'");
+  *node = value;
+}
+
+}  // namespace fibrodem

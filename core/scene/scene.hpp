@@ -1,0 +1,108 @@
+// A Scene is a validated experiment manifest (DESIGN.md, "Manifest (format 1)"):
+// what to simulate and what to record, with every value checked and defaults
+// filled in. Checks that need the plugins or the built tissue (model names,
+// parameter names, stimulus targets) happen when a Simulation is set up.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/json_reader.hpp"
+#include "tissue/tissue_builder.hpp"
+
+namespace fibrodem {
+
+inline constexpr int kManifestFormat = 1;
+
+struct CellTypeSpec {
+  std::string model;
+  std::string variant;      // empty: the model's default variant
+  std::string myofilament;  // empty: none
+  bool calcium_feedback = false;
+  std::map<std::string, double> parameters;
+  std::string path;  // JSON path of this cell type, for errors found later
+};
+
+struct CouplingSpec {
+  bool present = false;  // the manifest has a `coupling` section
+  std::string law = "gap_junction";
+  double D_m_nS = 1000.0;  // myocyte-myocyte (seed paper eq. 5)
+  double D_f_nS = 2.0;     // any pair with a fibroblast
+  std::string scheme = "explicit";  // explicit | implicit (backward Euler)
+};
+
+struct StimulusTarget {
+  enum class Kind { cell_type, cells, region } kind = Kind::cell_type;
+  CellType type = CellType::myocyte;
+  std::vector<int> cells;
+  // region, as fractions of the tissue's bounding box; optional type filter
+  double x_min_frac = 0, x_max_frac = 1, y_min_frac = 0, y_max_frac = 1;
+  std::optional<CellType> region_type;
+};
+
+struct StimulusSpec {
+  StimulusTarget target;
+  double start_ms = 0, duration_ms = 2, amplitude_pA = 2000;
+  double period_ms = 0;  // 0: a single train entry without repetition
+  long long count = 1;
+  std::string path;
+};
+
+struct SolverSpec {
+  std::string method = "rush_larsen";  // euler | rush_larsen | cvode
+  double dt_ms = 0.01;                 // euler, rush_larsen
+  double rtol = 1e-6, atol = 1e-8;     // cvode
+  double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
+  std::string linear_solver = "auto";  // cvode: auto | dense | band
+};
+
+struct TraceSpec {
+  std::vector<int> cells = {0};
+  std::vector<std::string> variables = {"V"};
+  double every_ms = 0.1;
+  double from_ms = 0;
+};
+
+struct OutputSpec {
+  std::string dir;  // empty: write nothing (library use); the CLI sets a default
+  TraceSpec traces;
+  double biomarkers_from_ms = 0;
+  double progress_every_s = 1.0;
+};
+
+struct Scene {
+  std::string name;
+  std::uint64_t seed = 0;
+  double duration_ms = 0;
+  std::vector<std::string> effects;  // as listed; empty: derived from outputs
+  bool effects_listed = false;
+  std::shared_ptr<const TissueBuilder> tissue;
+  std::map<CellType, CellTypeSpec> cells;
+  CouplingSpec coupling;
+  std::vector<StimulusSpec> stimuli;
+  SolverSpec solver;
+  OutputSpec output;
+  json manifest;  // the manifest as resolved (after --set), for summary.json
+};
+
+inline const std::vector<std::string>& known_effects() {
+  static const std::vector<std::string> effects = {
+      "electrophysiology", "coupling", "contraction", "mechanics", "mechano_electric_feedback"};
+  return effects;
+}
+
+// Validates a manifest; throws ManifestError naming the JSON path.
+Scene parse_scene(const json& manifest);
+
+// Reads a manifest file (ManifestError if missing or not JSON).
+json read_manifest_file(const std::string& file);
+
+// Applies one `PATH=VALUE` override (dotted path, [i] for list entries); VALUE
+// is parsed as JSON if it is valid JSON, else taken as a string.
+void apply_override(json& manifest, const std::string& assignment);
+
+}  // namespace fibrodem

@@ -1,0 +1,112 @@
+#include "stimulus/stimulus.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fibrodem {
+
+namespace {
+std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tissue,
+                                const std::string& path) {
+  std::vector<int> cells;
+  const int n = static_cast<int>(tissue.cell_count());
+  switch (target.kind) {
+    case StimulusTarget::Kind::cell_type:
+      for (int c = 0; c < n; ++c)
+        if (tissue.type[c] == target.type) cells.push_back(c);
+      if (cells.empty())
+        throw ManifestError(path + ".target", std::string("the tissue has no ") +
+                                                  cell_type_name(target.type) + " to stimulate");
+      break;
+    case StimulusTarget::Kind::cells:
+      for (std::size_t i = 0; i < target.cells.size(); ++i) {
+        if (target.cells[i] >= n)
+          throw ManifestError(index_path(path + ".target", i),
+                              "cell " + std::to_string(target.cells[i]) + " does not exist (the tissue has " +
+                                  std::to_string(n) + " cells, 0.." + std::to_string(n - 1) + ")");
+        cells.push_back(target.cells[i]);
+      }
+      break;
+    case StimulusTarget::Kind::region: {
+      const auto box = tissue.bounds_um();
+      const double w = box[1] - box[0], h = box[3] - box[2];
+      for (int c = 0; c < n; ++c) {
+        const double fx = w > 0 ? (tissue.x_um[c] - box[0]) / w : 0.5;
+        const double fy = h > 0 ? (tissue.y_um[c] - box[2]) / h : 0.5;
+        if (fx < target.x_min_frac || fx > target.x_max_frac || fy < target.y_min_frac ||
+            fy > target.y_max_frac)
+          continue;
+        if (target.region_type && tissue.type[c] != *target.region_type) continue;
+        cells.push_back(c);
+      }
+      if (cells.empty())
+        throw ManifestError(path + ".target", "this region contains no cell of the tissue");
+      break;
+    }
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  return cells;
+}
+}  // namespace
+
+bool PulseTrain::on(double t) const {
+  const double since = t - start_ms;
+  if (since < -kTimeEpsilon_ms) return false;
+  long long k = 0;
+  if (period_ms > 0) k = static_cast<long long>(std::floor((since + kTimeEpsilon_ms) / period_ms));
+  if (k >= count) return false;
+  const double in_pulse = since - static_cast<double>(k) * period_ms;
+  return in_pulse >= -kTimeEpsilon_ms && in_pulse < duration_ms - kTimeEpsilon_ms;
+}
+
+Stimulus::Stimulus(const std::vector<StimulusSpec>& specs, const Tissue& tissue) {
+  for (const auto& s : specs)
+    trains_.push_back({resolve_target(s.target, tissue, s.path), s.start_ms, s.duration_ms,
+                       s.amplitude_pA, s.period_ms, s.count});
+}
+
+void Stimulus::add_current(double t, double* i_ext) const {
+  for (const auto& train : trains_)
+    if (train.on(t))
+      for (int c : train.cells) i_ext[c] += train.amplitude_pA;
+}
+
+double Stimulus::next_edge_after(double t) const {
+  double next = std::numeric_limits<double>::infinity();
+  for (const auto& train : trains_) {
+    long long k = 0;
+    if (train.period_ms > 0 && t > train.start_ms)
+      k = static_cast<long long>(std::floor((t - train.start_ms) / train.period_ms));
+    for (long long j = std::max(0LL, k - 1); j < std::min(train.count, k + 2); ++j) {
+      const double on = train.start_ms + static_cast<double>(j) * train.period_ms;
+      for (double edge : {on, on + train.duration_ms})
+        if (edge > t + kTimeEpsilon_ms) next = std::min(next, edge);
+    }
+  }
+  return next;
+}
+
+std::vector<double> Stimulus::onsets(double until) const {
+  std::vector<double> times;
+  for (const auto& train : trains_)
+    for (long long k = 0; k < train.count; ++k) {
+      const double on = train.start_ms + static_cast<double>(k) * train.period_ms;
+      if (on > until) break;
+      times.push_back(on);
+      if (train.period_ms <= 0) break;
+    }
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end(),
+                          [](double x, double y) { return std::abs(x - y) < kTimeEpsilon_ms; }),
+              times.end());
+  return times;
+}
+
+double Stimulus::shortest_pulse_ms() const {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const auto& train : trains_) shortest = std::min(shortest, train.duration_ms);
+  return shortest;
+}
+
+}  // namespace fibrodem

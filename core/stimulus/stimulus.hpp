@@ -1,0 +1,45 @@
+// Periodic rectangular current pulses on sets of cells (seed paper eq. 1-2:
+// whole-cell pA, positive = depolarising). A pulse k of a train is on for
+// start + k*period <= t < start + k*period + duration.
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include "scene/scene.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+struct PulseTrain {
+  std::vector<int> cells;
+  double start_ms = 0, duration_ms = 0, amplitude_pA = 0, period_ms = 0;
+  long long count = 1;
+
+  bool on(double t_ms) const;
+};
+
+class Stimulus {
+ public:
+  Stimulus() = default;
+  // Resolves each train's target on the tissue; a target naming no cell (or a
+  // cell index out of range) is a ManifestError at the stimulus' path.
+  Stimulus(const std::vector<StimulusSpec>& specs, const Tissue& tissue);
+
+  // Adds the stimulus current at time t into i_ext (indexed by global cell).
+  void add_current(double t_ms, double* i_ext_pA) const;
+  // The first pulse edge (on or off) strictly after t, or +inf.
+  double next_edge_after(double t_ms) const;
+  // Sorted, distinct pulse onsets in [0, until]: they start the beats.
+  std::vector<double> onsets(double until_ms) const;
+  double shortest_pulse_ms() const;
+  const std::vector<PulseTrain>& trains() const { return trains_; }
+
+ private:
+  std::vector<PulseTrain> trains_;
+};
+
+// Times closer than this [ms] are the same instant (guards n*dt round-off).
+inline constexpr double kTimeEpsilon_ms = 1e-9;
+
+}  // namespace fibrodem

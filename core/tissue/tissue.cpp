@@ -1,0 +1,65 @@
+#include "tissue/tissue.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace fibrodem {
+
+std::size_t Tissue::count(CellType t) const {
+  return static_cast<std::size_t>(std::count(type.begin(), type.end(), t));
+}
+
+std::array<double, 4> Tissue::bounds_um() const {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::array<double, 4> b = {inf, -inf, inf, -inf};
+  auto extend = [&b](double x, double y, double r) {
+    b[0] = std::min(b[0], x - r);
+    b[1] = std::max(b[1], x + r);
+    b[2] = std::min(b[2], y - r);
+    b[3] = std::max(b[3], y + r);
+  };
+  if (particles.empty())
+    for (std::size_t c = 0; c < type.size(); ++c) extend(x_um[c], y_um[c], 0.0);
+  for (const auto& p : particles) extend(p.x_um, p.y_um, p.r_um);
+  return b;
+}
+
+int Tissue::add_cell(CellType t, double x, double y) {
+  type.push_back(t);
+  x_um.push_back(x);
+  y_um.push_back(y);
+  return static_cast<int>(type.size()) - 1;
+}
+
+int Tissue::add_particle(int cell, double x, double y, double r) {
+  particles.push_back({x, y, r, cell});
+  return static_cast<int>(particles.size()) - 1;
+}
+
+void Tissue::add_bond(int p, int q) {
+  bonds.push_back({p, q});
+  const int a = particles[p].cell, b = particles[q].cell;
+  if (a != b) cell_edges.emplace_back(std::min(a, b), std::max(a, b));
+}
+
+void Tissue::finalise() {
+  std::sort(cell_edges.begin(), cell_edges.end());
+  cell_edges.erase(std::unique(cell_edges.begin(), cell_edges.end()), cell_edges.end());
+}
+
+int add_vertical_myocyte(Tissue& tissue, double x, double y0) {
+  const int cell = tissue.add_cell(CellType::myocyte, x, y0 + kMyocyteLength_um / 2);
+  // The particles of one myocyte form a rigid clump: no bonds inside it.
+  for (int k = 0; k < kMyocyteParticles; ++k)
+    tissue.add_particle(cell, x, y0 + kParticleRadius_um + k * kParticleSpacing_um,
+                        kParticleRadius_um);
+  return cell;
+}
+
+int add_round_fibroblast(Tissue& tissue, double x, double y) {
+  const int cell = tissue.add_cell(CellType::fibroblast, x, y);
+  tissue.add_particle(cell, x, y, kParticleRadius_um);
+  return cell;
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,61 @@
+// The geometry and connectivity of a tissue: cells, the particles that make
+// them up (for mechanics), bonds between particles, and the cell graph that
+// carries gap-junction currents (two cells are neighbours if a bond joins them).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fibrodem {
+
+enum class CellType { myocyte = 0, fibroblast = 1 };
+inline constexpr std::array<const char*, 2> kCellTypeNames = {"myocyte", "fibroblast"};
+inline const char* cell_type_name(CellType t) { return kCellTypeNames[static_cast<int>(t)]; }
+
+struct Particle {
+  double x_um = 0, y_um = 0, r_um = 0;
+  int cell = -1;
+};
+
+struct Bond {
+  int p = -1, q = -1;  // particle indices
+};
+
+struct Tissue {
+  std::vector<CellType> type;                   // per cell
+  std::vector<double> x_um, y_um;               // cell centroids
+  std::vector<Particle> particles;
+  std::vector<Bond> bonds;
+  std::vector<std::pair<int, int>> cell_edges;  // unique, i < j, sorted
+
+  std::size_t cell_count() const { return type.size(); }
+  std::size_t count(CellType t) const;
+  // Bounding box of the particles (cell centroids if there are none).
+  std::array<double, 4> bounds_um() const;  // x_min, x_max, y_min, y_max
+
+  int add_cell(CellType t, double x_um, double y_um);
+  int add_particle(int cell, double x_um, double y_um, double r_um);
+  // Bonds particles p and q and records the cell edge if they belong to two cells.
+  void add_bond(int p, int q);
+  // Sorts and de-duplicates the cell edges; call once the builder is done.
+  void finalise();
+};
+
+// Geometry of the paper's cells (seed paper, section 2.2): a myocyte is 7
+// particles of radius 12.5 um at spacing 16.67 um along its axis (125 x 25 um);
+// a fibroblast particle has radius 12.5 um.
+inline constexpr int kMyocyteParticles = 7;
+inline constexpr double kParticleRadius_um = 12.5;
+inline constexpr double kMyocyteLength_um = 125.0;
+inline constexpr double kParticleSpacing_um =
+    (kMyocyteLength_um - 2 * kParticleRadius_um) / (kMyocyteParticles - 1);
+
+// Adds a vertical myocyte (axis along y) whose lowest point is at y0; returns the cell.
+int add_vertical_myocyte(Tissue& tissue, double x_um, double y0_um);
+// Adds a one-particle fibroblast centred at (x, y); returns the cell.
+int add_round_fibroblast(Tissue& tissue, double x_um, double y_um);
+
+}  // namespace fibrodem

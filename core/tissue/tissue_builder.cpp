@@ -1,0 +1,31 @@
+#include "tissue/tissue_builder.hpp"
+
+#include <vector>
+
+namespace fibrodem {
+
+const std::map<std::string, TissueBuilderFactory>& tissue_builders() {
+  static const std::map<std::string, TissueBuilderFactory> builders = {
+      {"single_cell", make_single_cell_builder},
+      {"cell_pair", make_cell_pair_builder},
+      {"strand", make_strand_builder},
+  };
+  return builders;
+}
+
+std::unique_ptr<TissueBuilder> make_tissue_builder(JsonReader& tissue) {
+  std::vector<std::string> names;
+  for (const auto& [name, factory] : tissue_builders()) names.push_back(name);
+  const std::string name = tissue.text("builder", std::nullopt, names);
+  auto builder = tissue_builders().at(name)(tissue);
+  tissue.finish();
+  return builder;
+}
+
+CellType read_cell_type(JsonReader& reader, const std::string& key, CellType fallback) {
+  const std::string name = reader.text(key, std::string(cell_type_name(fallback)),
+                                       {kCellTypeNames.begin(), kCellTypeNames.end()});
+  return name == "myocyte" ? CellType::myocyte : CellType::fibroblast;
+}
+
+}  // namespace fibrodem
