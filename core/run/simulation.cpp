@@ -63,6 +63,7 @@ struct Simulation::Impl : StepObserver {
 
   fs::path out;
   CsvWriter traces_csv, biomarkers_csv;
+  std::vector<std::string> warnings;  // found at set-up, logged when the run starts
   std::string status = "set up";
   std::string error;
   double wall_s = 0;
@@ -178,10 +179,10 @@ struct Simulation::Impl : StepObserver {
     if (scene.solver.method == "cvode" || !system.coupler || system.implicit_coupling) return;
     const double rate = system.coupler->max_rate_per_ms();
     if (rate > 0 && scene.solver.dt_ms > 2.0 / rate)
-      log->warn("solver.dt_ms = {} ms exceeds the stability limit of explicit coupling, 2/lambda = {:.4g} "
+      warnings.push_back(fmt::format("solver.dt_ms = {} ms exceeds the stability limit of explicit coupling, 2/lambda = {:.4g} "
                 "ms (Gershgorin bound, lambda = {:.4g} /ms): expect a blow-up; use dt <= {:.4g} ms or "
                 "coupling.scheme \"implicit\"",
-                scene.solver.dt_ms, 2.0 / rate, rate, 1.0 / rate);
+                scene.solver.dt_ms, 2.0 / rate, rate, 1.0 / rate));
   }
 
   // ---- the run --------------------------------------------------------------
@@ -216,6 +217,7 @@ struct Simulation::Impl : StepObserver {
       log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS,
                 scene.coupling.D_f_nS, system.implicit_coupling ? "backward Euler (split)" : "explicit");
     log->info("integrator: {}", integrator->describe());
+    for (const auto& w : warnings) log->warn("{}", w);
   }
 
   double next_sample_ms() const override {
@@ -383,6 +385,7 @@ struct Simulation::Impl : StepObserver {
       s["processes"].push_back({{"name", p.name}, {"reason", p.reason}});
     }
     s["notes"] = plan.notes;
+    s["warnings"] = warnings;
     s["integrator"] = integrator->describe();
     s["wall_time_s"] = wall_s;
     s["steps"] = steps;

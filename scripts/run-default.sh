@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Quick start 1: set up, build, and run the default scene.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+build/fibrodem run examples/default.json --out out/default "$@"
+echo "Outputs of the default scene are in $(pwd)/out/default (summary.json, biomarkers.csv, traces.csv, run.log)"

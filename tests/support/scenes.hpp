@@ -1,0 +1,40 @@
+// Helpers shared by the test suites: manifests from literals, runs in memory.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "run/simulation.hpp"
+
+namespace fibrodem::testing {
+
+// A small valid manifest to start from; tests edit it.
+inline json passive_cell_manifest() {
+  return json::parse(R"({
+    "fibrodem": 1, "name": "passive_cell", "duration_ms": 100,
+    "tissue": {"builder": "single_cell", "type": "fibroblast"},
+    "cells": {"fibroblast": {"model": "passive_fibroblast"}},
+    "stimulus": [{"target": "fibroblast", "start_ms": 0, "duration_ms": 1000, "amplitude_pA": 1.0}],
+    "solver": {"method": "euler", "dt_ms": 0.01},
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+}
+
+inline std::string read_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A fresh, empty directory under the build tree's test scratch space.
+inline std::filesystem::path scratch_dir(const std::string& name) {
+  const auto dir = std::filesystem::path(FIBRODEM_BINARY_DIR) / "test_scratch" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace fibrodem::testing

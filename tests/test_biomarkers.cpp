@@ -1,0 +1,82 @@
+// Biomarkers measured on a synthetic action potential whose values are known
+// in closed form.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "measure/biomarkers.hpp"
+
+using namespace fibrodem;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+// Rest at -80 mV; at t = 10 ms a half-cosine upstroke to +20 mV over 1 ms
+// (steepest at 10.5 ms, dV/dt = 50 pi mV/ms); then a linear repolarisation
+// back to -80 mV over 300 ms; rest again.
+double synthetic_V(double t) {
+  if (t <= 10) return -80;
+  if (t <= 11) return -80 + 50 * (1 - std::cos(kPi * (t - 10)));
+  if (t <= 311) return 20 - 100 * (t - 11) / 300;
+  return -80;
+}
+
+std::vector<BeatBiomarkers> measure(double h, std::vector<double> onsets, double until) {
+  std::vector<BeatBiomarkers> beats;
+  BiomarkerTracker tracker({CellType::myocyte}, onsets, 0.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  double V = synthetic_V(0);
+  tracker.start(0, &V);
+  const long n = std::lround(until / h);
+  for (long k = 0; k < n; ++k) {
+    const double t_new = (k + 1) * h;
+    V = synthetic_V(t_new);
+    tracker.step(k * h, t_new, &V, nullptr);
+  }
+  tracker.finish();
+  return beats;
+}
+}  // namespace
+
+TEST_CASE("APD90, APD50, APO, RMP and max dV/dt of a synthetic action potential") {
+  const auto beats = measure(0.01, {10.0}, 500.0);
+  REQUIRE(beats.size() == 1);
+  const auto& b = beats[0];
+  CHECK(b.rmp_mV == doctest::Approx(-80));
+  CHECK(b.apo_mV == doctest::Approx(20));
+  // The difference quotient over a step h = 0.01 ms centred up to h/2 off the
+  // steepest point: relative error <= (pi h/2)^2/2 + (pi h)^2/24 = 1.6e-4.
+  CHECK(b.dvdt_max_mV_per_ms == doctest::Approx(50 * kPi).epsilon(2e-4));
+  CHECK(b.dvdt_max_mV_per_ms <= 50 * kPi);
+  // Activation at the steepest point, 10.5 ms, to within a step.
+  CHECK(b.activation_ms == doctest::Approx(10.5).epsilon(0.01 / 10.5));
+  // APD90 ends at V = RMP + 0.1 APA = -70 mV: t = 11 + 0.9 * 300 = 281 ms.
+  CHECK(b.apd90_ms == doctest::Approx(281 - b.activation_ms).epsilon(1e-9));
+  CHECK(b.apd90_ms == doctest::Approx(270.5).epsilon(0.01 / 270.5));
+  // APD50 ends at V = -30 mV: t = 11 + 0.5 * 300 = 161 ms.
+  CHECK(b.apd50_ms == doctest::Approx(161 - b.activation_ms).epsilon(1e-9));
+}
+
+TEST_CASE("beats are cut at stimulus onsets; a beat that does not repolarise has no APD") {
+  // Second onset at 200 ms: the first beat ends before the -70 mV crossing.
+  const auto beats = measure(0.01, {10.0, 200.0}, 400.0);
+  REQUIRE(beats.size() == 2);
+  CHECK(std::isnan(beats[0].apd90_ms));
+  CHECK(beats[0].apd50_ms == doctest::Approx(161 - beats[0].activation_ms).epsilon(1e-9));
+  CHECK(beats[1].beat == 1);
+  // RMP of beat 1 is V at its onset (mid-repolarisation): 20 - 100 * 189 / 300.
+  CHECK(beats[1].rmp_mV == doctest::Approx(20 - 100 * 189.0 / 300).epsilon(1e-9));
+}
+
+TEST_CASE("an integrator's own dV/dt is used when it gives one") {
+  std::vector<BeatBiomarkers> beats;
+  BiomarkerTracker tracker({CellType::fibroblast}, {}, 0.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  double V = -50;
+  tracker.start(0, &V);
+  double slope = 3.0;
+  V = -49;
+  tracker.step(0, 1, &V, &slope);  // difference quotient would say 1 mV/ms
+  tracker.finish();
+  REQUIRE(beats.size() == 1);
+  CHECK(beats[0].dvdt_max_mV_per_ms == 3.0);
+  CHECK(beats[0].activation_ms == 1.0);
+  CHECK(beats[0].type == CellType::fibroblast);
+}

@@ -1,0 +1,139 @@
+// Every bad manifest is refused with a message that names the JSON path of the
+// offending value and what was expected; nothing crashes.
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <functional>
+
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+// Sets up (parses, builds, loads plugins) without running, as `validate` does.
+void set_up(const json& manifest) { Simulation sim(parse_scene(manifest)); }
+
+std::string error_of(const json& manifest, std::string* path = nullptr) {
+  try {
+    set_up(manifest);
+  } catch (const ManifestError& e) {
+    if (path) *path = e.path();
+    return e.what();
+  }
+  return "(no error)";
+}
+
+void expect_error(std::function<void(json&)> edit, const std::string& path, const std::string& fragment) {
+  json m = testing::passive_cell_manifest();
+  edit(m);
+  std::string got_path;
+  const std::string message = error_of(m, &got_path);
+  CAPTURE(message);
+  CHECK(got_path == path);
+  CHECK(message.find(path) != std::string::npos);
+  CHECK(message.find(fragment) != std::string::npos);
+}
+
+}  // namespace
+
+TEST_CASE("the starting manifest is valid") { CHECK_NOTHROW(set_up(testing::passive_cell_manifest())); }
+
+TEST_CASE("unknown keys are named, at any depth") {
+  expect_error([](json& m) { m["durration_ms"] = 5; }, "durration_ms", "unknown key");
+  expect_error([](json& m) { m["stimulus"][0]["amplitude"] = 5; }, "stimulus[0].amplitude", "unknown key");
+  expect_error([](json& m) { m["solver"]["tolerance"] = 1; }, "solver.tolerance", "unknown key");
+  expect_error([](json& m) { m["tissue"]["cells"] = 3; }, "tissue.cells", "unknown key");
+}
+
+TEST_CASE("wrong types and out-of-range numbers say what was expected") {
+  expect_error([](json& m) { m["duration_ms"] = "long"; }, "duration_ms", "expected a number");
+  expect_error([](json& m) { m["solver"]["dt_ms"] = -1; }, "solver.dt_ms", "expected a number in [");
+  expect_error([](json& m) { m["solver"]["method"] = "rk4"; }, "solver.method", "\"cvode\"");
+  expect_error([](json& m) { m["fibrodem"] = 2; }, "fibrodem", "expected an integer in [1, 1]");
+  expect_error([](json& m) { m.erase("duration_ms"); }, "duration_ms", "required value is missing");
+  expect_error([](json& m) { m["tissue"] = {{"builder", "strand"}, {"cells", 0}}; }, "tissue.cells", "in [1,");
+  expect_error([](json& m) { m["coupling"] = {{"D_f_nS", -2}}; }, "coupling.D_f_nS", "expected a number in [0");
+  expect_error([](json& m) { m["effects"] = {"electrophysiology", "telepathy"}; }, "effects[1]", "unknown effect");
+}
+
+TEST_CASE("unknown builder, model, variant and parameter are named with what exists") {
+  expect_error([](json& m) { m["tissue"]["builder"] = "sphere"; }, "tissue.builder", "\"strand\"");
+  expect_error([](json& m) { m["cells"]["fibroblast"]["model"] = "nope"; }, "cells.fibroblast.model",
+               "models found:");
+  expect_error([](json& m) { m["cells"]["fibroblast"]["model"] = "nope"; }, "cells.fibroblast.model",
+               "passive_fibroblast");
+  expect_error([](json& m) { m["cells"]["fibroblast"]["variant"] = "v2"; }, "cells.fibroblast.variant",
+               "has no variant");
+  expect_error([](json& m) { m["cells"]["fibroblast"]["parameters"] = {{"g_bogus", 1.0}}; },
+               "cells.fibroblast.parameters.g_bogus", "R_GOhm");
+  expect_error([](json& m) { m["cells"]["fibroblast"]["parameters"] = {{"C_pF", 0.0}}; },
+               "cells.fibroblast.parameters.C_pF", "capacitance > 0");
+  expect_error([](json& m) { m["cells"]["wizard"] = {{"model", "x"}}; }, "cells.wizard", "unknown cell type");
+}
+
+TEST_CASE("a cell type in the tissue needs a model") {
+  expect_error([](json& m) { m["tissue"] = {{"builder", "cell_pair"}, {"fibroblasts", 2}}; }, "cells.myocyte",
+               "no cell model");
+}
+
+TEST_CASE("a stimulus target that names no cell is refused") {
+  expect_error([](json& m) { m["stimulus"][0]["target"] = "myocyte"; }, "stimulus[0].target", "no myocyte");
+  expect_error([](json& m) { m["stimulus"][0]["target"] = {3}; }, "stimulus[0].target[0]", "does not exist");
+  expect_error([](json& m) {
+    m["tissue"] = {{"builder", "strand"}, {"type", "fibroblast"}, {"cells", 10}};
+    m["stimulus"][0]["target"] = {{"y_min_frac", 0.95}, {"type", "myocyte"}};
+  }, "stimulus[0].target", "no cell");
+  expect_error([](json& m) { m["stimulus"][0]["target"] = 7; }, "stimulus[0].target", "expected a cell type");
+}
+
+TEST_CASE("traces name existing cells and variables") {
+  expect_error([](json& m) { m["output"]["traces"]["cells"] = {0, 4}; }, "output.traces.cells[1]",
+               "does not exist");
+  expect_error([](json& m) { m["output"]["traces"]["variables"] = {"V", "Ca_i"}; }, "output.traces.variables[1]",
+               "neither a state nor an output");
+  expect_error([](json& m) { m["output"]["traces"]["every_ms"] = 0.015; }, "output.traces.every_ms",
+               "multiple of solver.dt_ms");
+}
+
+TEST_CASE("a missing or malformed manifest file is a ManifestError") {
+  CHECK_THROWS_AS(read_manifest_file("/nonexistent/manifest.json"), ManifestError);
+  const auto dir = testing::scratch_dir("bad_json");
+  std::ofstream(dir / "bad.json") << "{ \"fibrodem\": 1, ";
+  CHECK_THROWS_WITH_AS(read_manifest_file((dir / "bad.json").string()),
+                       doctest::Contains("not valid JSON"), ManifestError);
+}
+
+TEST_CASE("--set overrides any value by its dotted path") {
+  json m = testing::passive_cell_manifest();
+  apply_override(m, "solver.dt_ms=0.02");
+  apply_override(m, "stimulus[0].amplitude_pA=3.5");
+  apply_override(m, "cells.fibroblast.parameters.R_GOhm=5");
+  apply_override(m, "name=renamed");
+  CHECK(m["solver"]["dt_ms"] == 0.02);
+  CHECK(m["stimulus"][0]["amplitude_pA"] == 3.5);
+  CHECK(m["cells"]["fibroblast"]["parameters"]["R_GOhm"] == 5);
+  CHECK(m["name"] == "renamed");
+  CHECK_THROWS_AS(apply_override(m, "stimulus[4].amplitude_pA=1"), ManifestError);
+  CHECK_THROWS_AS(apply_override(m, "no_equals_sign"), ManifestError);
+  CHECK_THROWS_AS(apply_override(m, "name.inner=1"), ManifestError);
+}
+
+TEST_CASE("the command line exits non-zero and names the path") {
+  const auto dir = testing::scratch_dir("cli_errors");
+  json m = testing::passive_cell_manifest();
+  m["solver"]["dt_ms"] = "small";
+  std::ofstream(dir / "bad.json") << m.dump();
+  const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem validate " +
+                              (dir / "bad.json").string() + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string output;
+  char buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  const int status = pclose(pipe);
+  CAPTURE(output);
+  CHECK(WEXITSTATUS(status) == 2);
+  CHECK(output.find("solver.dt_ms") != std::string::npos);
+  CHECK(output.find("expected a number") != std::string::npos);
+}

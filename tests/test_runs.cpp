@@ -1,0 +1,134 @@
+// Whole runs: determinism, outputs written as they go, blow-ups stopped and
+// named, explicit and implicit coupling agreeing, and only what is needed built.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+namespace {
+json passive_strand(int cells, double D_f_nS) {
+  json m = testing::passive_cell_manifest();
+  m["tissue"] = {{"builder", "strand"}, {"type", "fibroblast"}, {"cells", cells}};
+  m["coupling"] = {{"D_f_nS", D_f_nS}};
+  m["stimulus"] = json::array({{{"target", {0}}, {"start_ms", 10}, {"duration_ms", 20}, {"amplitude_pA", 20},
+                                {"period_ms", 50}}});
+  m["output"]["traces"] = {{"cells", {0, cells - 1}}, {"variables", {"V", "I_ion"}}, {"every_ms", 0.5}};
+  return m;
+}
+
+void run_to(json m, const std::filesystem::path& dir) {
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  sim.run();
+}
+}  // namespace
+
+TEST_CASE("the same manifest run twice gives byte-identical traces and biomarkers") {
+  for (const char* method : {"euler", "rush_larsen", "cvode"}) {
+    CAPTURE(method);
+    json m = passive_strand(6, 1.0);
+    m["solver"]["method"] = method;
+    const auto a = testing::scratch_dir(std::string("det_a_") + method);
+    const auto b = testing::scratch_dir(std::string("det_b_") + method);
+    run_to(m, a);
+    run_to(m, b);
+    for (const char* file : {"traces.csv", "biomarkers.csv"}) {
+      const std::string first = testing::read_file(a / file);
+      CHECK(first.size() > 100);
+      CHECK(first == testing::read_file(b / file));
+    }
+  }
+}
+
+TEST_CASE("the output directory holds what DESIGN.md names, with the summary's fields") {
+  const auto dir = testing::scratch_dir("outputs");
+  run_to(passive_strand(4, 1.0), dir);
+  for (const char* file : {"summary.json", "biomarkers.csv", "traces.csv", "run.log"})
+    CHECK(std::filesystem::exists(dir / file));
+  const json summary = json::parse(testing::read_file(dir / "summary.json"));
+  CHECK(summary["status"] == "completed");
+  CHECK(summary["cells"]["fibroblast"] == 4);
+  CHECK(summary["plugins"][0]["name"] == "passive_fibroblast");
+  CHECK(summary["plugins"][0]["sha256"].get<std::string>().size() == 64);
+  CHECK(summary["effects"] == json({"electrophysiology", "coupling"}));
+  CHECK(summary["mean_biomarkers"]["fibroblast"]["beats_measured"] == 4 * 2);
+  CHECK(testing::read_file(dir / "traces.csv").rfind("t_ms,V_0,I_ion_0,V_3,I_ion_3\n", 0) == 0);
+  CHECK(testing::read_file(dir / "biomarkers.csv")
+            .rfind("cell,type,beat,activation_ms,rmp_mV,apo_mV,apd90_ms,dvdt_max_mV_per_ms\n", 0) == 0);
+  const std::string log = testing::read_file(dir / "run.log");
+  CHECK(log.find("process built: coupling") != std::string::npos);
+}
+
+TEST_CASE("explicit Euler past its stability limit stops with a named blow-up and keeps its outputs") {
+  // D_f = 1000 nS on 6.3 pF: lambda <= 2 * 2000 / 6.3 = 635 /ms, so explicit
+  // coupling needs dt < 2/lambda = 0.003 ms; dt = 0.05 ms must blow up.
+  json m = passive_strand(8, 1000.0);
+  m["solver"]["dt_ms"] = 0.05;
+  m["duration_ms"] = 100;
+  const auto dir = testing::scratch_dir("blowup");
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  try {
+    sim.run();
+    FAIL("expected the run to fail");
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    CAPTURE(message);
+    CHECK(message.find("blow-up at t = ") != std::string::npos);
+    CHECK(message.find("model passive_fibroblast") != std::string::npos);
+    CHECK(message.find("state 'V'") != std::string::npos);
+    CHECK(message.find("smaller solver.dt_ms") != std::string::npos);
+  }
+  const json summary = json::parse(testing::read_file(dir / "summary.json"));
+  CHECK(summary["status"] == "failed");
+  CHECK(summary["error"].get<std::string>().find("blow-up") != std::string::npos);
+  const std::string traces = testing::read_file(dir / "traces.csv");
+  CHECK(traces.find("nan") == std::string::npos);
+  CHECK(std::count(traces.begin(), traces.end(), '\n') > 2);  // what was written stays
+  CHECK(testing::read_file(dir / "run.log").find("stability limit of explicit coupling") != std::string::npos);
+}
+
+TEST_CASE("implicit coupling is stable where explicit is not, and agrees with a fine explicit run") {
+  json fine = passive_strand(8, 1000.0);
+  fine["solver"]["dt_ms"] = 0.001;
+  fine["duration_ms"] = 60;
+  Simulation reference(parse_scene(fine));
+  reference.run();
+
+  json coarse = fine;
+  coarse["solver"]["dt_ms"] = 0.05;
+  coarse["coupling"]["scheme"] = "implicit";
+  Simulation implicit(parse_scene(coarse));
+  implicit.run();
+  const auto& Vr = reference.trace("V", 7);
+  const auto& Vi = implicit.trace("V", 7);
+  REQUIRE(Vr.size() == Vi.size());
+  double worst = 0, swing = 0;
+  for (std::size_t k = 0; k < Vr.size(); ++k) {
+    worst = std::max(worst, std::abs(Vr[k] - Vi[k]));
+    swing = std::max(swing, std::abs(Vr[k] + 49.6));
+  }
+  // Splitting error O(dt): within 1 % of the response's swing at dt = 0.05 ms.
+  CHECK(swing > 1.0);
+  CHECK(worst < 0.01 * swing);
+}
+
+TEST_CASE("without coupling the cells of a strand do not talk; the log says why") {
+  json m = passive_strand(3, 5.0);
+  m["effects"] = {"electrophysiology"};
+  Simulation sim(parse_scene(m));
+  sim.run();
+  CHECK_FALSE(sim.processes().has("coupling"));
+  CHECK(sim.trace("V", 2).back() == -49.6);  // never stimulated, never coupled
+  REQUIRE(!sim.processes().notes.empty());
+  CHECK(sim.processes().notes[0].find("coupling not built") != std::string::npos);
+}
+
+TEST_CASE("an effect this version cannot simulate is refused by name") {
+  json m = testing::passive_cell_manifest();
+  m["effects"] = {"electrophysiology", "mechanics"};
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("effects[1]"), ManifestError);
+}

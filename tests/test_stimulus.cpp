@@ -1,0 +1,59 @@
+// Stimulus pulses: on/off times, edges, and CVODE never stepping over a pulse.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "stimulus/stimulus.hpp"
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+TEST_CASE("a periodic pulse train is on exactly in its pulses") {
+  PulseTrain train{{0}, 50.0, 2.0, 2000.0, 1000.0, 3};
+  CHECK_FALSE(train.on(49.999));
+  CHECK(train.on(50.0));
+  CHECK(train.on(51.999));
+  CHECK_FALSE(train.on(52.0));
+  CHECK(train.on(1050.0));
+  CHECK(train.on(2051.0));
+  CHECK_FALSE(train.on(3050.5));  // count = 3
+  // n * dt round-off: 5000 * 0.01 is not exactly 50.
+  CHECK(train.on(5000 * 0.01));
+  CHECK_FALSE(train.on(5200 * 0.01));
+}
+
+TEST_CASE("edges and onsets of the stimulus") {
+  json m = testing::passive_cell_manifest();
+  m["stimulus"] = json::array({{{"target", "fibroblast"}, {"start_ms", 50}, {"duration_ms", 2},
+                                {"amplitude_pA", 5}, {"period_ms", 1000}}});
+  Scene scene = parse_scene(m);
+  Tissue tissue = scene.tissue->build(0);
+  Stimulus stimulus(scene.stimuli, tissue);
+  CHECK(stimulus.next_edge_after(0) == 50);
+  CHECK(stimulus.next_edge_after(50) == 52);
+  CHECK(stimulus.next_edge_after(52) == 1050);
+  CHECK(stimulus.onsets(3000) == std::vector<double>{50, 1050, 2050});
+  std::vector<double> i(1, 0.0);
+  stimulus.add_current(51, i.data());
+  CHECK(i[0] == 5);
+}
+
+TEST_CASE("CVODE does not step over a short pulse and delivers its exact charge") {
+  // Passive cell, 2 ms x 10 pA at t = 500.3 ms after a long quiet spell in which
+  // CVODE's step would grow far beyond 2 ms. Exact rise at the pulse end:
+  // I R (1 - exp(-2 / RC)), RC = 10.7 GOhm x 6.3 pF.
+  json m = testing::passive_cell_manifest();
+  m["duration_ms"] = 600;
+  m["stimulus"] = json::array({{{"target", "fibroblast"}, {"start_ms", 500.3}, {"duration_ms", 2},
+                                {"amplitude_pA", 10}}});
+  m["solver"] = {{"method", "cvode"}, {"rtol", 1e-8}, {"atol", 1e-8}, {"max_step_ms", 1000}};
+  m["output"]["traces"] = {{"cells", {0}}, {"variables", {"V"}}, {"every_ms", 0.1}};
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const auto& t = sim.trace_times();
+  const auto& V = sim.trace("V", 0);
+  const double rise = 10 * 10.7 * (1 - std::exp(-2 / (10.7 * 6.3)));
+  for (std::size_t k = 0; k < t.size(); ++k)
+    if (std::abs(t[k] - 502.3) < 1e-9) CHECK(V[k] - (-49.6) == doctest::Approx(rise).epsilon(1e-5));
+  CHECK(*std::max_element(V.begin(), V.end()) == doctest::Approx(-49.6 + rise).epsilon(1e-5));
+}
