@@ -267,13 +267,17 @@ struct Simulation::Impl : StepObserver {
     }
   }
 
-  // A state outside its physical range (or NaN/Inf) stops the run.
+  // A state outside its physical range (or NaN/Inf) stops the run. The range
+  // is widened by round-off (1e-6 relative) and, for CVODE, by its error
+  // tolerance: a gate at -2e-13 after a BDF step is not a blow-up.
   void check_states(double t) const {
+    const double solver_slack = scene.solver.method == "cvode" ? 10 * scene.solver.atol : 0.0;
     for (const auto& pop : system.populations) {
       const std::size_t n = pop.size();
       const auto& states = pop.info().states;
       for (std::size_t k = 0; k < states.size(); ++k) {
-        const double lo = states[k].lower, hi = states[k].upper;
+        const double lo = states[k].lower - std::max(1e-6 * std::max(1.0, std::abs(states[k].lower)), solver_slack);
+        const double hi = states[k].upper + std::max(1e-6 * std::max(1.0, std::abs(states[k].upper)), solver_slack);
         const double* y = pop.y.data() + k * n;
         for (std::size_t c = 0; c < n; ++c)
           if (!(y[c] >= lo && y[c] <= hi)) blow_up(t, pop, k, c, y[c]);
