@@ -24,6 +24,15 @@ int main(int argc, char** argv) {
   validate->add_option("manifest", validate_args.manifest, "experiment manifest (JSON)")->required();
   validate->add_option("--set", validate_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
 
+  fibrodem::cli::CompareArgs compare_args;
+  auto* compare = app.add_subcommand("compare", "Run two variants (two manifests, or one with --a/--b overrides) and compare them");
+  compare->add_option("manifests", compare_args.manifests, "A.json B.json, or one manifest")->required()->expected(1, 2);
+  compare->add_option("--out", compare_args.out, "output directory (default out/compare_NAME)");
+  compare->add_option("--set", compare_args.overrides, "override for both: PATH=VALUE (repeatable)");
+  compare->add_option("--a", compare_args.a_overrides, "override for A only: PATH=VALUE (repeatable)");
+  compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
+  compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
+
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
@@ -35,6 +44,7 @@ int main(int argc, char** argv) {
 
   if (*run) return fibrodem::cli::run_command(run_args);
   if (*validate) return fibrodem::cli::validate_command(validate_args);
+  if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
   return 0;

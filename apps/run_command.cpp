@@ -17,23 +17,6 @@ Scene load_scene(const RunArgs& args) {
   return parse_scene(manifest);
 }
 
-// Runs `body`, turning each kind of failure into a message and an exit code.
-template <class Body>
-int guarded(Body body) {
-  try {
-    return body();
-  } catch (const ManifestError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const PluginError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 3;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 4;
-  }
-}
-
 }  // namespace
 
 int run_command(const RunArgs& args) {

@@ -33,6 +33,7 @@ struct TraceColumn {
   std::size_t local = 0;
   bool is_output = false;
   int index = 0;
+  std::string name() const { return variable + "_" + std::to_string(cell); }
 };
 
 std::string list_names(const std::vector<std::string>& names) {
@@ -195,7 +196,7 @@ struct Simulation::Impl : StepObserver {
     file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
     log->sinks().push_back(file_sink);
     std::vector<std::string> header = {"t_ms"};
-    for (const auto& c : columns) header.push_back(c.variable + "_" + std::to_string(c.cell));
+    for (const auto& c : columns) header.push_back(c.name());
     traces_csv = CsvWriter(out / "traces.csv", header);
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
@@ -427,6 +428,13 @@ const std::vector<double>& Simulation::trace_times() const { return impl_->times
 json Simulation::mean_biomarkers() const { return impl_->mean_biomarkers(); }
 json Simulation::summary() const { return impl_->summary(); }
 std::string Simulation::integrator_description() const { return impl_->integrator->describe(); }
+
+std::vector<std::string> Simulation::trace_column_names() const {
+  std::vector<std::string> names;
+  for (const auto& c : impl_->columns) names.push_back(c.name());
+  return names;
+}
+const std::vector<std::vector<double>>& Simulation::trace_samples() const { return impl_->samples; }
 
 const std::vector<double>& Simulation::trace(const std::string& variable, int cell) const {
   for (std::size_t i = 0; i < impl_->columns.size(); ++i)

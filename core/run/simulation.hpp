@@ -48,6 +48,9 @@ class Simulation {
   const std::vector<double>& trace_times() const;
   // Samples of a traced variable of a cell; throws if it was not traced.
   const std::vector<double>& trace(const std::string& variable, int cell) const;
+  // Every traced column's name (VAR_CELL, as in traces.csv) and samples.
+  std::vector<std::string> trace_column_names() const;
+  const std::vector<std::vector<double>>& trace_samples() const;
   // Per-cell-type means of the biomarkers recorded (summary.json's mean_biomarkers).
   json mean_biomarkers() const;
   json summary() const;

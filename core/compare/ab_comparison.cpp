@@ -1,0 +1,112 @@
+#include "compare/ab_comparison.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "io/csv_writer.hpp"
+
+namespace fibrodem {
+
+namespace {
+
+constexpr const char* kMetrics[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
+
+double value_of(const json& means, const std::string& type, const std::string& metric) {
+  if (!means.contains(type) || !means[type].contains(metric) || means[type][metric].is_null())
+    return std::numeric_limits<double>::quiet_NaN();
+  return means[type][metric].get<double>();
+}
+
+// Linear interpolation of samples (t, y) at time x (t sorted, x within range).
+double interpolate(const std::vector<double>& t, const std::vector<double>& y, double x) {
+  const auto it = std::lower_bound(t.begin(), t.end(), x);
+  if (it == t.begin()) return y.front();
+  if (it == t.end()) return y.back();
+  const std::size_t k = static_cast<std::size_t>(it - t.begin());
+  const double w = (x - t[k - 1]) / (t[k] - t[k - 1]);
+  return y[k - 1] + w * (y[k] - y[k - 1]);
+}
+
+double finest_interval(const std::vector<double>& t) {
+  double h = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < t.size(); ++k) h = std::min(h, t[k] - t[k - 1]);
+  return h;
+}
+
+std::string fixed(double x, int digits) {
+  if (!std::isfinite(x)) return "n/a";
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+double ComparisonRow::relative_diff() const {
+  return a != 0 ? (b - a) / std::abs(a) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<ComparisonRow> compare_biomarkers(const RunRecord& a, const RunRecord& b) {
+  std::vector<ComparisonRow> rows;
+  for (const char* type : {"myocyte", "fibroblast"}) {
+    if (!a.mean_biomarkers.contains(type) && !b.mean_biomarkers.contains(type)) continue;
+    for (const char* metric : kMetrics)
+      rows.push_back({type, metric, value_of(a.mean_biomarkers, type, metric),
+                      value_of(b.mean_biomarkers, type, metric)});
+  }
+  return rows;
+}
+
+std::string comparison_markdown(const RunRecord& a, const RunRecord& b) {
+  std::ostringstream md;
+  md << "| cell type | biomarker | " << a.label << " | " << b.label << " | " << b.label << " - " << a.label
+     << " | relative |\n|---|---|---:|---:|---:|---:|\n";
+  for (const auto& r : compare_biomarkers(a, b))
+    md << "| " << r.type << " | " << r.metric << " | " << fixed(r.a, 2) << " | " << fixed(r.b, 2) << " | "
+       << fixed(r.diff(), 2) << " | " << fixed(100 * r.relative_diff(), 1) << " % |\n";
+  return md.str();
+}
+
+void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream md(dir / "comparison.md");
+    md << "# " << a.label << " vs " << b.label << "\n\nPer-cell-type mean biomarkers.\n\n"
+       << comparison_markdown(a, b);
+  }
+  CsvWriter csv(dir / "comparison.csv", {"type", "metric", "a", "b", "b_minus_a", "relative_diff"});
+  for (const auto& r : compare_biomarkers(a, b)) {
+    csv.cell(r.type).cell(r.metric).cell(r.a).cell(r.b).cell(r.diff()).cell(r.relative_diff());
+    csv.end_row();
+  }
+
+  // Traces of the columns both runs have, on a common time base.
+  std::vector<std::pair<std::size_t, std::size_t>> shared;
+  for (std::size_t i = 0; i < a.columns.size(); ++i)
+    for (std::size_t j = 0; j < b.columns.size(); ++j)
+      if (a.columns[i] == b.columns[j]) shared.emplace_back(i, j);
+  std::vector<std::string> header = {"t_ms"};
+  for (const auto& [i, j] : shared) {
+    header.push_back(a.label + ":" + a.columns[i]);
+    header.push_back(b.label + ":" + b.columns[j]);
+  }
+  CsvWriter traces(dir / "traces.csv", header);
+  if (shared.empty() || a.times.size() < 2 || b.times.size() < 2) return;
+  const double t0 = std::max(a.times.front(), b.times.front());
+  const double t1 = std::min(a.times.back(), b.times.back());
+  const double h = std::min(finest_interval(a.times), finest_interval(b.times));
+  for (long k = 0; t0 + static_cast<double>(k) * h <= t1 + 1e-9; ++k) {
+    const double t = t0 + static_cast<double>(k) * h;
+    traces.cell(t);
+    for (const auto& [i, j] : shared) {
+      traces.cell(interpolate(a.times, a.samples[i], t));
+      traces.cell(interpolate(b.times, b.samples[j], t));
+    }
+    traces.end_row();
+  }
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,38 @@
+// A/B comparison of two runs (DESIGN.md `fibrodem compare`): per-cell-type mean
+// biomarkers side by side with differences and relative differences (Markdown
+// and CSV), and the traces of both on a common time base.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scene/json_reader.hpp"
+
+namespace fibrodem {
+
+struct RunRecord {
+  std::string label;     // "A", "B" or a name
+  json mean_biomarkers;  // summary.json's mean_biomarkers
+  std::vector<double> times;
+  std::vector<std::string> columns;          // VAR_CELL
+  std::vector<std::vector<double>> samples;  // per column
+};
+
+struct ComparisonRow {
+  std::string type, metric;
+  double a = 0, b = 0;
+  double diff() const { return b - a; }
+  double relative_diff() const;  // (b - a) / |a|; NaN when a == 0
+};
+
+std::vector<ComparisonRow> compare_biomarkers(const RunRecord& a, const RunRecord& b);
+
+// Writes comparison.md, comparison.csv and traces.csv (t_ms, then A:COL and B:COL
+// for the columns both runs traced, linearly interpolated onto a grid over the
+// common time span at the finer of the two sampling intervals).
+void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesystem::path& dir);
+
+std::string comparison_markdown(const RunRecord& a, const RunRecord& b);
+
+}  // namespace fibrodem
