@@ -18,6 +18,7 @@
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
 #include "io/csv_writer.hpp"
+#include "measure/conduction_velocity.hpp"
 #include "run/population_setup.hpp"
 
 namespace fibrodem {
@@ -372,6 +373,25 @@ struct Simulation::Impl : StepObserver {
     return means;
   }
 
+  // Conduction velocity of each beat along the fibre (y). A cell counts as
+  // activated when its action potential amplitude reaches 20 mV.
+  json conduction() const {
+    json per_beat = json::array();
+    if (tissue.cell_count() < 2) return per_beat;
+    std::vector<bool> stimulated(tissue.cell_count(), false);
+    for (const auto& train : system.stimulus.trains())
+      for (int c : train.cells) stimulated[c] = true;
+    std::map<int, std::vector<ConductionSample>> beats_by_index;
+    for (const auto& b : beats)
+      beats_by_index[b.beat].push_back(
+          {tissue.y_um[b.cell], b.activation_ms, stimulated[b.cell], b.apo_mV - b.rmp_mV >= 20.0});
+    for (const auto& [beat, beat_cells] : beats_by_index)
+      if (const auto fit = fit_conduction_velocity(beat_cells))
+        per_beat.push_back({{"beat", beat}, {"cv_cm_per_s", fit->cv_cm_per_s}, {"r_squared", fit->r_squared},
+                            {"cells_used", fit->cells_used}, {"window_um", {fit->from_um, fit->to_um}}});
+    return per_beat;
+  }
+
   json summary() const {
     json s;
     s["fibrodem_version"] = FIBRODEM_VERSION;
@@ -400,8 +420,9 @@ struct Simulation::Impl : StepObserver {
     s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))
                              : json(nullptr);
     s["mean_biomarkers"] = mean_biomarkers();
-    // Not measured by this version (tissue-scale measurement and mechanics come later).
-    s["cv_cm_per_s"] = nullptr;
+    s["conduction"] = conduction();
+    s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
+    // Not measured by this version (mechanics comes later).
     s["peak_strain"] = nullptr;
     return s;
   }
