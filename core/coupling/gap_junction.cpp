@@ -28,8 +28,10 @@ GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, doub
 }
 
 void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
-  // i_ext -= L V, row by row (deterministic order).
-  for (Eigen::Index row = 0; row < laplacian_.outerSize(); ++row) {
+  // i_ext -= L V, row by row: each row sums in a fixed order, whatever the threads.
+  const Eigen::Index rows = laplacian_.outerSize();
+#pragma omp parallel for schedule(static) if (rows > 4096)
+  for (Eigen::Index row = 0; row < rows; ++row) {
     double current = 0.0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)
       current -= it.value() * V[it.col()];

@@ -1,5 +1,6 @@
 #include "integrate/fixed_step.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -8,21 +9,27 @@ namespace fibrodem {
 void FixedStepIntegrator::update_states(Population& pop, double dt) const {
   const std::size_t n = pop.size();
   const auto& states = pop.info().states;
-  for (std::size_t k = 0; k < states.size(); ++k) {
-    double* y = pop.y.data() + k * n;
-    const double* a = pop.a.data() + k * n;
-    const double* b = pop.b.data() + k * n;
-    if (rule_ == Rule::rush_larsen && states[k].gate) {
-      for (std::size_t c = 0; c < n; ++c) {
-        if (b[c] != 0.0) {
-          const double y_inf = -a[c] / b[c];
-          y[c] = y_inf + (y[c] - y_inf) * std::exp(b[c] * dt);
-        } else {
-          y[c] += dt * a[c];
+  const auto blocks = static_cast<long>((n + kCellsPerBlock - 1) / kCellsPerBlock);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+  for (long block = 0; block < blocks; ++block) {
+    const std::size_t begin = static_cast<std::size_t>(block) * kCellsPerBlock;
+    const std::size_t end = std::min(n, begin + kCellsPerBlock);
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      double* y = pop.y.data() + k * n;
+      const double* a = pop.a.data() + k * n;
+      const double* b = pop.b.data() + k * n;
+      if (rule_ == Rule::rush_larsen && states[k].gate) {
+        for (std::size_t c = begin; c < end; ++c) {
+          if (b[c] != 0.0) {
+            const double y_inf = -a[c] / b[c];
+            y[c] = y_inf + (y[c] - y_inf) * std::exp(b[c] * dt);
+          } else {
+            y[c] += dt * a[c];
+          }
         }
+      } else {
+        for (std::size_t c = begin; c < end; ++c) y[c] += dt * (a[c] + b[c] * y[c]);
       }
-    } else {
-      for (std::size_t c = 0; c < n; ++c) y[c] += dt * (a[c] + b[c] * y[c]);
     }
   }
 }

@@ -1,5 +1,7 @@
 #include "model/population.hpp"
 
+#include <algorithm>
+
 namespace fibrodem {
 
 void Population::reset() {
@@ -27,7 +29,19 @@ BlockView Population::view() {
   return v;
 }
 
-void Population::evaluate(double t_ms) { model->evaluate(view(), t_ms); }
+void Population::evaluate(double t_ms) {
+  // Blocks of cells in parallel: each cell's derivatives depend only on its own
+  // state and inputs, so the result does not depend on the thread count.
+  const BlockView whole = view();
+  const auto blocks = static_cast<long>((size() + kCellsPerBlock - 1) / kCellsPerBlock);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+  for (long k = 0; k < blocks; ++k) {
+    BlockView block = whole;
+    block.begin = static_cast<std::size_t>(k) * kCellsPerBlock;
+    block.end = std::min(size(), block.begin + kCellsPerBlock);
+    model->evaluate(block, t_ms);
+  }
+}
 
 namespace {
 template <class List>

@@ -12,6 +12,9 @@
 
 namespace fibrodem {
 
+// Cells per block handed to one thread at a time.
+inline constexpr std::size_t kCellsPerBlock = 256;
+
 struct Population {
   CellType type = CellType::myocyte;
   std::shared_ptr<const CellModel> model;

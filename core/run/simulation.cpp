@@ -4,6 +4,7 @@
 #include <spdlog/sinks/null_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <omp.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -75,6 +76,7 @@ struct Simulation::Impl : StepObserver {
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
     if (!registry) registry = std::make_shared<PluginRegistry>();
+    if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
     make_logger();
     tissue = scene.tissue->build(scene.seed);
     plan = plan_processes(scene, tissue);
@@ -218,7 +220,7 @@ struct Simulation::Impl : StepObserver {
     if (system.coupler)
       log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS,
                 scene.coupling.D_f_nS, system.implicit_coupling ? "backward Euler (split)" : "explicit");
-    log->info("integrator: {}", integrator->describe());
+    log->info("integrator: {}; {} threads", integrator->describe(), omp_get_max_threads());
     for (const auto& w : warnings) log->warn("{}", w);
   }
 

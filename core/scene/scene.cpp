@@ -104,6 +104,7 @@ SolverSpec read_solver(JsonReader r) {
   s.atol = r.number("atol", s.atol, 1e-16, 1.0);
   s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
   s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band"});
+  s.threads = static_cast<int>(r.integer("threads", 0, 0, 1024));
   r.finish();
   return s;
 }

@@ -58,6 +58,7 @@ struct SolverSpec {
   double rtol = 1e-6, atol = 1e-8;     // cvode
   double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
   std::string linear_solver = "auto";  // cvode: auto | dense | band
+  int threads = 0;                     // 0: every core (results do not depend on it)
 };
 
 struct TraceSpec {
