@@ -4,12 +4,6 @@
 
 namespace fibrodem {
 
-std::size_t CellSystem::state_count() const {
-  std::size_t n = 0;
-  for (const auto& p : populations) n += p.n_states() * p.size();
-  return n;
-}
-
 void CellSystem::gather_voltage() {
   for (auto& pop : populations) {
     const double* v = pop.voltage();
@@ -24,20 +18,66 @@ void CellSystem::scatter_voltage() {
   }
 }
 
-void CellSystem::compute_inputs(double t_stim_ms) {
+void CellSystem::record_rest_lengths() {
+  for (auto& m : myofilaments) {
+    m.pop.evaluate(0.0);
+    const std::size_t n = m.pop.size();
+    m.rest_sarcomere_length.assign(m.pop.outputs.begin() + m.sarcomere_output * n,
+                                   m.pop.outputs.begin() + (m.sarcomere_output + 1) * n);
+  }
+}
+
+double CellSystem::stretch(int population, std::size_t local) const {
+  for (const auto& m : myofilaments)
+    if (m.host == population) {
+      const std::size_t n = m.pop.size();
+      return m.pop.outputs[m.sarcomere_output * n + local] / m.rest_sarcomere_length[local];
+    }
+  return 1.0;
+}
+
+void CellSystem::add_stretch_activated_current() {
+  for (const auto& m : myofilaments) {
+    const Population& host = populations[m.host];
+    const std::size_t n = host.size();
+    for (std::size_t c = 0; c < n; ++c) {
+      const double lambda = m.pop.outputs[m.sarcomere_output * n + c] / m.rest_sarcomere_length[c];
+      if (lambda <= 1.0) continue;
+      const double V = host.y[host.voltage_state * n + c];
+      // Outward positive current, so it enters i_ext (depolarising positive) negated.
+      i_ext_pA[host.cells[c]] -= sac.G_nS * (lambda - 1.0) / (sac.lambda_max - 1.0) * (V - sac.E_mV);
+    }
+  }
+}
+
+void CellSystem::evaluate(double t_stim_ms, double t_ms) {
+  // 1. Myofilaments read their host's cytosolic Ca (a state of the host).
+  for (auto& m : myofilaments) {
+    const Population& host = populations[m.host];
+    const std::size_t n = host.size();
+    std::copy_n(host.y.begin() + m.host_ca_state * n, n, m.pop.inputs.begin());
+    m.pop.evaluate(t_ms);
+  }
+  // 2. Currents into each cell.
   std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
   stimulus.add_current(t_stim_ms, i_ext_pA.data());
   if (coupler && !implicit_coupling) {
     gather_voltage();
     coupler->add_current(V_mV.data(), i_ext_pA.data());
   }
+  if (sac.on) add_stretch_activated_current();
   for (auto& pop : populations) {
     double* in = pop.i_ext();
     for (std::size_t c = 0; c < pop.size(); ++c) in[c] = i_ext_pA[pop.cells[c]];
   }
-}
-
-void CellSystem::evaluate(double t_ms) {
+  // 3. Troponin flux back into the host's Ca balance (calcium feedback).
+  for (auto& m : myofilaments) {
+    if (m.host_trpn_input < 0) continue;
+    Population& host = populations[m.host];
+    const std::size_t n = host.size();
+    std::copy_n(m.pop.outputs.begin() + m.trpn_flux_output * n, n, host.inputs.begin() + m.host_trpn_input * n);
+  }
+  // 4. The ionic models.
   for (auto& pop : populations) pop.evaluate(t_ms);
 }
 

@@ -1,6 +1,8 @@
-// The system of ODEs the integrators advance: every population's cell states,
-// driven by the stimulus and, when the scene calls for coupling, by the
-// gap-junction currents between cells.
+// The system of ODEs the integrators advance: every cell's electrophysiology
+// (one ionic population per cell type) and, where the scene calls for
+// contraction, its myofilament model (a second population over the same cells,
+// driven by the host's Ca_i), coupled by gap-junction currents and, with
+// mechano-electric feedback, a stretch-activated current.
 #pragma once
 
 #include <memory>
@@ -13,25 +15,65 @@
 
 namespace fibrodem {
 
+// A myofilament population riding on an ionic one (same cells, same order).
+struct Myofilament {
+  Population pop;
+  int host = -1;                // index of the ionic population
+  int host_ca_state = -1;       // host state read as the myofilament's Ca_i input
+  int host_trpn_input = -1;     // host input receiving troponin flux (calcium feedback), or -1
+  int trpn_flux_output = -1;    // myofilament output dTRPN_Ca_dt
+  int sarcomere_output = -1;    // myofilament output sarcomere_length
+  std::vector<double> rest_sarcomere_length;  // per cell, at the start of the run
+};
+
+// Stretch-activated current, I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E)
+// for lambda > 1, lambda = SL / SL_rest (mechano_electric_feedback).
+struct StretchActivatedCurrent {
+  bool on = false;
+  double G_nS = 0, E_mV = 0, lambda_max = 1.1;
+};
+
 struct CellSystem {
-  std::vector<Population> populations;
+  std::vector<Population> populations;  // ionic, one per cell type present
+  std::vector<Myofilament> myofilaments;
   std::unique_ptr<Coupler> coupler;  // null: coupling not built
   std::vector<std::pair<int, int>> coupled_pairs;  // cell-graph edges the coupler joins
   bool implicit_coupling = false;    // coupling advanced by backward Euler (split)
   Stimulus stimulus;
-  std::vector<std::pair<int, int>> where;  // global cell -> (population, local index)
-  std::vector<double> V_mV, i_ext_pA;      // per global cell
+  StretchActivatedCurrent sac;
+  std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
+  std::vector<double> V_mV, i_ext_pA;              // per global cell
 
   std::size_t cell_count() const { return where.size(); }
-  std::size_t state_count() const;
 
   void gather_voltage();   // populations -> V_mV
   void scatter_voltage();  // V_mV -> populations
-  // Sets every cell's i_ext input: the stimulus at t_stim plus, when coupling
-  // is explicit, the gap-junction current at the present potentials.
-  void compute_inputs(double t_stim_ms);
-  // Evaluates a, b (and outputs) of every population at time t.
-  void evaluate(double t_ms);
+  // Evaluates every derivative at time t: myofilaments from their hosts' Ca_i,
+  // then every cell's i_ext (stimulus at t_stim, explicit coupling current,
+  // stretch-activated current), then the ionic models.
+  void evaluate(double t_stim_ms, double t_ms);
+  // Calls f(population, local index) for each block a cell's states live in:
+  // its ionic population, then its myofilament if any.
+  template <class F>
+  void for_each_part(std::size_t cell, F&& f) {
+    const auto [p, c] = where[cell];
+    f(populations[p], c);
+    for (auto& m : myofilaments)
+      if (m.host == p) f(m.pop, c);
+  }
+  // Every population, ionic and myofilament.
+  template <class F>
+  void for_each_population(F&& f) {
+    for (auto& p : populations) f(p);
+    for (auto& m : myofilaments) f(m.pop);
+  }
+  // Records each cell's sarcomere length as its rest length (call at t = 0).
+  void record_rest_lengths();
+  // Length of the cell relative to rest (SL / SL_rest); 1 without a myofilament.
+  double stretch(int population, std::size_t local) const;
+
+ private:
+  void add_stretch_activated_current();
 };
 
 }  // namespace fibrodem

@@ -17,40 +17,56 @@ namespace fibrodem {
 
 namespace {
 
-// Where each cell's states live in CVODE's vector (cell-major).
+// Where each cell's states live in CVODE's vector: cell by cell, each cell's
+// ionic states first (so its potential is at offset + voltage_state), then its
+// myofilament states.
 struct Layout {
   std::vector<std::size_t> offset;  // per global cell
+  std::vector<std::size_t> states;  // per global cell
   std::size_t size = 0;
   long half_bandwidth = 0;
 
-  explicit Layout(const CellSystem& sys) {
+  explicit Layout(CellSystem& sys) {
     offset.resize(sys.cell_count());
+    states.resize(sys.cell_count());
     for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
       offset[cell] = size;
-      size += population(sys, cell).n_states();
+      sys.for_each_part(cell, [&](const Population& pop, std::size_t) { states[cell] += pop.n_states(); });
+      size += states[cell];
+      // A cell's derivatives depend on all its own states ...
+      half_bandwidth = std::max(half_bandwidth, static_cast<long>(states[cell]) - 1);
     }
-    // A cell's derivatives depend on all its own states and, through the
-    // coupling current, on its neighbours' potentials.
-    for (std::size_t cell = 0; cell < sys.cell_count(); ++cell)
-      half_bandwidth = std::max(half_bandwidth, static_cast<long>(population(sys, cell).n_states()) - 1);
+    // ... and, through the coupling current, on its neighbours' potentials.
     if (sys.coupler)
-      for (const auto& [i, j] : sys.coupled_pairs) {
+      for (const auto& [i, j] : sys.coupled_pairs)
         half_bandwidth = std::max({half_bandwidth, reach(sys, i, j), reach(sys, j, i)});
-      }
   }
 
  private:
-  static const Population& population(const CellSystem& sys, std::size_t cell) {
-    return sys.populations[sys.where[cell].first];
-  }
   // Farthest distance from the rows of `cell` to the potential of `neighbour`.
   long reach(const CellSystem& sys, int cell, int neighbour) const {
-    const long v = static_cast<long>(offset[neighbour]) + population(sys, neighbour).voltage_state;
+    const long v = static_cast<long>(offset[neighbour]) +
+                   sys.populations[sys.where[neighbour].first].voltage_state;
     const long first = static_cast<long>(offset[cell]);
-    const long last = first + static_cast<long>(population(sys, cell).n_states()) - 1;
+    const long last = first + static_cast<long>(states[cell]) - 1;
     return std::max(std::abs(first - v), std::abs(last - v));
   }
 };
+
+// Copies between CVODE's vector and the populations (to_populations) or back.
+void transfer(const Layout& layout, CellSystem& sys, double* y, bool to_populations) {
+  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
+    std::size_t k0 = layout.offset[cell];
+    sys.for_each_part(cell, [&](Population& pop, std::size_t c) {
+      const std::size_t n = pop.size();
+      for (std::size_t k = 0; k < pop.n_states(); ++k) {
+        if (to_populations) pop.y[k * n + c] = y[k0 + k];
+        else y[k0 + k] = pop.y[k * n + c];
+      }
+      k0 += pop.n_states();
+    });
+  }
+}
 
 struct Context {
   CellSystem* system = nullptr;
@@ -60,32 +76,29 @@ struct Context {
 };
 
 void unpack(const Layout& layout, CellSystem& sys, const double* y) {
-  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
-    const auto [p, c] = sys.where[cell];
-    Population& pop = sys.populations[p];
-    const std::size_t n = pop.size();
-    for (std::size_t k = 0; k < pop.n_states(); ++k) pop.y[k * n + c] = y[layout.offset[cell] + k];
-  }
+  transfer(layout, sys, const_cast<double*>(y), true);
 }
 
 int right_hand_side(double t, N_Vector y, N_Vector ydot, void* user) {
   auto& ctx = *static_cast<Context*>(user);
   CellSystem& sys = *ctx.system;
   unpack(*ctx.layout, sys, N_VGetArrayPointer(y));
-  sys.compute_inputs(ctx.t_stimulus);
-  sys.evaluate(t);
+  sys.evaluate(ctx.t_stimulus, t);
   double* f = N_VGetArrayPointer(ydot);
+  bool finite = true;
   for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
-    const auto [p, c] = sys.where[cell];
-    const Population& pop = sys.populations[p];
-    const std::size_t n = pop.size();
-    for (std::size_t k = 0; k < pop.n_states(); ++k) {
-      const double value = pop.a[k * n + c] + pop.b[k * n + c] * pop.y[k * n + c];
-      if (!std::isfinite(value)) return 1;  // recoverable: CVODE retries with a smaller step
-      f[ctx.layout->offset[cell] + k] = value;
-    }
+    std::size_t k0 = ctx.layout->offset[cell];
+    sys.for_each_part(cell, [&](const Population& pop, std::size_t c) {
+      const std::size_t n = pop.size();
+      for (std::size_t k = 0; k < pop.n_states(); ++k) {
+        const double value = pop.a[k * n + c] + pop.b[k * n + c] * pop.y[k * n + c];
+        finite = finite && std::isfinite(value);
+        f[k0 + k] = value;
+      }
+      k0 += pop.n_states();
+    });
   }
-  return 0;
+  return finite ? 0 : 1;  // 1: recoverable, CVODE retries with a smaller step
 }
 
 void record_error(int /*code*/, const char* module, const char* function, char* message, void* user) {
@@ -129,11 +142,7 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
   g.y = N_VNew_Serial(n, sun);
   g.dky = N_VNew_Serial(n, sun);
   double* y = N_VGetArrayPointer(g.y);
-  for (std::size_t cell = 0; cell < system.cell_count(); ++cell) {
-    const auto [p, c] = system.where[cell];
-    const Population& pop = system.populations[p];
-    for (std::size_t k = 0; k < pop.n_states(); ++k) y[layout.offset[cell] + k] = pop.state(static_cast<int>(k), c);
-  }
+  transfer(layout, system, y, false);
 
   g.mem = CVodeCreate(CV_BDF, sun);
   check(CVodeSetErrHandlerFn(g.mem, record_error, &ctx), "SetErrHandlerFn", ctx);

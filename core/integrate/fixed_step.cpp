@@ -43,9 +43,8 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
   for (long long n = 0; n < steps; ++n) {
     const double t_next = (n + 1 == steps) ? t_end : t_start + static_cast<double>(n + 1) * dt_ms_;
     const double h = t_next - t;
-    system.compute_inputs(t);
-    system.evaluate(t);
-    for (auto& pop : system.populations) update_states(pop, h);
+    system.evaluate(t, t);
+    system.for_each_population([&](Population& pop) { update_states(pop, h); });
     if (system.coupler && system.implicit_coupling) {
       system.gather_voltage();
       system.coupler->implicit_step(system.V_mV.data(), h);

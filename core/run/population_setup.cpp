@@ -11,23 +11,29 @@ std::string names_of(const List& list) {
   return s.empty() ? "none" : s;
 }
 
-void check_contract(const ModelInfo& info) {
-  if (info.kind != ModelKind::ionic)
-    throw PluginError("model " + info.name + " is a myofilament model; a cell type's \"model\" must be ionic");
+void check_ionic_contract(const ModelInfo& info) {
   if (info.voltage_state < 0 || info.voltage_state >= static_cast<int>(info.states.size()))
     throw PluginError("model " + info.name + " declares no membrane potential state");
   if (info.capacitance_parameter < 0 || info.capacitance_parameter >= static_cast<int>(info.parameters.size()))
     throw PluginError("model " + info.name + " declares no capacitance parameter");
   if (info.inputs.empty() || info.inputs[0].name != "i_ext")
     throw PluginError("model " + info.name + ": an ionic model's first input must be i_ext [pA]");
-  if (info.inputs.size() > 1)
-    throw PluginError("model " + info.name + " reads inputs (" + names_of(info.inputs) +
-                      ") that this version of fibrodem cannot supply beyond i_ext");
+  for (std::size_t k = 1; k < info.inputs.size(); ++k)
+    if (info.inputs[k].name != kTroponinFluxInput)
+      throw PluginError("model " + info.name + " reads input " + info.inputs[k].name +
+                        ", which fibrodem cannot supply (it supplies i_ext and " + kTroponinFluxInput + ")");
+}
+
+void check_myofilament_contract(const ModelInfo& info) {
+  if (info.inputs.size() != 1 || info.inputs[0].name != "Ca_i")
+    throw PluginError("model " + info.name + ": a myofilament model reads exactly one input, Ca_i [mM]");
+  if (find_output(info, "sarcomere_length") < 0)
+    throw PluginError("model " + info.name + ": a myofilament model must output sarcomere_length [um]");
 }
 
 }  // namespace
 
-Population make_population(CellType type, const CellTypeSpec& spec, PluginRegistry& registry) {
+Population make_population(CellType type, const ModelSpec& spec, ModelKind kind, PluginRegistry& registry) {
   Population pop;
   pop.type = type;
   try {
@@ -36,7 +42,12 @@ Population make_population(CellType type, const CellTypeSpec& spec, PluginRegist
     throw ManifestError(join_path(spec.path, "model"), e.what());
   }
   const ModelInfo& info = pop.info();
-  check_contract(info);
+  if (info.kind != kind)
+    throw ManifestError(join_path(spec.path, "model"),
+                        "model " + info.name + " is " + (info.kind == ModelKind::ionic ? "an ionic" : "a myofilament") +
+                            " model; expected " + (kind == ModelKind::ionic ? "an ionic" : "a myofilament") + " model here");
+  if (kind == ModelKind::ionic) check_ionic_contract(info);
+  else check_myofilament_contract(info);
 
   for (const auto& p : info.parameters) pop.params.push_back(p.default_value);
   for (const auto& s : info.states) pop.initial_state.push_back(s.initial);
@@ -76,6 +87,7 @@ Population make_population(CellType type, const CellTypeSpec& spec, PluginRegist
     pop.params[k] = value;
   }
   pop.voltage_state = info.voltage_state;
+  if (kind == ModelKind::myofilament) return pop;
   pop.capacitance_pF = pop.params[info.capacitance_parameter];
   if (!(pop.capacitance_pF > 0))
     throw ManifestError(join_path(params_path, info.parameters[info.capacitance_parameter].name),

@@ -8,8 +8,12 @@
 
 namespace fibrodem {
 
-// Throws ManifestError (at the cell type's JSON path) for an unknown model,
-// variant or parameter; PluginError for a plugin that breaks the contract.
-Population make_population(CellType type, const CellTypeSpec& spec, PluginRegistry& registry);
+// Throws ManifestError (at the model's JSON path) for an unknown model, variant
+// or parameter, or a model of the wrong kind; PluginError for a plugin that
+// breaks the contract.
+Population make_population(CellType type, const ModelSpec& spec, ModelKind kind, PluginRegistry& registry);
+
+// Inputs an ionic model may read besides i_ext (which the core can supply).
+inline constexpr const char* kTroponinFluxInput = "J_TRPN";
 
 }  // namespace fibrodem

@@ -34,6 +34,7 @@ struct TraceColumn {
   int population = 0;
   std::size_t local = 0;
   bool is_output = false;
+  bool myofilament = false;  // population indexes CellSystem::myofilaments
   int index = 0;
   std::string name() const { return variable + "_" + std::to_string(cell); }
 };
@@ -81,6 +82,8 @@ struct Simulation::Impl : StepObserver {
     tissue = scene.tissue->build(scene.seed);
     plan = plan_processes(scene, tissue);
     build_populations();
+    derive_contraction_from_traces();
+    build_myofilaments();
     build_coupling();
     system.stimulus = Stimulus(scene.stimuli, tissue);
     resolve_traces();
@@ -113,7 +116,7 @@ struct Simulation::Impl : StepObserver {
                             "the tissue has " + std::to_string(count) + " " + cell_type_name(type) +
                                 "(s) but the manifest gives them no cell model");
       population_of[type] = static_cast<int>(system.populations.size());
-      system.populations.push_back(make_population(type, spec->second, *registry));
+      system.populations.push_back(make_population(type, spec->second.ionic, ModelKind::ionic, *registry));
     }
     system.where.resize(tissue.cell_count());
     for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell) {
@@ -137,6 +140,78 @@ struct Simulation::Impl : StepObserver {
     system.implicit_coupling = scene.coupling.scheme == "implicit" && scene.solver.method != "cvode";
   }
 
+  // Without a list of effects, a traced variable of a cell type's myofilament
+  // model calls for contraction.
+  void derive_contraction_from_traces() {
+    if (scene.effects_listed || plan.has("contraction")) return;
+    for (const auto& var : scene.output.traces.variables)
+      for (const auto& cell : scene.output.traces.cells) {
+        if (cell >= static_cast<int>(tissue.cell_count())) continue;
+        const Population& host = system.populations[system.where[cell].first];
+        const auto& spec = scene.cells.at(host.type);
+        if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
+        const ModelInfo& info = registry->load(spec.myofilament->model)->info();
+        if (find_state(info, var) >= 0 || find_output(info, var) >= 0) {
+          plan.built.push_back({"contraction", "output.traces records " + var + " of the myofilament model " + info.name});
+          plan.notes.erase(std::remove_if(plan.notes.begin(), plan.notes.end(),
+                                          [](const std::string& n) { return n.rfind("myofilament model", 0) == 0 ||
+                                                                            n.find("calcium_feedback") != std::string::npos; }),
+                           plan.notes.end());
+          return;
+        }
+      }
+  }
+
+  // One myofilament population per cell type that names one, over the same cells.
+  void build_myofilaments() {
+    if (!plan.has("contraction")) return;
+    for (std::size_t p = 0; p < system.populations.size(); ++p) {
+      Population& host = system.populations[p];
+      const CellTypeSpec& spec = scene.cells.at(host.type);
+      if (!spec.myofilament) continue;
+      Myofilament m;
+      m.pop = make_population(host.type, *spec.myofilament, ModelKind::myofilament, *registry);
+      m.pop.cells = host.cells;
+      m.pop.reset();
+      m.host = static_cast<int>(p);
+      m.host_ca_state = find_state(host.info(), "Ca_i");
+      if (m.host_ca_state < 0)
+        throw ManifestError(join_path(spec.path, "myofilament"),
+                            "the myofilament model needs the host's cytosolic Ca, but model " + host.info().name +
+                                " has no state Ca_i");
+      m.sarcomere_output = find_output(m.pop.info(), "sarcomere_length");
+      if (spec.calcium_feedback) connect_calcium_feedback(host, m, spec);
+      system.myofilaments.push_back(std::move(m));
+    }
+    if (plan.has("mechano_electric_feedback")) {
+      system.sac.on = true;
+      system.sac.G_nS = scene.mechano_electric.G_SAC_nS;
+      system.sac.E_mV = scene.mechano_electric.E_SAC_mV;
+      system.sac.lambda_max = scene.mechano_electric.lambda_max;
+    }
+  }
+
+  // Troponin buffering of the myofilament model enters the host's Ca balance
+  // as an input flux; the host's own troponin buffer is switched off so that
+  // troponin is not counted twice.
+  void connect_calcium_feedback(Population& host, Myofilament& m, const CellTypeSpec& spec) {
+    const std::string path = join_path(spec.path, "calcium_feedback");
+    for (std::size_t k = 0; k < host.info().inputs.size(); ++k)
+      if (host.info().inputs[k].name == kTroponinFluxInput) m.host_trpn_input = static_cast<int>(k);
+    if (m.host_trpn_input < 0)
+      throw ManifestError(path, "model " + host.info().name + " takes no troponin flux (input " +
+                                    kTroponinFluxInput + "), so calcium feedback cannot reach it");
+    m.trpn_flux_output = find_output(m.pop.info(), "dTRPN_Ca_dt");
+    if (m.trpn_flux_output < 0)
+      throw ManifestError(path, "myofilament model " + m.pop.info().name + " offers no output dTRPN_Ca_dt");
+    const int own_buffer = find_parameter(host.info(), "troponin_buffer_scale");
+    if (own_buffer >= 0) {
+      host.params[own_buffer] = 0.0;
+      plan.notes.push_back("calcium feedback: " + host.info().name + "'s own troponin buffer switched off "
+                           "(troponin_buffer_scale = 0); troponin is " + m.pop.info().name + "'s");
+    }
+  }
+
   void resolve_traces() {
     const TraceSpec& spec = scene.output.traces;
     for (std::size_t i = 0; i < spec.cells.size(); ++i) {
@@ -148,19 +223,24 @@ struct Simulation::Impl : StepObserver {
       for (std::size_t j = 0; j < spec.variables.size(); ++j) {
         const std::string& var = spec.variables[j];
         const auto [p, local] = system.where[cell];
-        const ModelInfo& info = system.populations[p].info();
-        TraceColumn col{var, cell, p, static_cast<std::size_t>(local), false, find_state(info, var)};
-        if (col.index < 0) {
-          col.is_output = true;
-          col.index = find_output(info, var);
-        }
+        TraceColumn col{var, cell, p, local, false, false, -1};
+        if (!find_column(system.populations[p], col))
+          for (std::size_t m = 0; m < system.myofilaments.size(); ++m)
+            if (system.myofilaments[m].host == p && find_column(system.myofilaments[m].pop, col)) {
+              col.myofilament = true;
+              col.population = static_cast<int>(m);
+            }
         if (col.index < 0) {
           std::vector<std::string> names;
-          for (const auto& s : info.states) names.push_back(s.name);
-          for (const auto& o : info.outputs) names.push_back(o.name);
+          system.for_each_part(cell, [&](const Population& pop, std::size_t) {
+            for (const auto& s : pop.info().states) names.push_back(s.name);
+            for (const auto& o : pop.info().outputs) names.push_back(o.name);
+          });
           throw ManifestError(index_path("output.traces.variables", j),
-                              "\"" + var + "\" is neither a state nor an output of model " + info.name +
-                                  " (cell " + std::to_string(cell) + "); it has: " + list_names(names));
+                              "\"" + var + "\" is neither a state nor an output of the models of cell " +
+                                  std::to_string(cell) + " (" + system.populations[p].info().name +
+                                  (plan.has("contraction") ? "" : "; myofilament models are loaded only with contraction") +
+                                  "); they have: " + list_names(names));
         }
         traces_need_outputs = traces_need_outputs || col.is_output;
         columns.push_back(col);
@@ -177,6 +257,13 @@ struct Simulation::Impl : StepObserver {
                                         "method, got " + format_number(value));
       }
     }
+  }
+
+  static bool find_column(const Population& pop, TraceColumn& col) {
+    col.index = find_state(pop.info(), col.variable);
+    col.is_output = col.index < 0;
+    if (col.is_output) col.index = find_output(pop.info(), col.variable);
+    return col.index >= 0;
   }
 
   void check_explicit_stability() {
@@ -213,10 +300,14 @@ struct Simulation::Impl : StepObserver {
               tissue.count(CellType::fibroblast), tissue.particles.size(), tissue.cell_edges.size());
     for (const auto& p : plan.built) log->info("process built: {} ({})", p.name, p.reason);
     for (const auto& note : plan.notes) log->info("{}", note);
-    for (const auto& pop : system.populations)
-      log->info("{}: model {} {}{}, {} cells x {} states", cell_type_name(pop.type), pop.info().name,
-                pop.info().version, pop.variant.empty() ? "" : ", variant " + pop.variant, pop.size(),
-                pop.n_states());
+    system.for_each_population([&](const Population& pop) {
+      log->info("{}: {} model {} {}{}, {} cells x {} states", cell_type_name(pop.type),
+                pop.info().kind == ModelKind::ionic ? "ionic" : "myofilament", pop.info().name, pop.info().version,
+                pop.variant.empty() ? "" : ", variant " + pop.variant, pop.size(), pop.n_states());
+    });
+    if (system.sac.on)
+      log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
+                system.sac.lambda_max);
     if (system.coupler)
       log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS,
                 scene.coupling.D_f_nS, system.implicit_coupling ? "backward Euler (split)" : "explicit");
@@ -233,14 +324,13 @@ struct Simulation::Impl : StepObserver {
 
   void on_sample(double t) override {
     if (traces_need_outputs) {
-      system.compute_inputs(t);
-      system.evaluate(t);
+      system.evaluate(t, t);
     }
     times.push_back(t);
     if (traces_csv.is_open()) traces_csv.cell(t);
     for (std::size_t i = 0; i < columns.size(); ++i) {
       const TraceColumn& c = columns[i];
-      const Population& pop = system.populations[c.population];
+      const Population& pop = c.myofilament ? system.myofilaments[c.population].pop : system.populations[c.population];
       const double value = c.is_output ? pop.outputs[c.index * pop.size() + c.local]
                                        : pop.y[c.index * pop.size() + c.local];
       samples[i].push_back(value);
@@ -274,9 +364,9 @@ struct Simulation::Impl : StepObserver {
   // A state outside its physical range (or NaN/Inf) stops the run. The range
   // is widened by round-off (1e-6 relative) and, for CVODE, by its error
   // tolerance: a gate at -2e-13 after a BDF step is not a blow-up.
-  void check_states(double t) const {
+  void check_states(double t) {
     const double solver_slack = scene.solver.method == "cvode" ? 10 * scene.solver.atol : 0.0;
-    for (const auto& pop : system.populations) {
+    system.for_each_population([&](const Population& pop) {
       const std::size_t n = pop.size();
       const auto& states = pop.info().states;
       for (std::size_t k = 0; k < states.size(); ++k) {
@@ -286,7 +376,7 @@ struct Simulation::Impl : StepObserver {
         for (std::size_t c = 0; c < n; ++c)
           if (!(y[c] >= lo && y[c] <= hi)) blow_up(t, pop, k, c, y[c]);
       }
-    }
+    });
   }
 
   [[noreturn]] void blow_up(double t, const Population& pop, std::size_t k, std::size_t c, double value) const {
@@ -327,6 +417,7 @@ struct Simulation::Impl : StepObserver {
       tracker = std::make_unique<BiomarkerTracker>(
           tissue.type, system.stimulus.onsets(scene.duration_ms), scene.output.biomarkers_from_ms,
           [this](const BeatBiomarkers& b) { record_beat(b); });
+      system.record_rest_lengths();
       system.gather_voltage();
       tracker->start(0.0, system.V_mV.data());
       integrator->advance(system, 0.0, scene.duration_ms, *this);

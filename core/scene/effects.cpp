@@ -6,8 +6,12 @@ namespace fibrodem {
 
 namespace {
 // Effects whose processes this version of fibrodem has.
-bool available(const std::string& effect) {
-  return effect == "electrophysiology" || effect == "coupling";
+bool available(const std::string& effect) { return effect != "mechanics"; }
+
+bool any_myofilament(const Scene& scene) {
+  for (const auto& [type, spec] : scene.cells)
+    if (spec.myofilament) return true;
+  return false;
 }
 }  // namespace
 
@@ -24,12 +28,17 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
         throw ManifestError(index_path("effects", i),
                             "the effect \"" + effect +
                                 "\" is not available in this version of fibrodem (available: "
-                                "electrophysiology, coupling)");
+                                "electrophysiology, coupling, contraction, mechano_electric_feedback)");
       if (!plan.has(effect)) plan.built.push_back({effect, "listed in the manifest's effects"});
     }
-    if (plan.has("coupling") && !plan.has("electrophysiology"))
+    if (plan.has("mechano_electric_feedback") && !plan.has("contraction"))
+      plan.built.push_back({"contraction", "mechano_electric_feedback needs the cells' stretch"});
+    if (plan.has("contraction") && !any_myofilament(scene))
+      throw ManifestError("effects", "contraction needs a myofilament model: set cells.myocyte.myofilament "
+                                     "(for example \"rice\")");
+    if ((plan.has("coupling") || plan.has("contraction")) && !plan.has("electrophysiology"))
       plan.built.insert(plan.built.begin(),
-                        {"electrophysiology", "coupling needs the cells' membrane potentials"});
+                        {"electrophysiology", "coupling and contraction need the cells' electrophysiology"});
     if (!plan.has("electrophysiology"))
       throw ManifestError("effects", "expected at least \"electrophysiology\": every output of "
                                      "this version of fibrodem needs it");
@@ -44,10 +53,15 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
                                             " cell pairs share gap junctions and their potentials "
                                             "are recorded"});
   }
-  for (const auto& [type, spec] : scene.cells)
-    if (!spec.myofilament.empty())
-      plan.notes.push_back("myofilament model \"" + spec.myofilament + "\" of the " +
-                           cell_type_name(type) + " not loaded: no effect needs contraction");
+  if (!plan.has("contraction"))
+    for (const auto& [type, spec] : scene.cells) {
+      if (spec.myofilament)
+        plan.notes.push_back("myofilament model \"" + spec.myofilament->model + "\" of the " + cell_type_name(type) +
+                             " not loaded: no effect needs contraction");
+      if (spec.calcium_feedback)
+        plan.notes.push_back(std::string("calcium_feedback of the ") + cell_type_name(type) +
+                             " has no effect: contraction is not built");
+    }
   return plan;
 }
 

@@ -20,28 +20,57 @@ std::vector<int> read_cell_indices(const json& list, const std::string& path) {
   return cells;
 }
 
+void read_parameters(JsonReader& r, ModelSpec& spec) {
+  const json& params = r.raw("parameters");
+  if (params.is_null()) return;
+  if (!params.is_object())
+    throw ManifestError(r.path_of("parameters"),
+                        "expected an object of parameter names to numbers, got " + describe_json(params));
+  for (const auto& [name, value] : params.items()) {
+    if (!value.is_number())
+      throw ManifestError(join_path(r.path_of("parameters"), name), "expected a number, got " + describe_json(value));
+    spec.parameters[name] = value.get<double>();
+  }
+}
+
+// `"myofilament": "rice"` or `"myofilament": {"model": "rice", "variant": ..., "parameters": {...}}`.
+ModelSpec read_myofilament(const json& value, const std::string& path) {
+  ModelSpec spec;
+  spec.path = path;
+  if (value.is_string()) {
+    spec.model = value.get<std::string>();
+    return spec;
+  }
+  if (!value.is_object())
+    throw ManifestError(path, "expected a model name or an object with \"model\", got " + describe_json(value));
+  JsonReader r(value, path);
+  spec.model = r.text("model", std::nullopt);
+  spec.variant = r.text("variant", std::string());
+  read_parameters(r, spec);
+  r.finish();
+  return spec;
+}
+
 CellTypeSpec read_cell_type_spec(JsonReader r) {
   CellTypeSpec spec;
   spec.path = r.path();
-  spec.model = r.text("model", std::nullopt);
-  spec.variant = r.text("variant", std::string());
-  spec.myofilament = r.text("myofilament", std::string());
+  spec.ionic.path = r.path();
+  spec.ionic.model = r.text("model", std::nullopt);
+  spec.ionic.variant = r.text("variant", std::string());
+  read_parameters(r, spec.ionic);
+  if (r.has("myofilament")) spec.myofilament = read_myofilament(r.raw("myofilament"), r.path_of("myofilament"));
   spec.calcium_feedback = r.boolean("calcium_feedback", false);
-  const json& params = r.raw("parameters");
-  if (!params.is_null()) {
-    if (!params.is_object())
-      throw ManifestError(r.path_of("parameters"),
-                          "expected an object of parameter names to numbers, got " +
-                              describe_json(params));
-    for (const auto& [name, value] : params.items()) {
-      if (!value.is_number())
-        throw ManifestError(join_path(r.path_of("parameters"), name),
-                            "expected a number, got " + describe_json(value));
-      spec.parameters[name] = value.get<double>();
-    }
-  }
   r.finish();
   return spec;
+}
+
+MechanoElectricSpec read_mechano_electric(JsonReader r) {
+  MechanoElectricSpec m;
+  m.G_SAC_nS = r.number("G_SAC_nS", m.G_SAC_nS, 0.0, 1e6);
+  m.E_SAC_mV = r.number("E_SAC_mV", m.E_SAC_mV, -200.0, 200.0);
+  m.lambda_max = r.number("lambda_max", m.lambda_max, 1.0 + 1e-6, 10.0);
+  r.finish();
+  return m;
 }
 
 StimulusTarget read_target(const json& t, const std::string& path) {
@@ -186,6 +215,8 @@ Scene parse_scene(const json& manifest) {
   }
 
   if (top.has("coupling")) scene.coupling = read_coupling(top.object("coupling"));
+  if (top.has("mechano_electric_feedback"))
+    scene.mechano_electric = read_mechano_electric(top.object("mechano_electric_feedback"));
 
   const json& stimuli = top.raw("stimulus");
   if (!stimuli.is_null()) {

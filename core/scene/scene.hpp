@@ -18,13 +18,29 @@ namespace fibrodem {
 
 inline constexpr int kManifestFormat = 1;
 
-struct CellTypeSpec {
+// One model of a cell type: a plugin, its variant, parameter overrides.
+struct ModelSpec {
   std::string model;
-  std::string variant;      // empty: the model's default variant
-  std::string myofilament;  // empty: none
-  bool calcium_feedback = false;
+  std::string variant;  // empty: the model's default variant
   std::map<std::string, double> parameters;
-  std::string path;  // JSON path of this cell type, for errors found later
+  std::string path;     // JSON path of this model's object, for errors found later
+};
+
+struct CellTypeSpec {
+  ModelSpec ionic;
+  std::optional<ModelSpec> myofilament;  // driven by the ionic model's Ca_i
+  bool calcium_feedback = false;  // troponin buffering fed back into the host's Ca_i
+  std::string path;
+};
+
+// Stretch-activated current of the effect mechano_electric_feedback:
+// I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E) for lambda = SL/SL_rest > 1
+// (the form of Kuijpers et al. 2007, Am J Physiol 292:H2832; values here are
+// order-of-magnitude defaults, not the seed paper's, which it does not state).
+struct MechanoElectricSpec {
+  double G_SAC_nS = 5.0;
+  double E_SAC_mV = 0.0;
+  double lambda_max = 1.1;
 };
 
 struct CouplingSpec {
@@ -84,6 +100,7 @@ struct Scene {
   std::shared_ptr<const TissueBuilder> tissue;
   std::map<CellType, CellTypeSpec> cells;
   CouplingSpec coupling;
+  MechanoElectricSpec mechano_electric;
   std::vector<StimulusSpec> stimuli;
   SolverSpec solver;
   OutputSpec output;
