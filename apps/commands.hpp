@@ -25,7 +25,14 @@ struct CompareArgs {
   bool quiet = false;
 };
 
+struct SweepArgs {
+  std::string sweep;
+  std::string out;
+  unsigned jobs = 0;  // 0: one per core
+};
+
 int run_command(const RunArgs& args);
+int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);

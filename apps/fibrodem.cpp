@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
   compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
   compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
 
+  fibrodem::cli::SweepArgs sweep_args;
+  auto* sweep = app.add_subcommand("sweep", "Run a manifest over a grid of parameter values and tabulate the results");
+  sweep->add_option("sweep", sweep_args.sweep, "sweep file (JSON: manifest, set, grid)")->required();
+  sweep->add_option("--out", sweep_args.out, "output directory (default out/sweep_NAME)");
+  sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core)");
+
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
@@ -45,6 +51,7 @@ int main(int argc, char** argv) {
   if (*run) return fibrodem::cli::run_command(run_args);
   if (*validate) return fibrodem::cli::validate_command(validate_args);
   if (*compare) return fibrodem::cli::compare_command(compare_args);
+  if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
   return 0;

@@ -59,3 +59,11 @@ TEST_CASE("integrators agree: courtemanche with maleckar_active2") {
 TEST_CASE("integrators agree: courtemanche with passive_fibroblast") {
   check_agreement(pair_scene("courtemanche", "paced_1hz", "passive_fibroblast"));
 }
+
+TEST_CASE("integrators agree: colman (colman2013) with maleckar_active2") {
+  check_agreement(pair_scene("colman", "colman2013", "maleckar_active2"));
+}
+
+TEST_CASE("integrators agree: colman (ni2017) with passive_fibroblast") {
+  check_agreement(pair_scene("colman", "ni2017", "passive_fibroblast"));
+}
