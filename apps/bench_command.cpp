@@ -2,6 +2,7 @@
 // measured here, never in timed tests. Reported counter: cell_steps_per_s
 // (cells x steps / wall time, Hustad & Cai 2022).
 #include <benchmark/benchmark.h>
+#include <omp.h>
 
 #include <iostream>
 
@@ -9,6 +10,7 @@
 #include "integrate/fixed_step.hpp"
 #include "model/plugin_registry.hpp"
 #include "model/population.hpp"
+#include "run/simulation.hpp"
 
 namespace fibrodem::cli {
 
@@ -27,8 +29,10 @@ Population block_of(std::shared_ptr<const CellModel> model) {
   return pop;
 }
 
-// One evaluation of the model's derivatives over a block of 10^4 cells.
+// One evaluation of the model's derivatives over a block of 10^4 cells, on one
+// thread (the kernel's own throughput; threads split blocks of cells).
 void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> model) {
+  omp_set_num_threads(1);
   Population pop = block_of(std::move(model));
   for (auto _ : state) {
     pop.evaluate(0.0);
@@ -39,8 +43,9 @@ void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> mo
       benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
 }
 
-// A whole Rush-Larsen step (evaluate + update) over a block of 10^4 cells.
+// A whole Rush-Larsen step (evaluate + update) over a block of 10^4 cells, one thread.
 void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel> model) {
+  omp_set_num_threads(1);
   Population pop = block_of(std::move(model));
   FixedStepIntegrator rl(FixedStepIntegrator::Rule::rush_larsen, 0.01);
   for (auto _ : state) {
@@ -50,6 +55,31 @@ void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel>
   }
   state.counters["cell_steps_per_s"] =
       benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
+}
+
+// One simulated second (one beat at 1 Hz) of one cell, whole run: the wall
+// time per iteration is the wall time per simulated second.
+void single_cell_second(benchmark::State& state, std::string model, bool myocyte, json solver) {
+  const std::string type = myocyte ? "myocyte" : "fibroblast";
+  json m = {{"fibrodem", 1}, {"name", "bench"}, {"duration_ms", 1000},
+            {"tissue", {{"builder", "single_cell"}, {"type", type}}},
+            {"cells", {{type, {{"model", model}}}}},
+            {"stimulus", json::array({{{"target", type}, {"start_ms", 50}, {"duration_ms", 2},
+                                       {"amplitude_pA", myocyte ? 2000 : 20}}})},
+            {"solver", solver},
+            {"output", {{"traces", {{"cells", json::array()}}}}}};
+  const Scene scene = parse_scene(m);
+  auto registry = std::make_shared<PluginRegistry>();
+  for (auto _ : state) {
+    try {
+      Simulation sim(scene, registry);
+      sim.run();
+      benchmark::DoNotOptimize(sim.biomarkers().data());
+    } catch (const std::exception& e) {
+      state.SkipWithError(e.what());
+      break;
+    }
+  }
 }
 
 }  // namespace
@@ -65,6 +95,13 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model)
         ->Unit(benchmark::kMicrosecond);
+    const bool myocyte = find_output(model->info(), "Ca_i") >= 0;
+    benchmark::RegisterBenchmark(("one_cell_1s/" + name + "/cvode_rtol1e-6").c_str(), single_cell_second, name,
+                                 myocyte, json{{"method", "cvode"}, {"rtol", 1e-6}, {"atol", 1e-8}})
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("one_cell_1s/" + name + "/rush_larsen_dt0.01").c_str(), single_cell_second, name,
+                                 myocyte, json{{"method", "rush_larsen"}, {"dt_ms", 0.01}})
+        ->Unit(benchmark::kMillisecond);
   }
   std::vector<std::string> storage = {program};
   storage.insert(storage.end(), args.begin(), args.end());

@@ -363,15 +363,20 @@ struct Simulation::Impl : StepObserver {
 
   // A state outside its physical range (or NaN/Inf) stops the run. The range
   // is widened by round-off (1e-6 relative) and, for CVODE, by its error
-  // tolerance: a gate at -2e-13 after a BDF step is not a blow-up.
+  // tolerance: a gate at 1 + 1e-6 after a BDF step at rtol 1e-6 is not a blow-up.
   void check_states(double t) {
-    const double solver_slack = scene.solver.method == "cvode" ? 10 * scene.solver.atol : 0.0;
+    const bool cvode = scene.solver.method == "cvode";
+    // Ten times CVODE's local error bound rtol |y| + atol at the bound.
+    auto slack = [&](double bound) {
+      const double scale = std::max(1.0, std::abs(bound));
+      return std::max(1e-6 * scale, cvode ? 10 * (scene.solver.rtol * scale + scene.solver.atol) : 0.0);
+    };
     system.for_each_population([&](const Population& pop) {
       const std::size_t n = pop.size();
       const auto& states = pop.info().states;
       for (std::size_t k = 0; k < states.size(); ++k) {
-        const double lo = states[k].lower - std::max(1e-6 * std::max(1.0, std::abs(states[k].lower)), solver_slack);
-        const double hi = states[k].upper + std::max(1e-6 * std::max(1.0, std::abs(states[k].upper)), solver_slack);
+        const double lo = states[k].lower - slack(states[k].lower);
+        const double hi = states[k].upper + slack(states[k].upper);
         const double* y = pop.y.data() + k * n;
         for (std::size_t c = 0; c < n; ++c)
           if (!(y[c] >= lo && y[c] <= hi)) blow_up(t, pop, k, c, y[c]);
