@@ -67,3 +67,16 @@ TEST_CASE("integrators agree: colman (colman2013) with maleckar_active2") {
 TEST_CASE("integrators agree: colman (ni2017) with passive_fibroblast") {
   check_agreement(pair_scene("colman", "ni2017", "passive_fibroblast"));
 }
+
+TEST_CASE("second-order Rush-Larsen at 0.02 ms is closer to CVODE than first order at 0.02 ms (APD90 and APO)") {
+  const json scene = pair_scene("courtemanche", "paced_1hz", "maleckar_active2");
+  const auto cvode = run_with(scene, {{"method", "cvode"}, {"rtol", 1e-8}, {"atol", 1e-9}});
+  const auto rl = run_with(scene, {{"method", "rush_larsen"}, {"dt_ms", 0.02}});
+  const auto rl2 = run_with(scene, {{"method", "rush_larsen2"}, {"dt_ms", 0.02}});
+  const double err_rl = std::abs(rl[0].apd90_ms - cvode[0].apd90_ms) + std::abs(rl[0].apo_mV - cvode[0].apo_mV);
+  const double err_rl2 = std::abs(rl2[0].apd90_ms - cvode[0].apd90_ms) + std::abs(rl2[0].apo_mV - cvode[0].apo_mV);
+  CAPTURE(err_rl);
+  CAPTURE(err_rl2);
+  CHECK(err_rl2 < err_rl);
+  CHECK(std::abs(rl2[0].apd90_ms - cvode[0].apd90_ms) < 1.0);
+}

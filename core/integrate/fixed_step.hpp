@@ -1,10 +1,17 @@
-// Fixed-step integrators: forward Euler for every state (the seed paper's
-// scheme), or Rush-Larsen (Rush & Larsen 1978, IEEE TBME 25:389): each gate
-// advanced exactly over the step from its linear form dy/dt = a + b*y,
-//     y' = y_inf + (y - y_inf) * exp(b*dt),  y_inf = -a/b,
-// all other states by forward Euler. Coupling is either explicit (its current
-// is part of i_ext) or split off and advanced by backward Euler after the
-// cell step (Godunov splitting, first order).
+// Fixed-step integrators:
+// - forward Euler for every state (the seed paper's scheme);
+// - Rush-Larsen (Rush & Larsen 1978, IEEE TBME 25:389): each gate advanced
+//   exactly over the step from its linear form dy/dt = a + b*y,
+//       y' = y_inf + (y - y_inf) * exp(b*dt),  y_inf = -a/b,
+//   all other states by forward Euler (first order);
+// - second-order Rush-Larsen (the exponential midpoint scheme of Perego &
+//   Veneziani 2009, ETNA 35:234; cf. Sundnes et al. 2009): a half step of
+//   Rush-Larsen, the linear forms re-evaluated at the midpoint, then the full
+//   step from the start with the midpoint's a, b (gates exactly, other states
+//   by the explicit midpoint rule). Two evaluations per step.
+// Coupling is either explicit (its current is part of i_ext, at the same
+// stage as the cell models) or split off and advanced by backward Euler after
+// the cell step (Godunov splitting, first order in dt).
 #pragma once
 
 #include "integrate/integrator.hpp"
@@ -13,19 +20,28 @@ namespace fibrodem {
 
 class FixedStepIntegrator final : public Integrator {
  public:
-  enum class Rule { euler, rush_larsen };
+  enum class Rule { euler, rush_larsen, rush_larsen2 };
   FixedStepIntegrator(Rule rule, double dt_ms) : rule_(rule), dt_ms_(dt_ms) {}
 
   void advance(CellSystem& system, double t_start_ms, double t_end_ms,
                StepObserver& observer) override;
   std::string describe() const override;
 
-  // One step of every population from its current a, b.
-  void update_states(Population& pop, double dt_ms) const;
+  // Advances every state of a population over dt with its present a, b.
+  void update_states(Population& pop, double dt_ms) const { update_from(pop, pop.y, pop.y, dt_ms); }
 
  private:
+  // Advances from the states `from` (gates exactly, others by Euler) with the
+  // present a, b; the non-gate slope a + b*y is taken at `slope_at` (the
+  // midpoint, for the second-order rule). Either may be the population's own y.
+  void update_from(Population& pop, const std::vector<double>& from, const std::vector<double>& slope_at,
+                   double dt_ms) const;
+  void step(CellSystem& system, double t, double h);
+
   Rule rule_;
   double dt_ms_;
+  // rush_larsen2, per population: states at the step's start and midpoint.
+  std::vector<std::vector<double>> start_, midpoint_;
 };
 
 }  // namespace fibrodem

@@ -7,8 +7,9 @@ namespace fibrodem {
 
 std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver) {
   if (solver.method == "cvode") return std::make_unique<CvodeIntegrator>(solver);
-  const auto rule = solver.method == "euler" ? FixedStepIntegrator::Rule::euler
-                                             : FixedStepIntegrator::Rule::rush_larsen;
+  const auto rule = solver.method == "euler"          ? FixedStepIntegrator::Rule::euler
+                    : solver.method == "rush_larsen2" ? FixedStepIntegrator::Rule::rush_larsen2
+                                                      : FixedStepIntegrator::Rule::rush_larsen;
   return std::make_unique<FixedStepIntegrator>(rule, solver.dt_ms);
 }
 

@@ -127,7 +127,7 @@ StimulusSpec read_stimulus(JsonReader r) {
 
 SolverSpec read_solver(JsonReader r) {
   SolverSpec s;
-  s.method = r.text("method", s.method, {"euler", "rush_larsen", "cvode"});
+  s.method = r.text("method", s.method, {"euler", "rush_larsen", "rush_larsen2", "cvode"});
   s.dt_ms = r.number("dt_ms", s.dt_ms, 1e-7, 10.0);
   s.rtol = r.number("rtol", s.rtol, 1e-14, 1e-1);
   s.atol = r.number("atol", s.atol, 1e-16, 1.0);

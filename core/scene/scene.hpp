@@ -69,7 +69,7 @@ struct StimulusSpec {
 };
 
 struct SolverSpec {
-  std::string method = "rush_larsen";  // euler | rush_larsen | cvode
+  std::string method = "rush_larsen";  // euler | rush_larsen | rush_larsen2 | cvode
   double dt_ms = 0.01;                 // euler, rush_larsen
   double rtol = 1e-6, atol = 1e-8;     // cvode
   double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
