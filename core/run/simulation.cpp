@@ -18,6 +18,7 @@
 #include "coupling/gap_junction.hpp"
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
+#include "integrate/stability.hpp"
 #include "io/csv_writer.hpp"
 #include "measure/conduction_velocity.hpp"
 #include "run/population_setup.hpp"
@@ -68,6 +69,7 @@ struct Simulation::Impl : StepObserver {
   fs::path out;
   CsvWriter traces_csv, biomarkers_csv;
   std::vector<std::string> warnings;  // found at set-up, logged when the run starts
+  StabilityEstimate stability;
   std::string status = "set up";
   std::string error;
   double wall_s = 0;
@@ -267,13 +269,20 @@ struct Simulation::Impl : StepObserver {
   }
 
   void check_explicit_stability() {
-    if (scene.solver.method == "cvode" || !system.coupler || system.implicit_coupling) return;
-    const double rate = system.coupler->max_rate_per_ms();
-    if (rate > 0 && scene.solver.dt_ms > 2.0 / rate)
-      warnings.push_back(fmt::format("solver.dt_ms = {} ms exceeds the stability limit of explicit coupling, 2/lambda = {:.4g} "
-                "ms (Gershgorin bound, lambda = {:.4g} /ms): expect a blow-up; use dt <= {:.4g} ms or "
-                "coupling.scheme \"implicit\"",
-                scene.solver.dt_ms, 2.0 / rate, rate, 1.0 / rate));
+    if (scene.solver.method == "cvode") return;
+    stability = estimate_explicit_stability(system, scene.solver.method == "euler",
+                                            system.coupler && !system.implicit_coupling);
+    const double dt = scene.solver.dt_ms;
+    if (dt > stability.coupling_limit_ms)
+      warnings.push_back(fmt::format("solver.dt_ms = {} ms exceeds the stability limit of explicit coupling, "
+                                     "{:.4g} ms (2/lambda, Gershgorin bound): expect a blow-up; use dt <= {:.3g} ms "
+                                     "or coupling.scheme \"implicit\"",
+                                     dt, stability.coupling_limit_ms, 0.5 * stability.limit_ms()));
+    if (dt > stability.gate_limit_ms)
+      warnings.push_back(fmt::format("solver.dt_ms = {} ms exceeds the forward-Euler stability limit of the fastest "
+                                     "gate, {:.4g} ms ({}): expect a blow-up; use dt <= {:.3g} ms or solver.method "
+                                     "\"rush_larsen\"",
+                                     dt, stability.gate_limit_ms, stability.fastest_gate, 0.5 * stability.limit_ms()));
   }
 
   // ---- the run --------------------------------------------------------------
@@ -391,10 +400,18 @@ struct Simulation::Impl : StepObserver {
       << "' = " << format_number(value) << " " << pop.info().states[k].unit << ", expected within ["
       << format_number(pop.info().states[k].lower) << ", " << format_number(pop.info().states[k].upper)
       << "]";
-    if (scene.solver.method != "cvode")
-      s << "; " << integrator->describe() << " may be unstable here: try a smaller solver.dt_ms"
+    if (scene.solver.method != "cvode") {
+      s << "; " << integrator->describe() << " may be unstable here";
+      if (std::isfinite(stability.limit_ms()))
+        s << fmt::format(" (estimated explicit stability limit {:.3g} ms, set by {}; a stable step: solver.dt_ms <= {:.3g})",
+                         stability.limit_ms(),
+                         stability.coupling_limit_ms <= stability.gate_limit_ms ? std::string("the coupling")
+                                                                                : stability.fastest_gate,
+                         0.5 * stability.limit_ms());
+      s << ": try a smaller solver.dt_ms"
         << (system.coupler && !system.implicit_coupling ? ", coupling.scheme \"implicit\"" : "")
         << " or solver.method \"cvode\"";
+    }
     throw BlowUpError(s.str());
   }
 
