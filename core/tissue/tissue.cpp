@@ -1,6 +1,8 @@
 #include "tissue/tissue.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <limits>
 
 namespace fibrodem {
@@ -47,19 +49,58 @@ void Tissue::finalise() {
   cell_edges.erase(std::unique(cell_edges.begin(), cell_edges.end()), cell_edges.end());
 }
 
-int add_vertical_myocyte(Tissue& tissue, double x, double y0) {
-  const int cell = tissue.add_cell(CellType::myocyte, x, y0 + kMyocyteLength_um / 2);
+int add_myocyte(Tissue& tissue, double x, double y, double angle) {
+  const int cell = tissue.add_cell(CellType::myocyte, x, y);
+  const double ax = angle == 0.0 ? 0.0 : -std::sin(angle);
+  const double ay = angle == 0.0 ? 1.0 : std::cos(angle);
   // The particles of one myocyte form a rigid clump: no bonds inside it.
-  for (int k = 0; k < kMyocyteParticles; ++k)
-    tissue.add_particle(cell, x, y0 + kParticleRadius_um + k * kParticleSpacing_um,
-                        kParticleRadius_um);
+  for (int k = 0; k < kMyocyteParticles; ++k) {
+    const double a = -kMyocyteEndOffset_um + k * kParticleSpacing_um;
+    tissue.add_particle(cell, x + a * ax, y + a * ay, kParticleRadius_um);
+  }
   return cell;
+}
+
+int add_vertical_myocyte(Tissue& tissue, double x, double y0) {
+  return add_myocyte(tissue, x, y0 + kMyocyteLength_um / 2, 0.0);
 }
 
 int add_round_fibroblast(Tissue& tissue, double x, double y) {
   const int cell = tissue.add_cell(CellType::fibroblast, x, y);
   tissue.add_particle(cell, x, y, kParticleRadius_um);
   return cell;
+}
+
+int CellComponents::largest() const {
+  if (size.empty()) return -1;
+  return static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+}
+
+CellComponents cell_graph_components(const Tissue& tissue) {
+  const std::size_t n = tissue.cell_count();
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&parent](int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  for (const auto& [a, b] : tissue.cell_edges) {
+    const int ra = find(a), rb = find(b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);  // root = lowest cell
+  }
+  CellComponents c;
+  c.component.assign(n, -1);
+  std::vector<int> index_of_root(n, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int r = find(static_cast<int>(i));
+    if (index_of_root[r] < 0) {
+      index_of_root[r] = static_cast<int>(c.size.size());
+      c.size.push_back(0);
+    }
+    c.component[i] = index_of_root[r];
+    ++c.size[index_of_root[r]];
+  }
+  return c;
 }
 
 }  // namespace fibrodem

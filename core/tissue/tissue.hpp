@@ -53,9 +53,26 @@ inline constexpr double kMyocyteLength_um = 125.0;
 inline constexpr double kParticleSpacing_um =
     (kMyocyteLength_um - 2 * kParticleRadius_um) / (kMyocyteParticles - 1);
 
+// Distance from a myocyte's centre to the centre of its end particle (50 um).
+inline constexpr double kMyocyteEndOffset_um = (kMyocyteParticles - 1) * kParticleSpacing_um / 2;
+
+// Adds a myocyte centred at (x, y) whose axis makes `angle_rad` with the y axis
+// (positive = counter-clockwise: the top end moves to -x); its particles are
+// consecutive, from the bottom end to the top end. Returns the cell.
+int add_myocyte(Tissue& tissue, double x_um, double y_um, double angle_rad);
 // Adds a vertical myocyte (axis along y) whose lowest point is at y0; returns the cell.
 int add_vertical_myocyte(Tissue& tissue, double x_um, double y0_um);
 // Adds a one-particle fibroblast centred at (x, y); returns the cell.
 int add_round_fibroblast(Tissue& tissue, double x_um, double y_um);
+
+// Connected components of the cell graph (cells joined by cell_edges).
+struct CellComponents {
+  std::vector<int> component;  // per cell; components numbered by their lowest cell
+  std::vector<int> size;       // cells per component
+  std::size_t count() const { return size.size(); }
+  // Index of the largest component (the lowest-numbered one on ties); -1 if no cells.
+  int largest() const;
+};
+CellComponents cell_graph_components(const Tissue& tissue);
 
 }  // namespace fibrodem

@@ -9,6 +9,9 @@ const std::map<std::string, TissueBuilderFactory>& tissue_builders() {
       {"single_cell", make_single_cell_builder},
       {"cell_pair", make_cell_pair_builder},
       {"strand", make_strand_builder},
+      {"in_series", make_in_series_builder},
+      {"interstitial", make_interstitial_builder},
+      {"fibrotic_patch", make_fibrotic_patch_builder},
   };
   return builders;
 }

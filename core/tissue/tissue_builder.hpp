@@ -32,6 +32,9 @@ std::unique_ptr<TissueBuilder> make_tissue_builder(JsonReader& tissue);
 std::unique_ptr<TissueBuilder> make_single_cell_builder(JsonReader& tissue);
 std::unique_ptr<TissueBuilder> make_cell_pair_builder(JsonReader& tissue);
 std::unique_ptr<TissueBuilder> make_strand_builder(JsonReader& tissue);
+std::unique_ptr<TissueBuilder> make_in_series_builder(JsonReader& tissue);
+std::unique_ptr<TissueBuilder> make_interstitial_builder(JsonReader& tissue);
+std::unique_ptr<TissueBuilder> make_fibrotic_patch_builder(JsonReader& tissue);
 
 // Reads a `type` key naming a cell type.
 CellType read_cell_type(JsonReader& reader, const std::string& key, CellType fallback);

@@ -1,0 +1,156 @@
+#include "io/tissue_picture.hpp"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+namespace fibrodem {
+namespace {
+
+struct Rgb {
+  double r, g, b;
+};
+
+// Viridis, sampled at 9 points and interpolated linearly.
+Rgb colour_map(double t) {
+  static constexpr std::array<Rgb, 9> stops = {{{0.267, 0.005, 0.329},
+                                                {0.279, 0.175, 0.483},
+                                                {0.230, 0.322, 0.546},
+                                                {0.173, 0.449, 0.558},
+                                                {0.128, 0.567, 0.551},
+                                                {0.153, 0.683, 0.502},
+                                                {0.361, 0.786, 0.388},
+                                                {0.668, 0.862, 0.196},
+                                                {0.993, 0.906, 0.144}}};
+  if (!std::isfinite(t)) return {0.6, 0.6, 0.6};
+  t = std::clamp(t, 0.0, 1.0) * (stops.size() - 1);
+  const auto i = std::min<std::size_t>(static_cast<std::size_t>(t), stops.size() - 2);
+  const double f = t - i;
+  const Rgb a = stops[i], b = stops[i + 1];
+  return {a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b)};
+}
+
+Rgb type_colour(CellType t) {
+  return t == CellType::myocyte ? Rgb{0.20, 0.40, 0.85} : Rgb{0.15, 0.70, 0.25};
+}
+
+std::string format_value(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+}  // namespace
+
+void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
+                      const std::vector<double>* values, const PictureOptions& options) {
+  if (values && values->size() != tissue.cell_count())
+    throw std::runtime_error("write_tissue_png: " + std::to_string(values->size()) +
+                             " values for " + std::to_string(tissue.cell_count()) + " cells");
+  auto b = tissue.bounds_um();
+  if (!(b[1] > b[0])) b[0] -= 1, b[1] += 1;
+  if (!(b[3] > b[2])) b[2] -= 1, b[3] += 1;
+  const double scale = options.pixels_per_um > 0 ? options.pixels_per_um
+                                                  : std::max(1, options.height_px) / (b[3] - b[2]);
+  const int margin = 20, font = 14;
+  const int top = margin + (options.title.empty() ? 0 : font + 8);
+  const int tissue_w = static_cast<int>(std::ceil((b[1] - b[0]) * scale));
+  const int tissue_h = static_cast<int>(std::ceil((b[3] - b[2]) * scale));
+  const int bar_w = values ? 110 : 0;
+  const int width = margin + tissue_w + bar_w + margin;
+  const int height = top + std::max(tissue_h, values ? 240 : 0) + margin;
+  if (width > 32767 || height > 32767)
+    throw std::runtime_error("write_tissue_png: image too large; lower height_px or pixels_per_um");
+
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
+      cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height), cairo_surface_destroy);
+  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), cairo_destroy);
+  cairo_t* c = cr.get();
+  cairo_set_source_rgb(c, 1, 1, 1);
+  cairo_paint(c);
+
+  // Tissue coordinates to pixels (y up).
+  auto px = [&](double x) { return margin + (x - b[0]) * scale; };
+  auto py = [&](double y) { return top + (b[3] - y) * scale; };
+
+  double lo = 0, hi = 1;
+  if (values) {
+    lo = std::numeric_limits<double>::infinity();
+    hi = -lo;
+    for (double v : *values)
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (options.value_min) lo = *options.value_min;
+    if (options.value_max) hi = *options.value_max;
+    if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0, hi = 1;
+    if (hi <= lo) hi = lo + 1;
+  }
+  for (const Particle& p : tissue.particles) {
+    const Rgb col = values ? colour_map(((*values)[p.cell] - lo) / (hi - lo))
+                           : type_colour(tissue.type[p.cell]);
+    cairo_set_source_rgb(c, col.r, col.g, col.b);
+    cairo_arc(c, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), 0, 2 * M_PI);
+    cairo_fill(c);
+  }
+  if (options.draw_bonds) {
+    cairo_set_source_rgb(c, 0.9, 0.1, 0.1);
+    cairo_set_line_width(c, std::max(0.5, 0.6 * scale));
+    for (const Bond& bd : tissue.bonds) {
+      const Particle &p = tissue.particles[bd.p], &q = tissue.particles[bd.q];
+      cairo_move_to(c, px(p.x_um), py(p.y_um));
+      cairo_line_to(c, px(q.x_um), py(q.y_um));
+    }
+    cairo_stroke(c);
+  }
+
+  cairo_select_font_face(c, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(c, font);
+  cairo_set_source_rgb(c, 0, 0, 0);
+  if (!options.title.empty()) {
+    cairo_move_to(c, margin, margin + font);
+    cairo_show_text(c, options.title.c_str());
+  }
+  // Scale bar: 1 mm (or 100 um if the tissue is narrower than 1 mm).
+  const double bar_um = tissue_w / scale >= 1000 ? 1000 : 100;
+  const double sy = height - margin / 2.0;
+  cairo_set_line_width(c, 2);
+  cairo_move_to(c, margin, sy);
+  cairo_line_to(c, margin + bar_um * scale, sy);
+  cairo_stroke(c);
+  cairo_set_font_size(c, 10);
+  cairo_move_to(c, margin + bar_um * scale + 4, sy + 4);
+  cairo_show_text(c, bar_um >= 1000 ? "1 mm" : "100 um");
+
+  if (values) {  // colour bar with its range
+    const double x0 = margin + tissue_w + 30, w = 20, y0 = top + 20, h = 200;
+    for (int i = 0; i < static_cast<int>(h); ++i) {
+      const Rgb col = colour_map(1.0 - (i + 0.5) / h);
+      cairo_set_source_rgb(c, col.r, col.g, col.b);
+      cairo_rectangle(c, x0, y0 + i, w, 1);
+      cairo_fill(c);
+    }
+    cairo_set_source_rgb(c, 0, 0, 0);
+    cairo_set_line_width(c, 1);
+    cairo_rectangle(c, x0, y0, w, h);
+    cairo_stroke(c);
+    cairo_set_font_size(c, 12);
+    cairo_move_to(c, x0 + w + 4, y0 + 5);
+    cairo_show_text(c, format_value(hi).c_str());
+    cairo_move_to(c, x0 + w + 4, y0 + h + 5);
+    cairo_show_text(c, format_value(lo).c_str());
+    if (!options.value_label.empty()) {
+      cairo_move_to(c, x0 - 10, y0 - 8);
+      cairo_show_text(c, options.value_label.c_str());
+    }
+  }
+  cairo_surface_flush(surface.get());
+  if (cairo_surface_write_to_png(surface.get(), file.string().c_str()) != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error("write_tissue_png: cannot write " + file.string());
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,31 @@
+// PNG pictures of a tissue (Cairo): every particle a disk, coloured by its
+// cell's type (as the seed paper's Fig. 2: myocytes blue, fibroblasts green)
+// or, given one value per cell (e.g. membrane potential), by a colour map
+// with a colour bar showing its range.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+struct PictureOptions {
+  int height_px = 1500;            // image height of the tissue (6 mm -> 0.24 px/um)
+  double pixels_per_um = 0;        // > 0: fixed scale instead of height_px
+  std::string value_label;         // colour-bar title, e.g. "V (mV)"
+  std::optional<double> value_min, value_max;  // colour-map range (default: the values' range)
+  bool draw_bonds = false;         // red lines between bonded particles (Fig. 2 style)
+  std::string title;               // text above the tissue, e.g. "t = 104.7 ms"
+};
+
+// Throws std::runtime_error if the file cannot be written or `cell_values`
+// does not hold one value per cell.
+void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
+                      const std::vector<double>* cell_values = nullptr,
+                      const PictureOptions& options = {});
+
+}  // namespace fibrodem
