@@ -20,6 +20,8 @@
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
 #include "io/csv_writer.hpp"
+#include "io/tissue_picture.hpp"
+#include "io/vtk_writer.hpp"
 #include "measure/conduction_velocity.hpp"
 #include "run/population_setup.hpp"
 
@@ -74,11 +76,14 @@ struct Simulation::Impl : StepObserver {
   std::string error;
   double wall_s = 0;
   long long steps = 0;
+  long long snapshots_taken = 0;
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
     if (!registry) registry = std::make_shared<PluginRegistry>();
+    // One thread unless asked: on a shared machine, OpenMP's spinning threads
+    // can cost more than they bring (set OMP_WAIT_POLICY=PASSIVE there).
     if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
     make_logger();
     tissue = scene.tissue->build(scene.seed);
@@ -300,6 +305,13 @@ struct Simulation::Impl : StepObserver {
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
                                 "dvdt_max_mV_per_ms"});
+    if (scene.output.tissue_picture) {
+      PictureOptions picture;
+      picture.title = scene.name + ": " + std::to_string(tissue.count(CellType::myocyte)) + " myocytes, " +
+                      std::to_string(tissue.count(CellType::fibroblast)) + " fibroblasts";
+      write_tissue_png(tissue, out / "tissue.png", nullptr, picture);
+      write_tissue_vtk(tissue, out / "tissue.vtk");
+    }
     write_summary();
   }
 
@@ -354,6 +366,14 @@ struct Simulation::Impl : StepObserver {
     check_states(t_new);
     system.gather_voltage();
     tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+    const SnapshotSpec& snap = scene.output.snapshots;
+    if (!out.empty() && snap.every_ms > 0) {
+      const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
+      if (t_new >= next - kTimeEpsilon_ms) {
+        write_snapshot(t_new);
+        ++snapshots_taken;
+      }
+    }
     const auto now = std::chrono::steady_clock::now();
     if (now - last_flush > std::chrono::seconds(1)) {
       if (traces_csv.is_open()) traces_csv.flush();
@@ -368,6 +388,40 @@ struct Simulation::Impl : StepObserver {
       std::fflush(stderr);
       last_progress = now;
     }
+  }
+
+  // The tissue coloured by membrane potential at time t (the step's end).
+  void write_snapshot(double t) const {
+    char stem[64];
+    std::snprintf(stem, sizeof stem, "snapshot_%09.3f_ms", t);
+    if (scene.output.snapshots.png) {
+      PictureOptions picture;
+      picture.value_label = "V (mV)";
+      picture.value_min = -90;
+      picture.value_max = 40;
+      picture.title = fmt::format("{}   t = {:.1f} ms", scene.name, t);
+      write_tissue_png(tissue, out / (std::string(stem) + ".png"), &system.V_mV, picture);
+    }
+    if (scene.output.snapshots.vtk)
+      write_tissue_vtk(tissue, out / (std::string(stem) + ".vtk"), {{"V_mV", system.V_mV}}, false);
+  }
+
+  // Per-cell maps of the last recorded beat: activation time picture and VTK.
+  void write_maps() const {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> activation(tissue.cell_count(), nan), apd90 = activation, rmp = activation, apo = activation;
+    for (const auto& b : beats) {
+      activation[b.cell] = b.activation_ms;
+      apd90[b.cell] = b.apd90_ms;
+      rmp[b.cell] = b.rmp_mV;
+      apo[b.cell] = b.apo_mV;
+    }
+    PictureOptions picture;
+    picture.value_label = "activation (ms)";
+    picture.title = scene.name + ": activation map, last beat";
+    write_tissue_png(tissue, out / "activation_map.png", &activation, picture);
+    write_tissue_vtk(tissue, out / "maps.vtk",
+                     {{"activation_ms", activation}, {"apd90_ms", apd90}, {"rmp_mV", rmp}, {"apo_mV", apo}}, false);
   }
 
   // A state outside its physical range (or NaN/Inf) stops the run. The range
@@ -444,6 +498,7 @@ struct Simulation::Impl : StepObserver {
       tracker->start(0.0, system.V_mV.data());
       integrator->advance(system, 0.0, scene.duration_ms, *this);
       tracker->finish();
+      if (!out.empty() && scene.output.maps) write_maps();
       status = "completed";
     } catch (const std::exception& e) {
       status = "failed";

@@ -133,7 +133,7 @@ SolverSpec read_solver(JsonReader r) {
   s.atol = r.number("atol", s.atol, 1e-16, 1.0);
   s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
   s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band"});
-  s.threads = static_cast<int>(r.integer("threads", 0, 0, 1024));
+  s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
   r.finish();
   return s;
 }
@@ -155,6 +155,16 @@ OutputSpec read_output(JsonReader r) {
     o.traces.every_ms = t.number("every_ms", o.traces.every_ms, 1e-6, kInf);
     o.traces.from_ms = t.number("from_ms", 0.0, 0.0, kInf);
     t.finish();
+  }
+  o.tissue_picture = r.boolean("tissue_picture", false);
+  o.maps = r.boolean("maps", false);
+  if (r.has("snapshots")) {
+    JsonReader sn = r.object("snapshots");
+    o.snapshots.every_ms = sn.number("every_ms", std::nullopt, 1e-6, kInf);
+    o.snapshots.from_ms = sn.number("from_ms", 0.0, 0.0, kInf);
+    o.snapshots.png = sn.boolean("png", true);
+    o.snapshots.vtk = sn.boolean("vtk", true);
+    sn.finish();
   }
   if (r.has("biomarkers")) {
     JsonReader b = r.object("biomarkers");

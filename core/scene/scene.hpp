@@ -74,7 +74,7 @@ struct SolverSpec {
   double rtol = 1e-6, atol = 1e-8;     // cvode
   double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
   std::string linear_solver = "auto";  // cvode: auto | dense | band
-  int threads = 0;                     // 0: every core (results do not depend on it)
+  int threads = 1;                     // 0: OpenMP's default (every core); results do not depend on it
 };
 
 struct TraceSpec {
@@ -84,9 +84,20 @@ struct TraceSpec {
   double from_ms = 0;
 };
 
+// Pictures (PNG) and ParaView files (VTK) of the tissue coloured by V, taken
+// every every_ms from from_ms.
+struct SnapshotSpec {
+  double every_ms = 0;  // 0: none
+  double from_ms = 0;
+  bool png = true, vtk = true;
+};
+
 struct OutputSpec {
   std::string dir;  // empty: write nothing (library use); the CLI sets a default
   TraceSpec traces;
+  bool tissue_picture = false;  // tissue.png (by cell type) and tissue.vtk at the start
+  bool maps = false;            // activation_map.png and maps.vtk (last beat) at the end
+  SnapshotSpec snapshots;
   double biomarkers_from_ms = 0;
   double progress_every_s = 1.0;
 };
