@@ -200,7 +200,7 @@ enum State { COLMAN_STATES(COLMAN_ENUM) kNumStates };
 enum Param { COLMAN_PARAMS(COLMAN_ENUM) kNumParams };
 #undef COLMAN_ENUM
 
-enum Input { kI_ext };
+enum Input { kI_ext, kJ_TRPN };
 enum Output {
   kOut_I_ion,
   kOut_Ca_i,
@@ -511,7 +511,10 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     // Bulk cytosol
     const double BCa = P[k_B_Ca_mM], KdBCa = P[k_Kd_BCa_mM];
     const double beta_i = 1.0 / (1.0 + BCa * KdBCa / ((Cai + KdBCa) * (Cai + KdBCa)));
-    cell.rate(k_Ca_i, JCa / Vnj * beta_i);
+    // J_TRPN: Ca binding to a myofilament model's troponin (fibrodem's
+    // calcium_feedback; 0 otherwise). Colman has no troponin of its own: BCa
+    // lumps the cytosolic buffers (Koivumaki 2011), so nothing is switched off.
+    cell.rate(k_Ca_i, (JCa / Vnj - cell.input(kJ_TRPN)) * beta_i);
 
     // SR: the diffusion terms are the code's, verbatim (the bulk term simplifies).
     const double DCaSR = P[k_D_CaSR_um2_per_ms];
@@ -647,7 +650,8 @@ Colman::Colman() {
   COLMAN_PARAMS(COLMAN_PARAM_INFO)
 #undef COLMAN_PARAM_INFO
 
-  info_.inputs = {{"i_ext", "pA", "stimulus and gap-junction current, + depolarising"}};
+  info_.inputs = {{"i_ext", "pA", "stimulus and gap-junction current, + depolarising"},
+                  {"J_TRPN", "mM/ms", "Ca binding flux to a myofilament model's troponin (calcium feedback)"}};
   info_.outputs = {
       {"I_ion", "pA", "total ionic current, + outward"},
       {"Ca_i", "mM", "bulk cytosolic Ca"},

@@ -115,12 +115,13 @@ enum Param {
   kCSQN_max,
   kKm_CMDN,
   kKm_TRPN,
+  kTroponin_scale,
   kKm_CSQN,
   ki_ext_K_fraction,
   kNumParams
 };
 
-enum Input { kI_ext_pA };
+enum Input { kI_ext_pA, kJ_TRPN };
 
 enum Output {
   kI_ion_pA,
@@ -279,12 +280,15 @@ class Courtemanche1998 final : public fibrodem::CellModel {
     p[kCSQN_max] = {"CSQN_max_mM", "mM", 10.0, "total calsequestrin"};
     p[kKm_CMDN] = {"Km_CMDN_mM", "mM", 0.00238, "calmodulin half-saturation"};
     p[kKm_TRPN] = {"Km_TRPN_mM", "mM", 0.0005, "troponin half-saturation"};
+    p[kTroponin_scale] = {"troponin_buffer_scale", "1", 1.0,
+                          "scale of CRN's own troponin buffer (fibrodem sets 0 with calcium_feedback)"};
     p[kKm_CSQN] = {"Km_CSQN_mM", "mM", 0.8, "calsequestrin half-saturation"};
     p[ki_ext_K_fraction] = {"i_ext_K_fraction", "1", 0.0,
                             "fraction of i_ext carried by K+ in dK_i/dt (0 = CellML; 1 = Myokit "
                             "port, keeps K_i bounded under long pacing)"};
 
-    info_.inputs = {{"i_ext", "pA", "stimulus and gap-junction current, + depolarising"}};
+    info_.inputs = {{"i_ext", "pA", "stimulus and gap-junction current, + depolarising"},
+                    {"J_TRPN", "mM/ms", "Ca binding flux to a myofilament model's troponin (calcium feedback)"}};
     info_.outputs = {
         {"I_ion", "pA", "total ionic current, + outward"},
         {"Ca_i", "mM", "bulk cytosolic Ca2+"},
@@ -428,9 +432,12 @@ class Courtemanche1998 final : public fibrodem::CellModel {
       const double B1 = Cm * (2.0 * i_NaCa - (i_CaP + i_CaL + i_B_Ca)) / (2.0 * FVi) +
                         (V_up * (i_up_leak - i_up) + i_rel * V_rel) / V_i;
       const double kt = Ca_i + p[kKm_TRPN], kc = Ca_i + p[kKm_CMDN];
-      const double B2 =
-          1.0 + p[kTRPN_max] * p[kKm_TRPN] / (kt * kt) + p[kCMDN_max] * p[kKm_CMDN] / (kc * kc);
-      cell.rate(kCa_i, B1 / B2);
+      // Troponin: CRN's rapid-equilibrium buffer, scaled by troponin_buffer_scale
+      // (0 when a myofilament model owns troponin and feeds its binding flux
+      // J_TRPN back: fibrodem's calcium_feedback).
+      const double TRPN_max = p[kTRPN_max] * p[kTroponin_scale];
+      const double B2 = 1.0 + TRPN_max * p[kKm_TRPN] / (kt * kt) + p[kCMDN_max] * p[kKm_CMDN] / (kc * kc);
+      cell.rate(kCa_i, (B1 - cell.input(kJ_TRPN)) / B2);
       cell.rate(kCa_up, i_up - (i_up_leak + i_tr * V_rel / V_up));
       const double kq = Ca_rel + p[kKm_CSQN];
       cell.rate(kCa_rel, (i_tr - i_rel) / (1.0 + p[kCSQN_max] * p[kKm_CSQN] / (kq * kq)));
