@@ -3,6 +3,8 @@
 // stable at the step the cell models need (operator splitting).
 #pragma once
 
+#include <vector>
+
 namespace fibrodem {
 
 class Coupler {
@@ -15,6 +17,9 @@ class Coupler {
   // Gershgorin bound on the fastest coupling rate |lambda| [1/ms]: forward
   // Euler on the coupling is stable for dt < 2 / rate.
   virtual double max_rate_per_ms() const = 0;
+  // Each cell's total junctional conductance sum_j D_ij [nS] (the diagonal of
+  // the coupling's Laplacian), e.g. for a preconditioner.
+  virtual std::vector<double> total_conductance_nS() const = 0;
 };
 
 }  // namespace fibrodem

@@ -54,14 +54,18 @@ void GapJunctionCoupler::implicit_step(double* V, double dt_ms) {
   std::copy(next.data(), next.data() + n, V);
 }
 
-double GapJunctionCoupler::max_rate_per_ms() const {
-  double rate = 0.0;
-  for (Eigen::Index row = 0; row < laplacian_.outerSize(); ++row) {
-    double diagonal = 0.0;
+std::vector<double> GapJunctionCoupler::total_conductance_nS() const {
+  std::vector<double> total(static_cast<std::size_t>(laplacian_.rows()), 0.0);
+  for (Eigen::Index row = 0; row < laplacian_.outerSize(); ++row)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)
-      if (it.col() == row) diagonal = it.value();
-    rate = std::max(rate, 2.0 * diagonal / capacitance_pF_[row]);
-  }
+      if (it.col() == row) total[static_cast<std::size_t>(row)] = it.value();
+  return total;
+}
+
+double GapJunctionCoupler::max_rate_per_ms() const {
+  const std::vector<double> total = total_conductance_nS();
+  double rate = 0.0;
+  for (std::size_t i = 0; i < total.size(); ++i) rate = std::max(rate, 2.0 * total[i] / capacitance_pF_[i]);
   return rate;
 }
 

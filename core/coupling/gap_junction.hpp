@@ -23,6 +23,7 @@ class GapJunctionCoupler final : public Coupler {
   void add_current(const double* V_mV, double* i_ext_pA) const override;
   void implicit_step(double* V_mV, double dt_ms) override;
   double max_rate_per_ms() const override;
+  std::vector<double> total_conductance_nS() const override;
 
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& laplacian_nS() const { return laplacian_; }
 

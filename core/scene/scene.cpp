@@ -132,7 +132,7 @@ SolverSpec read_solver(JsonReader r) {
   s.rtol = r.number("rtol", s.rtol, 1e-14, 1e-1);
   s.atol = r.number("atol", s.atol, 1e-16, 1.0);
   s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
-  s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band"});
+  s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band", "krylov"});
   s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
   r.finish();
   return s;

@@ -73,7 +73,7 @@ struct SolverSpec {
   double dt_ms = 0.01;                 // euler, rush_larsen
   double rtol = 1e-6, atol = 1e-8;     // cvode
   double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
-  std::string linear_solver = "auto";  // cvode: auto | dense | band
+  std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
   int threads = 1;                     // 0: OpenMP's default (every core); results do not depend on it
 };
 
