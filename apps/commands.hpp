@@ -9,6 +9,10 @@
 #include "model/plugin_registry.hpp"
 #include "scene/manifest_error.hpp"
 
+namespace CLI {
+class App;
+}
+
 namespace fibrodem::cli {
 
 struct RunArgs {
@@ -31,12 +35,29 @@ struct SweepArgs {
   unsigned jobs = 0;  // 0: one per core
 };
 
+// `fibrodem bench accuracy`: ladders of steps and tolerances against a reference.
+struct BenchAccuracyArgs {
+  std::string manifest;
+  std::string out;
+  std::vector<std::string> overrides;
+  std::vector<std::string> methods;  // empty: euler, rush_larsen, rush_larsen2, cvode
+  std::vector<double> dt_ms;         // empty: the default ladder
+  std::vector<double> rtol;          // empty: the default ladder
+  double atol_ratio = 1e-2;          // atol = ratio * rtol
+  double reference_rtol = 0;         // 0: the tightest rtol / 100
+  double every_ms = 0;               // 0: the manifest's trace interval
+  int repeat = 1;                    // wall time: the least of this many runs
+};
+
 int run_command(const RunArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
 int bench_command(const char* program, const std::vector<std::string>& args);
+int bench_accuracy_command(const BenchAccuracyArgs& args);
+// Adds `accuracy` (its options into `args`) under the `bench` subcommand.
+CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& args);
 
 // Runs `body`, turning each kind of failure into a message and an exit code.
 template <class Body>

@@ -18,8 +18,7 @@ RunRecord run_variant(const std::string& label, json manifest, const std::filesy
   options.console_log = !quiet;
   Simulation simulation(scene, nullptr, options);
   simulation.run();
-  return {label, simulation.mean_biomarkers(), simulation.trace_times(), simulation.trace_column_names(),
-          simulation.trace_samples()};
+  return record_of(simulation, label);
 }
 
 }  // namespace

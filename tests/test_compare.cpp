@@ -9,8 +9,9 @@
 using namespace fibrodem;
 
 TEST_CASE("the comparison table holds A, B, their difference and relative difference") {
-  RunRecord a{"A", {{"myocyte", {{"rmp_mV", -80.0}, {"apo_mV", 20.0}, {"apd90_ms", 300.0}, {"dvdt_max_mV_per_ms", 200.0}}}}, {}, {}, {}};
-  RunRecord b{"B", {{"myocyte", {{"rmp_mV", -76.0}, {"apo_mV", 20.0}, {"apd90_ms", 270.0}, {"dvdt_max_mV_per_ms", nullptr}}}}, {}, {}, {}};
+  RunRecord a{.label = "A"}, b{.label = "B"};
+  a.mean_biomarkers = {{"myocyte", {{"rmp_mV", -80.0}, {"apo_mV", 20.0}, {"apd90_ms", 300.0}, {"dvdt_max_mV_per_ms", 200.0}}}};
+  b.mean_biomarkers = {{"myocyte", {{"rmp_mV", -76.0}, {"apo_mV", 20.0}, {"apd90_ms", 270.0}, {"dvdt_max_mV_per_ms", nullptr}}}};
   const auto rows = compare_biomarkers(a, b);
   REQUIRE(rows.size() == 4);
   CHECK(rows[0].metric == "rmp_mV");
@@ -26,14 +27,14 @@ TEST_CASE("the comparison table holds A, B, their difference and relative differ
 TEST_CASE("traces of both runs are interpolated onto a common time base") {
   // A sampled every 1 ms on [0, 10], B every 0.5 ms on [2, 12]: common span
   // [2, 10] at 0.5 ms; both are straight lines, so interpolation is exact.
-  RunRecord a{"A", json::object(), {}, {"V_0"}, {{}}};
-  RunRecord b{"B", json::object(), {}, {"V_0", "V_1"}, {{}, {}}};
+  RunRecord a{.label = "A", .columns = {"V_0"}, .samples = {{}}};
+  RunRecord b{.label = "B", .columns = {"V_0", "V_1"}, .samples = {{}, {}}};
   for (int k = 0; k <= 10; ++k) {
-    a.times.push_back(k);
+    a.times_ms.push_back(k);
     a.samples[0].push_back(2.0 * k);
   }
   for (int k = 4; k <= 24; ++k) {
-    b.times.push_back(0.5 * k);
+    b.times_ms.push_back(0.5 * k);
     b.samples[0].push_back(-0.5 * k);
     b.samples[1].push_back(0);
   }

@@ -94,16 +94,16 @@ void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesys
     header.push_back(b.label + ":" + b.columns[j]);
   }
   CsvWriter traces(dir / "traces.csv", header);
-  if (shared.empty() || a.times.size() < 2 || b.times.size() < 2) return;
-  const double t0 = std::max(a.times.front(), b.times.front());
-  const double t1 = std::min(a.times.back(), b.times.back());
-  const double h = std::min(finest_interval(a.times), finest_interval(b.times));
+  if (shared.empty() || a.times_ms.size() < 2 || b.times_ms.size() < 2) return;
+  const double t0 = std::max(a.times_ms.front(), b.times_ms.front());
+  const double t1 = std::min(a.times_ms.back(), b.times_ms.back());
+  const double h = std::min(finest_interval(a.times_ms), finest_interval(b.times_ms));
   for (long k = 0; t0 + static_cast<double>(k) * h <= t1 + 1e-9; ++k) {
     const double t = t0 + static_cast<double>(k) * h;
     traces.cell(t);
     for (const auto& [i, j] : shared) {
-      traces.cell(interpolate(a.times, a.samples[i], t));
-      traces.cell(interpolate(b.times, b.samples[j], t));
+      traces.cell(interpolate(a.times_ms, a.samples[i], t));
+      traces.cell(interpolate(b.times_ms, b.samples[j], t));
     }
     traces.end_row();
   }

@@ -7,17 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/json_reader.hpp"
+#include "run/run_record.hpp"
 
 namespace fibrodem {
-
-struct RunRecord {
-  std::string label;     // "A", "B" or a name
-  json mean_biomarkers;  // summary.json's mean_biomarkers
-  std::vector<double> times;
-  std::vector<std::string> columns;          // VAR_CELL
-  std::vector<std::vector<double>> samples;  // per column
-};
 
 struct ComparisonRow {
   std::string type, metric;
