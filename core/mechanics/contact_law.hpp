@@ -1,36 +1,76 @@
-// A ContactLaw turns the kinematics of one particle contact into forces, in
-// the style of LAMMPS' granular sub-models and PFC's contact models
-// (REFERENCES.md section 2.2-2.3). Laws are small classes registered by name
-// (`linear_bond`: the seed paper's Table 1) and composed by the DEM force loop.
+// A ContactLaw turns the kinematics of particle contacts into forces, in the
+// style of LAMMPS' granular sub-models and PFC's contact models (REFERENCES.md
+// 2.2-2.3). Laws are small classes, one per file in contact_laws/, registered
+// by name in contact_laws() (`linear_bond`: the seed paper's Table 1).
 //
-// Interface only for now: the DEM solver that uses it is a later issue.
+// The DEM solver keeps the bonds in structure-of-arrays (BondSet) and calls the
+// law once per block of bonds (no virtual call per contact): it fills the
+// block's kinematics (gap, increments over the step), the law updates the
+// bonds' spring forces and writes the total forces (springs + dashpots).
+//
+// Conventions (2D, SI): n points from particle p to particle q, t = (-n_y, n_x);
+// gap = |x_q - x_p| - (r_p + r_q) (< 0: overlap); increments are of q relative to
+// p at the contact point, normal > 0 opening. Forces act on q (minus on p):
+// f_q = F_n n + F_s t, F_n > 0 compression.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include "mechanics/dem_spec.hpp"
 
 namespace fibrodem {
 
-// The state of one contact the law reads and updates (2D, SI units inside DEM).
-struct ContactState {
-  double gap_m = 0;            // d - (R1 + R2); negative = overlap
-  double reference_gap_m = 0;  // the bond's gap at formation (bonds are not pre-loaded)
-  double normal_increment_m = 0;  // opening positive, over this step
-  double shear_increment_m = 0;
-  double effective_mass_kg = 0;
-  double dt_s = 0;
-  double normal_force_N = 0;   // positive = compression
-  double shear_force_N = 0;    // stored in the contact frame (incremental)
-  bool bonded = true;
+// All bonds of a tissue, one entry per bond (SoA). The constants are set by the
+// solver (stiffness after inheritance and the fibroblast factor, effective
+// mass, reference gap) and by the law's prepare(); the state by update().
+struct BondSet {
+  std::vector<int> p, q;              // particle indices
+  std::vector<double> kn, ks;         // N/m
+  std::vector<double> m_eff;          // kg, m_p m_q / (m_p + m_q) of the bodies (clump masses for pebbles)
+  std::vector<double> ref_gap;        // m, the gap at formation (bonds are not pre-loaded)
+  std::vector<double> cn, cs;         // N s/m, dashpot coefficients (law's prepare())
+  std::vector<double> fn, fs;         // N, spring forces (state; shear in the contact frame)
+  std::vector<std::uint8_t> intact;   // 1 while the bond holds (a broken bond is a plain contact)
+  std::size_t size() const { return p.size(); }
+  void resize(std::size_t n);
+};
+
+// Kinematics of one block of bonds [begin, begin + count), filled by the
+// solver, and the total forces the law returns for it.
+struct BondBlock {
+  std::size_t begin = 0, count = 0;
+  const double* gap = nullptr;   // m
+  const double* dn = nullptr;    // m, normal increment over the step (opening > 0)
+  const double* ds = nullptr;    // m, shear increment over the step
+  double* fn_total = nullptr;    // N, normal force on q (compression > 0), springs + dashpots
+  double* fs_total = nullptr;    // N, shear force on q along t
 };
 
 class ContactLaw {
  public:
   virtual ~ContactLaw() = default;
   virtual std::string name() const = 0;
-  // Updates the forces of one contact; may break its bond.
-  virtual void update(ContactState& contact) const = 0;
-  // Largest normal and shear stiffness [N/m], for the stable time step.
-  virtual double max_stiffness_N_per_m() const = 0;
+  // Sets per-bond constants the law needs (e.g. dashpot coefficients) once
+  // kn, ks and m_eff are known; resets the state.
+  virtual void prepare(BondSet& bonds) const = 0;
+  // Updates the bonds of one block over a step of dt [s]; may break bonds.
+  virtual void update(BondSet& bonds, const BondBlock& block, double dt_s) const = 0;
+  // The stiffness [N/m] that sets the stable step for a contact of stiffness k
+  // (normal: shear = false), including the law's dashpot correction.
+  virtual double stable_step_stiffness(double k, bool shear) const = 0;
 };
+
+using ContactLawFactory = std::unique_ptr<ContactLaw> (*)(const DemSpec&);
+const std::map<std::string, ContactLawFactory>& contact_laws();
+// The spec's law; throws std::invalid_argument for an unknown name.
+std::unique_ptr<ContactLaw> make_contact_law(const DemSpec& spec);
+
+// Each law's factory, defined in contact_laws/<name>.cpp.
+std::unique_ptr<ContactLaw> make_linear_bond_law(const DemSpec& spec);
 
 }  // namespace fibrodem

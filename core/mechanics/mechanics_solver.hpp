@@ -1,14 +1,15 @@
 // A MechanicsSolver moves the tissue's bodies (DEM: rigid myocyte clumps and
 // fibroblast disks) under the forces of its contacts, driven by the cells'
 // lengths, and reports the tissue's strain (DESIGN.md, "Interfaces").
-//
-// Interface only for now: the `dem` solver is a later issue.
+// Units at this boundary: ms, um; inside the solver SI.
 #pragma once
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "mechanics/contact_law.hpp"
+#include "mechanics/dem_spec.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
@@ -17,16 +18,27 @@ class MechanicsSolver {
  public:
   virtual ~MechanicsSolver() = default;
   // The largest step [ms] at which the explicit scheme is stable (with the
-  // dashpot correction and a safety factor); a larger one must be refused.
+  // dashpot correction and the safety factor); step() refuses a larger one.
   virtual double stable_step_ms() const = 0;
-  // Sets each cell's length relative to rest (1 = rest), e.g. from sarcomere length.
+  // Sets each cell's length relative to rest (1 = rest; one value per cell,
+  // fibroblasts' ignored), e.g. SL / SL_rest. It takes effect in the next
+  // step(), as the length at the end of that step. Throws std::invalid_argument
+  // (and changes nothing) for a wrong count or a myocyte ratio outside
+  // [0.5, 1.5] or without a shape of the same area.
   virtual void set_cell_length_ratios(const std::vector<double>& ratio) = 0;
-  // Advances the bodies by dt.
+  // Advances the bodies by dt; throws std::invalid_argument if dt exceeds
+  // stable_step_ms() (naming both).
   virtual void step(double dt_ms) = 0;
-  // The tissue's accumulated average strain: eps_xx, eps_yy, eps_xy.
+  // The tissue's accumulated average strain (sum of the symmetric part of the
+  // least-squares velocity gradient times dt): eps_xx, eps_yy, eps_xy (tensor
+  // component, not the engineering shear).
   virtual std::array<double, 3> strain() const = 0;
-  // Present particle positions (for snapshots).
+  // Present particle positions and radii [um], in the tissue's order (snapshots).
   virtual const std::vector<Particle>& particles() const = 0;
 };
+
+// The spec's solver (`dem`) for a tissue; throws std::invalid_argument if the
+// tissue or the spec cannot be simulated (e.g. dt_ms above the stable step).
+std::unique_ptr<MechanicsSolver> make_mechanics_solver(const Tissue& tissue, const DemSpec& spec);
 
 }  // namespace fibrodem

@@ -1,0 +1,471 @@
+#include "mechanics/dem_solver.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace fibrodem {
+namespace {
+
+constexpr double kUm = 1e-6;  // m per um
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o.precision(6);
+  o << v;
+  return o.str();
+}
+
+}  // namespace
+
+DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(make_contact_law(spec)) {
+  cells_ = t.cell_count();
+  const std::size_t np = t.particles.size();
+  const double rho = spec_.density_kg_per_m3;  // x 1 m thickness
+  cell_body_.assign(cells_, -1);
+  pbody_.assign(np, -1);
+  pa_.assign(np, 0.0);
+
+  // Particles of each myocyte, in tissue order.
+  std::vector<std::vector<int>> members(cells_);
+  for (std::size_t i = 0; i < np; ++i) {
+    const int c = t.particles[i].cell;
+    if (c < 0 || static_cast<std::size_t>(c) >= cells_)
+      throw std::invalid_argument("particle " + std::to_string(i) + " belongs to no cell");
+    members[c].push_back(static_cast<int>(i));
+  }
+
+  auto add_body = [&](int cell, bool clump, double x, double y, double theta, int n, double r0,
+                      double s0, double mass, double inertia, bool fixed) {
+    bx_.push_back(x);
+    by_.push_back(y);
+    bth_.push_back(theta);
+    bcell_.push_back(cell);
+    bclump_.push_back(clump);
+    bfixed_.push_back(fixed);
+    mass_.push_back(mass);
+    inertia_.push_back(inertia);
+    inv_m_.push_back(fixed ? 0.0 : 1 / mass);
+    inv_i_.push_back(fixed ? 0.0 : 1 / inertia);
+    bn_.push_back(n);
+    br0_.push_back(r0);
+    bs0_.push_back(s0);
+    br_.push_back(r0);
+    bs_.push_back(s0);
+    blambda_.push_back(1.0);
+    btarget_r_.push_back(r0);
+    btarget_s_.push_back(s0);
+    return static_cast<int>(bx_.size()) - 1;
+  };
+
+  // One shape (all the paper's myocytes) -> mass properties computed once.
+  struct ShapeProps {
+    int n;
+    double r, s, area, moment;
+  };
+  std::vector<ShapeProps> shapes;
+  auto props = [&](int n, double r, double s) {
+    for (const auto& p : shapes)
+      if (p.n == n && std::abs(p.r - r) <= 1e-12 * r && std::abs(p.s - s) <= 1e-12 * std::max(s, r)) return p;
+    shapes.push_back({n, r, s, union_area(n, r, s), union_polar_moment(n, r, s)});
+    return shapes.back();
+  };
+
+  for (std::size_t i = 0; i < np; ++i) {
+    const Particle& p = t.particles[i];
+    const int c = p.cell;
+    if (t.type[c] == CellType::fibroblast) {
+      const double r = p.r_um * kUm;
+      const double m = rho * M_PI * r * r;
+      pbody_[i] = add_body(c, false, p.x_um * kUm, p.y_um * kUm, 0.0, 1, r, 0.0, m, 0.5 * m * r * r,
+                           spec_.fibroblasts_fixed);
+      continue;
+    }
+    if (cell_body_[c] >= 0) continue;
+    // A myocyte: the clump of all its particles.
+    const auto& ids = members[c];
+    const int n = static_cast<int>(ids.size());
+    const std::string where = "myocyte cell " + std::to_string(c) + ": ";
+    const double r0_um = t.particles[ids[0]].r_um;
+    double cx = 0, cy = 0;
+    for (int id : ids) {
+      if (std::abs(t.particles[id].r_um - r0_um) > 1e-9 * r0_um)
+        throw std::invalid_argument(where + "particles of different radii");
+      cx += t.particles[id].x_um;
+      cy += t.particles[id].y_um;
+    }
+    cx /= n;
+    cy /= n;
+    double ux = 0, uy = 1, s0_um = 0;
+    if (n > 1) {
+      const Particle &a = t.particles[ids.front()], &b = t.particles[ids.back()];
+      const double len = std::hypot(b.x_um - a.x_um, b.y_um - a.y_um);
+      if (!(len > 0)) throw std::invalid_argument(where + "particles at one point");
+      ux = (b.x_um - a.x_um) / len;
+      uy = (b.y_um - a.y_um) / len;
+      double amin = 0, amax = 0;
+      for (int id : ids) {
+        const double dx = t.particles[id].x_um - cx, dy = t.particles[id].y_um - cy;
+        const double along = dx * ux + dy * uy, across = dx * uy - dy * ux;
+        if (std::abs(across) > 1e-6 * len) throw std::invalid_argument(where + "particles not collinear");
+        amin = std::min(amin, along);
+        amax = std::max(amax, along);
+      }
+      s0_um = (amax - amin) / (n - 1);
+      for (int id : ids) {
+        const double dx = t.particles[id].x_um - cx, dy = t.particles[id].y_um - cy;
+        const double k = (dx * ux + dy * uy) / s0_um;
+        const double k_round = std::round(k + 0.5 * (n - 1)) - 0.5 * (n - 1);
+        if (std::abs(k - k_round) > 1e-6) throw std::invalid_argument(where + "particles not equally spaced");
+        pa_[id] = k_round;
+      }
+    }
+    const double r0 = r0_um * kUm, s0 = s0_um * kUm;
+    const ShapeProps sp = props(n, r0, s0);
+    const int b = add_body(c, true, cx * kUm, cy * kUm, std::atan2(-ux, uy), n, r0, s0, rho * sp.area,
+                           rho * sp.moment, false);
+    cell_body_[c] = b;
+    for (int id : ids) pbody_[id] = b;
+  }
+
+  const std::size_t nb = bx_.size();
+  bvx_.assign(nb, 0.0);
+  bvy_.assign(nb, 0.0);
+  bw_.assign(nb, 0.0);
+  bfx_.assign(nb, 0.0);
+  bfy_.assign(nb, 0.0);
+  btq_.assign(nb, 0.0);
+  bsdot_.assign(nb, 0.0);
+  bux_.resize(nb);
+  buy_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    bux_[b] = -std::sin(bth_[b]);
+    buy_[b] = std::cos(bth_[b]);
+  }
+  for (auto* v : {&px_, &py_, &px_old_, &py_old_, &pvx_, &pvy_, &pr_, &pw_, &pfx_, &pfy_, &ptq_}) v->assign(np, 0.0);
+  place_particles();
+  for (std::size_t i = 0; i < np; ++i) {
+    origin_x_ += px_[i] / static_cast<double>(np);
+    origin_y_ += py_[i] / static_cast<double>(np);
+  }
+
+  // Bonds: stiffness by inheritance and cell types, effective mass of the bodies.
+  bonds_.resize(t.bonds.size());
+  const double series = spec_.stiffness_inheritance == StiffnessInheritance::series ? 0.5 : 1.0;
+  for (std::size_t k = 0; k < t.bonds.size(); ++k) {
+    const int p = t.bonds[k].p, q = t.bonds[k].q;
+    if (p < 0 || q < 0 || static_cast<std::size_t>(p) >= np || static_cast<std::size_t>(q) >= np || p == q)
+      throw std::invalid_argument("bond " + std::to_string(k) + " joins invalid particles");
+    const int bp = pbody_[p], bq = pbody_[q];
+    if (bp == bq) throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
+    const bool fib = t.type[t.particles[p].cell] == CellType::fibroblast ||
+                     t.type[t.particles[q].cell] == CellType::fibroblast;
+    const double factor = series * (fib ? spec_.fibroblast_stiffness_factor : 1.0);
+    bonds_.p[k] = p;
+    bonds_.q[k] = q;
+    bonds_.kn[k] = spec_.kn_N_per_m * factor;
+    bonds_.ks[k] = spec_.ks_N_per_m * factor;
+    const double mp = mass_[bp], mq = mass_[bq];
+    bonds_.m_eff[k] = bfixed_[bp] && !bfixed_[bq]   ? mq
+                      : bfixed_[bq] && !bfixed_[bp] ? mp
+                                                    : mp * mq / (mp + mq);
+    const double d = std::hypot(px_[q] - px_[p], py_[q] - py_[p]);
+    bonds_.ref_gap[k] = d - br_[bp] - br_[bq];
+  }
+  law_->prepare(bonds_);
+  compute_stable_step();
+  if (spec_.dt_ms > stable_step_ms_)
+    throw std::invalid_argument("mechanics.dt_ms " + fmt(spec_.dt_ms) + " ms exceeds the stable DEM step " +
+                                fmt(stable_step_ms_) + " ms");
+}
+
+void DemSolver::compute_stable_step() {
+  const std::size_t nb = bx_.size();
+  std::vector<double> kt(nb, 0.0), kr(nb, 0.0);
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    const int p = bonds_.p[k], q = bonds_.q[k];
+    const double kn = law_->stable_step_stiffness(bonds_.kn[k], false);
+    const double ks = law_->stable_step_stiffness(bonds_.ks[k], true);
+    const double dx = px_[q] - px_[p], dy = py_[q] - py_[p];
+    const double d = std::hypot(dx, dy);
+    const double nx = d > 0 ? dx / d : 1.0, ny = d > 0 ? dy / d : 0.0;
+    const int bp = pbody_[p], bq = pbody_[q];
+    const double gap = d - br_[bp] - br_[bq];
+    const double cx = px_[p] + (br_[bp] + 0.5 * gap) * nx, cy = py_[p] + (br_[bp] + 0.5 * gap) * ny;
+    for (int b : {bp, bq}) {
+      const double rx = cx - bx_[b], ry = cy - by_[b];
+      const double rn = rx * ny - ry * nx;    // rho x n
+      const double rt = rx * nx + ry * ny;    // rho x t, t = (-ny, nx)
+      kt[b] += kn + ks;
+      kr[b] += kn * rn * rn + ks * rt * rt;
+    }
+  }
+  double tmin = std::numeric_limits<double>::infinity();
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (bfixed_[b]) continue;
+    if (kt[b] > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt[b]));
+    if (kr[b] > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr[b]));
+  }
+  stable_step_ms_ = spec_.safety_factor * tmin * 1e3;
+}
+
+void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
+  if (ratio.size() != cells_)
+    throw std::invalid_argument("set_cell_length_ratios: " + std::to_string(ratio.size()) +
+                                " ratios for " + std::to_string(cells_) + " cells");
+  // Check all first, so that a bad ratio changes nothing.
+  for (std::size_t c = 0; c < cells_; ++c) {
+    const double l = ratio[c];
+    if (cell_body_[c] >= 0 && !(l >= 0.5 && l <= 1.5))
+      throw std::invalid_argument("cell " + std::to_string(c) + ": length ratio " + fmt(l) +
+                                  " outside [0.5, 1.5]");
+  }
+  for (std::size_t c = 0; c < cells_; ++c) {
+    const int b = cell_body_[c];
+    if (b < 0 || bn_[b] < 2 || ratio[c] == blambda_[b]) continue;
+    const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b],
+                                              bs0_[b], ratio[c]);
+    blambda_[b] = ratio[c];
+    btarget_r_[b] = shape.r;
+    btarget_s_[b] = shape.s;
+  }
+}
+
+void DemSolver::update_geometry(double dt_s) {
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
+    bsdot_[b] = 0;
+    if (btarget_s_[b] == bs_[b] && btarget_r_[b] == br_[b]) continue;
+    bsdot_[b] = (btarget_s_[b] - bs_[b]) / dt_s;
+    bs_[b] = btarget_s_[b];
+    br_[b] = btarget_r_[b];
+  }
+}
+
+void DemSolver::place_particles() {
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
+    bux_[b] = -std::sin(bth_[b]);
+    buy_[b] = std::cos(bth_[b]);
+  }
+  const std::size_t np = pbody_.size();
+  for (std::size_t i = 0; i < np; ++i) {
+    const int b = pbody_[i];
+    const double off = pa_[i] * bs_[b];
+    const double ox = off * bux_[b], oy = off * buy_[b];
+    px_[i] = bx_[b] + ox;
+    py_[i] = by_[b] + oy;
+    // Velocity of the particle's centre: rigid motion plus its slide along the axis.
+    const double slide = pa_[i] * bsdot_[b];
+    pvx_[i] = bvx_[b] - bw_[b] * oy + slide * bux_[b];
+    pvy_[i] = bvy_[b] + bw_[b] * ox + slide * buy_[b];
+    pr_[i] = br_[b];
+    pw_[i] = bw_[b];
+  }
+}
+
+void DemSolver::compute_forces(double dt_s) {
+  std::fill(pfx_.begin(), pfx_.end(), 0.0);
+  std::fill(pfy_.begin(), pfy_.end(), 0.0);
+  std::fill(ptq_.begin(), ptq_.end(), 0.0);
+  const std::size_t nbonds = bonds_.size();
+  const int* const P = bonds_.p.data();
+  const int* const Q = bonds_.q.data();
+  for (std::size_t begin = 0; begin < nbonds; begin += kBlock) {
+    const std::size_t count = std::min(kBlock, nbonds - begin);
+    // Kinematics of the block.
+    for (std::size_t j = 0; j < count; ++j) {
+      const int p = P[begin + j], q = Q[begin + j];
+      const double rp = pr_[p], rq = pr_[q];
+      const double dx = px_[q] - px_[p], dy = py_[q] - py_[p];
+      const double d = std::sqrt(dx * dx + dy * dy);
+      const double nx = d > 0 ? dx / d : 1.0, ny = d > 0 ? dy / d : 0.0;
+      const double gap = d - rp - rq;
+      // Contact point relative to each centre: lp n and -lq n.
+      const double lp = rp + 0.5 * gap, lq = rq + 0.5 * gap;
+      const double wp = pw_[p], wq = pw_[q];
+      // v_c = v_centre + w x (c - centre); w x (l n) = l w (-ny, nx) = l w t.
+      const double dvx = (pvx_[q] - pvx_[p]) - (lq * wq + lp * wp) * (-ny);
+      const double dvy = (pvy_[q] - pvy_[p]) - (lq * wq + lp * wp) * nx;
+      gap_[j] = gap;
+      nx_[j] = nx;
+      ny_[j] = ny;
+      dn_[j] = (dvx * nx + dvy * ny) * dt_s;
+      ds_[j] = (-dvx * ny + dvy * nx) * dt_s;
+    }
+    const BondBlock block{begin, count, gap_.data(), dn_.data(), ds_.data(), fnt_.data(), fst_.data()};
+    law_->update(bonds_, block, dt_s);
+    // Forces on q (minus on p); the shear force's moment about each centre.
+    for (std::size_t j = 0; j < count; ++j) {
+      const int p = P[begin + j], q = Q[begin + j];
+      const double fn = fnt_[j], fs = fst_[j];
+      const double nx = nx_[j], ny = ny_[j];
+      const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
+      pfx_[q] += fx;
+      pfy_[q] += fy;
+      pfx_[p] -= fx;
+      pfy_[p] -= fy;
+      const double half_gap = 0.5 * gap_[j];
+      // (c - x_q) x f = (-lq n) x (fs t) = -lq fs; (c - x_p) x (-f) = -lp fs.
+      ptq_[q] -= (pr_[q] + half_gap) * fs;
+      ptq_[p] -= (pr_[p] + half_gap) * fs;
+    }
+  }
+  // Reduce to bodies: F = sum f, T = sum (t_p + (x_p - x_G) x f_p).
+  std::fill(bfx_.begin(), bfx_.end(), 0.0);
+  std::fill(bfy_.begin(), bfy_.end(), 0.0);
+  std::fill(btq_.begin(), btq_.end(), 0.0);
+  for (std::size_t i = 0; i < pbody_.size(); ++i) {
+    const int b = pbody_[i];
+    bfx_[b] += pfx_[i];
+    bfy_[b] += pfy_[i];
+    btq_[b] += ptq_[i] + (px_[i] - bx_[b]) * pfy_[i] - (py_[i] - by_[b]) * pfx_[i];
+  }
+}
+
+void DemSolver::step(double dt_ms) {
+  if (!(dt_ms > 0) || dt_ms > stable_step_ms_ * (1 + 1e-12))
+    throw std::invalid_argument("mechanics step " + fmt(dt_ms) + " ms refused: the stable DEM step is " +
+                                fmt(stable_step_ms_) + " ms");
+  const double dt = dt_ms * 1e-3;
+  const double h = 0.5 * dt;
+  const std::size_t nb = bx_.size();
+  // Half kick with the forces of the present state, then drift.
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (bfixed_[b]) continue;
+    bvx_[b] += bfx_[b] * inv_m_[b] * h;
+    bvy_[b] += bfy_[b] * inv_m_[b] * h;
+    bw_[b] += btq_[b] * inv_i_[b] * h;
+    bx_[b] += bvx_[b] * dt;
+    by_[b] += bvy_[b] * dt;
+    bth_[b] += bw_[b] * dt;
+  }
+  // New geometry (length ratios at the end of the step), particles.
+  px_old_.swap(px_);
+  py_old_.swap(py_);
+  update_geometry(dt);
+  place_particles();
+
+  // Strain rate: least-squares velocity gradient over particles or bodies.
+  {
+    const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
+    const std::size_t n = by_particle ? px_.size() : nb;
+    double sx = 0, sy = 0, svx = 0, svy = 0, sxx = 0, sxy = 0, syy = 0, vxx = 0, vxy = 0, vyx = 0, vyy = 0;
+    const double inv_dt = 1 / dt;
+    for (std::size_t i = 0; i < n; ++i) {
+      double x, y, vx, vy;
+      if (by_particle) {
+        vx = (px_[i] - px_old_[i]) * inv_dt;
+        vy = (py_[i] - py_old_[i]) * inv_dt;
+        x = 0.5 * (px_[i] + px_old_[i]) - origin_x_;
+        y = 0.5 * (py_[i] + py_old_[i]) - origin_y_;
+      } else {
+        vx = bvx_[i];
+        vy = bvy_[i];
+        x = bx_[i] - h * vx - origin_x_;
+        y = by_[i] - h * vy - origin_y_;
+      }
+      sx += x;
+      sy += y;
+      svx += vx;
+      svy += vy;
+      sxx += x * x;
+      sxy += x * y;
+      syy += y * y;
+      vxx += vx * x;
+      vxy += vx * y;
+      vyx += vy * x;
+      vyy += vy * y;
+    }
+    if (n >= 2) {
+      const double inv_n = 1.0 / static_cast<double>(n);
+      const double mx = sx * inv_n, my = sy * inv_n, mvx = svx * inv_n, mvy = svy * inv_n;
+      Eigen::Matrix2d S, V;
+      S << sxx - n * mx * mx, sxy - n * mx * my, sxy - n * mx * my, syy - n * my * my;
+      V << vxx - n * mvx * mx, vxy - n * mvx * my, vyx - n * mvy * mx, vyy - n * mvy * my;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
+      const Eigen::Vector2d ev = eig.eigenvalues();  // ascending
+      Eigen::Matrix2d alpha = Eigen::Matrix2d::Zero();
+      if (ev(0) > 1e-10 * ev(1)) {
+        alpha = V * S.inverse();
+      } else if (ev(1) > 0) {
+        // Bodies on a line u: only the stretch rate along u is defined.
+        const Eigen::Vector2d u = eig.eigenvectors().col(1);
+        alpha = (u.dot(V * u) / ev(1)) * u * u.transpose();
+      }
+      strain_[0] += alpha(0, 0) * dt;
+      strain_[1] += alpha(1, 1) * dt;
+      strain_[2] += 0.5 * (alpha(0, 1) + alpha(1, 0)) * dt;
+    }
+  }
+
+  compute_forces(dt);
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (bfixed_[b]) continue;
+    bvx_[b] += bfx_[b] * inv_m_[b] * h;
+    bvy_[b] += bfy_[b] * inv_m_[b] * h;
+    bw_[b] += btq_[b] * inv_i_[b] * h;
+  }
+  time_s_ += dt;
+  ++steps_;
+  out_dirty_ = true;
+}
+
+const std::vector<Particle>& DemSolver::particles() const {
+  if (out_dirty_) {
+    out_.resize(pbody_.size());
+    for (std::size_t i = 0; i < pbody_.size(); ++i) {
+      const int b = pbody_[i];
+      out_[i] = Particle{px_[i] / kUm, py_[i] / kUm, br_[b] / kUm, bcell_[b]};
+    }
+    out_dirty_ = false;
+  }
+  return out_;
+}
+
+DemSolver::BodyState DemSolver::body(std::size_t b) const {
+  return {bx_[b], by_[b], bth_[b], bvx_[b], bvy_[b], bw_[b], mass_[b], inertia_[b],
+          bcell_[b], bclump_[b] != 0, bfixed_[b] != 0};
+}
+
+void DemSolver::set_body_velocity(std::size_t b, double vx, double vy, double w) {
+  if (bfixed_[b]) return;
+  bvx_[b] = vx;
+  bvy_[b] = vy;
+  bw_[b] = w;
+}
+
+ClumpShape DemSolver::cell_shape_um(int cell) const {
+  const int b = cell_body_.at(cell);
+  if (b < 0) return {0, 0};
+  return {br_[b] / kUm, bs_[b] / kUm};
+}
+
+std::size_t DemSolver::broken_bonds() const {
+  return static_cast<std::size_t>(std::count(bonds_.intact.begin(), bonds_.intact.end(), 0));
+}
+
+double DemSolver::kinetic_energy_J() const {
+  double e = 0;
+  for (std::size_t b = 0; b < bx_.size(); ++b)
+    e += 0.5 * mass_[b] * (bvx_[b] * bvx_[b] + bvy_[b] * bvy_[b]) + 0.5 * inertia_[b] * bw_[b] * bw_[b];
+  return e;
+}
+
+double DemSolver::elastic_energy_J() const {
+  double e = 0;
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    e += 0.5 * bonds_.fn[k] * bonds_.fn[k] / bonds_.kn[k];
+    if (bonds_.ks[k] > 0) e += 0.5 * bonds_.fs[k] * bonds_.fs[k] / bonds_.ks[k];
+  }
+  return e;
+}
+
+std::unique_ptr<MechanicsSolver> make_mechanics_solver(const Tissue& tissue, const DemSpec& spec) {
+  if (spec.solver != "dem") throw std::invalid_argument("unknown mechanics solver '" + spec.solver + "'");
+  return std::make_unique<DemSolver>(tissue, spec);
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,128 @@
+// `dem`: the seed paper's DEM tissue mechanics (REFERENCES.md 2.1-2.10).
+//
+// Bodies: a myocyte is a rigid clump of its N collinear particles (centroid,
+// angle, velocity, spin; mass and polar inertia of the union of its disks at
+// rest, density x area x 1 m: 2D disks of unit thickness); it contracts along
+// its axis: at length ratio lambda the spacing and radius follow the spec's
+// length mode and area rule (clump_geometry.hpp), the centroid and axis stay.
+// A fibroblast particle is a rigid disk of constant radius, free (or fixed with
+// `fibroblasts_fixed`); the particles of a multi-particle fibroblast are
+// separate disks held by their bonds.
+//
+// Contacts: the tissue's bonds, static (no contact detection: bonds never form,
+// they can only break), in SoA order, their law called once per block of 512.
+// Contact point velocities include a pebble's motion along the clump's axis
+// from contraction (so dashpots and shear springs see it).
+//
+// Motion: velocity Verlet (PFC 6+; the same positions as PFC 5's centred
+// differences): half kick, drift, new geometry at the length ratios set, forces,
+// half kick. Dashpots see the half-step velocities.
+//
+// Strain: each step, alpha = (sum V~ x~^T)(sum x~ x~^T)^+ over all particles
+// (or bodies), V the half-step velocity (x^{n+1} - x^n)/dt of each, x its
+// midpoint (x^n + x^{n+1})/2, so a rigid motion gives exactly zero; eps +=
+// sym(alpha) dt. Bodies on one line (a straight strand) define only the
+// stretch along it: that is all the strain they get.
+//
+// Stable step: safety x min over free bodies of sqrt(m / k_t), sqrt(I / k_r),
+// k_t = sum (kn' + ks'), k_r = sum kn' (rho x n)^2 + ks' (rho x t)^2 over the
+// body's bonds, rho from its centroid to the contact point, k' the law's
+// dashpot-corrected stiffness (REFERENCES.md 2.4), at rest geometry.
+//
+// Deterministic: one thread, fixed order, no allocation per step.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "mechanics/clump_geometry.hpp"
+#include "mechanics/contact_law.hpp"
+#include "mechanics/mechanics_solver.hpp"
+
+namespace fibrodem {
+
+class DemSolver final : public MechanicsSolver {
+ public:
+  // Throws std::invalid_argument for a myocyte whose particles are not
+  // collinear, equally spaced and of one radius, a bond inside one clump, or a
+  // spec dt_ms above the stable step.
+  DemSolver(const Tissue& tissue, const DemSpec& spec);
+
+  double stable_step_ms() const override { return stable_step_ms_; }
+  void set_cell_length_ratios(const std::vector<double>& ratio) override;
+  void step(double dt_ms) override;
+  std::array<double, 3> strain() const override { return strain_; }
+  const std::vector<Particle>& particles() const override;
+
+  // The step to use: spec.dt_ms, or the stable step if that is 0.
+  double step_ms() const { return spec_.dt_ms > 0 ? spec_.dt_ms : stable_step_ms_; }
+  const DemSpec& spec() const { return spec_; }
+  double time_ms() const { return time_s_ * 1e3; }
+  std::size_t steps() const { return steps_; }
+
+  // Bodies (SI): clumps and disks, in order of their first particle.
+  struct BodyState {
+    double x_m, y_m, theta_rad, vx_m_per_s, vy_m_per_s, omega_rad_per_s;
+    double mass_kg, inertia_kg_m2;
+    int cell;
+    bool clump, fixed;
+  };
+  std::size_t body_count() const { return bx_.size(); }
+  BodyState body(std::size_t b) const;
+  int body_of_particle(std::size_t p) const { return pbody_[p]; }
+  // Sets a body's velocity and spin (SI); ignored for a fixed body.
+  void set_body_velocity(std::size_t b, double vx_m_per_s, double vy_m_per_s, double omega_rad_per_s);
+  // Each myocyte's present clump shape (pebble radius and spacing, um); {0,0} for a fibroblast.
+  ClumpShape cell_shape_um(int cell) const;
+
+  const BondSet& bonds() const { return bonds_; }
+  std::size_t broken_bonds() const;
+  // Energies at the last full step [J] (unit thickness): kinetic (translation +
+  // rotation) and elastic (springs of the active contacts, 1/2 F^2 / k).
+  double kinetic_energy_J() const;
+  double elastic_energy_J() const;
+
+ private:
+  void update_geometry(double dt_s);
+  void place_particles();
+  void compute_forces(double dt_s);
+  void compute_stable_step();
+
+  static constexpr std::size_t kBlock = 512;
+
+  DemSpec spec_;
+  std::unique_ptr<ContactLaw> law_;
+  std::size_t cells_ = 0;
+
+  // Bodies (SoA, SI).
+  std::vector<double> bx_, by_, bth_, bvx_, bvy_, bw_, bfx_, bfy_, btq_;
+  std::vector<double> inv_m_, inv_i_, mass_, inertia_;
+  std::vector<int> bcell_;
+  std::vector<std::uint8_t> bclump_, bfixed_;
+  // Clump geometry per body (disks: n 1, s 0).
+  std::vector<int> bn_;
+  std::vector<double> br0_, bs0_, br_, bs_, bsdot_, blambda_, btarget_r_, btarget_s_, bux_, buy_;
+  std::vector<int> cell_body_;  // myocyte cell -> body, else -1
+
+  // Particles (SoA, SI).
+  std::vector<int> pbody_;
+  std::vector<double> pa_;  // axial offset in spacings (k - (N-1)/2)
+  std::vector<double> px_, py_, px_old_, py_old_, pvx_, pvy_, pr_, pw_, pfx_, pfy_, ptq_;
+
+  // Bonds and one block's scratch.
+  BondSet bonds_;
+  std::array<double, kBlock> gap_{}, dn_{}, ds_{}, nx_{}, ny_{}, fnt_{}, fst_{};
+
+  double stable_step_ms_ = 0;
+  double time_s_ = 0;
+  std::size_t steps_ = 0;
+  std::array<double, 3> strain_{0, 0, 0};
+  double origin_x_ = 0, origin_y_ = 0;  // for the strain sums' conditioning
+
+  mutable std::vector<Particle> out_;
+  mutable bool out_dirty_ = true;
+};
+
+}  // namespace fibrodem

@@ -1,0 +1,59 @@
+#include "mechanics/dem_spec.hpp"
+
+#include <limits>
+
+#include "mechanics/contact_law.hpp"
+
+namespace fibrodem {
+
+const char* area_rule_name(AreaRule rule) {
+  switch (rule) {
+    case AreaRule::union_area: return "union";
+    case AreaRule::capsule: return "capsule";
+    case AreaRule::rectangle: return "rectangle";
+  }
+  return "?";
+}
+
+const char* length_mode_name(LengthMode mode) {
+  return mode == LengthMode::spacing ? "spacing" : "total";
+}
+
+DemSpec read_dem_spec(JsonReader& r) {
+  constexpr double big = std::numeric_limits<double>::max();
+  DemSpec s;
+  s.solver = r.text("solver", s.solver, {"dem"});
+  std::vector<std::string> laws;
+  for (const auto& [name, factory] : contact_laws()) laws.push_back(name);
+  s.contact_law = r.text("contact_law", s.contact_law, laws);
+  s.kn_N_per_m = r.number("kn_N_per_m", s.kn_N_per_m, 1e-12, 1e12);
+  s.ks_N_per_m = r.number("ks_N_per_m", s.ks_N_per_m, 0, 1e12);
+  s.damping_ratio_normal = r.number("damping_ratio_normal", s.damping_ratio_normal, 0, 10);
+  s.damping_ratio_shear = r.number("damping_ratio_shear", s.damping_ratio_shear, 0, 10);
+  s.tensile_strength_N = r.number("tensile_strength_N", s.tensile_strength_N, 0, big);
+  s.shear_strength_N = r.number("shear_strength_N", s.shear_strength_N, 0, big);
+  s.friction = r.number("friction", s.friction, 0, 1e6);
+  s.fibroblast_stiffness_factor =
+      r.number("fibroblast_stiffness_factor", s.fibroblast_stiffness_factor, 1e-6, 1e6);
+  s.stiffness_inheritance =
+      r.text("stiffness_inheritance", "contact", {"contact", "series"}) == "series"
+          ? StiffnessInheritance::series
+          : StiffnessInheritance::contact;
+  s.density_kg_per_m3 = r.number("density_kg_per_m3", s.density_kg_per_m3, 1e-6, 1e9);
+  s.safety_factor = r.number("safety_factor", s.safety_factor, 1e-3, 1.0);
+  s.dt_ms = r.number("dt_ms", s.dt_ms, 0, 1e3);
+  const std::string rule = r.text("area_rule", "union", {"union", "capsule", "rectangle"});
+  s.area_rule = rule == "capsule"     ? AreaRule::capsule
+                : rule == "rectangle" ? AreaRule::rectangle
+                                      : AreaRule::union_area;
+  s.length_mode = r.text("length_mode", length_mode_name(s.length_mode), {"spacing", "total"}) == "total"
+                      ? LengthMode::total
+                      : LengthMode::spacing;
+  s.fibroblasts_fixed = r.boolean("fibroblasts_fixed", s.fibroblasts_fixed);
+  s.strain_bodies = r.text("strain_bodies", "particles", {"particles", "bodies"}) == "bodies"
+                        ? StrainBodies::bodies
+                        : StrainBodies::particles;
+  return s;
+}
+
+}  // namespace fibrodem

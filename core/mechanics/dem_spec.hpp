@@ -1,0 +1,68 @@
+// The parameters of the DEM tissue mechanics (manifest `mechanics` object),
+// with the seed paper's Table 1 as defaults (REFERENCES.md section 0, 2).
+// Units at this boundary: N/m, N, kg/m^3, ms; inside the solver SI.
+#pragma once
+
+#include <string>
+
+#include "scene/json_reader.hpp"
+
+namespace fibrodem {
+
+// How a contracting myocyte clump keeps its 2D area (REFERENCES.md 2.6).
+enum class AreaRule {
+  union_area,  // (A) area of the union of the disks (Newton on r)
+  capsule,     // (B) 2r(N-1)s + pi r^2 = const
+  rectangle,   // (C) r (N-1) s = const, i.e. r = r0 s0 / s
+};
+// How the cell's length ratio lambda = L/L0 sets the clump's geometry.
+enum class LengthMode {
+  spacing,  // particle spacing s = s0 lambda (REFERENCES.md 2.6); r from the area rule
+  total,    // total length (N-1)s + 2r = lambda L0 with the area kept (both s and r solved)
+};
+// Which velocities the tissue strain is fitted to (REFERENCES.md 2.7).
+enum class StrainBodies {
+  particles,  // every particle (pebbles of clumps and fibroblast disks): the seed's "all particles"
+  bodies,     // clump centroids and fibroblast disks
+};
+// How a contact's stiffness follows from kn, ks (REFERENCES.md 2.2 "Inheritance").
+enum class StiffnessInheritance {
+  contact,  // kn, ks are the contact's (PFC contact-model property): 26 N/m per bond
+  series,   // kn, ks set on both particles, springs in series: kn/2 per bond
+};
+
+struct DemSpec {
+  std::string solver = "dem";
+  std::string contact_law = "linear_bond";
+  double kn_N_per_m = 26.0;               // Table 1
+  double ks_N_per_m = 0.26;               // Table 1
+  double damping_ratio_normal = 0.1;      // beta_n, Table 1
+  double damping_ratio_shear = 0.1;       // beta_s, Table 1
+  double tensile_strength_N = 1e200;      // T_F, Table 1 (a force, PFC cb_tenf)
+  double shear_strength_N = 1e200;        // S_F, Table 1 (a force, PFC cb_shearf)
+  double friction = 0.0;                  // Coulomb coefficient of a broken bond's contact
+  double fibroblast_stiffness_factor = 1.0;  // kn, ks x this if either end is a fibroblast (seed: 1.5)
+  StiffnessInheritance stiffness_inheritance = StiffnessInheritance::contact;
+  double density_kg_per_m3 = 1053.0;      // Table 1: 1.053 g/ml; 2D disks of unit thickness (1 m)
+  double safety_factor = 0.8;             // stable step = safety x min t_crit
+  double dt_ms = 0.0;                     // 0 = automatic (the stable step)
+  AreaRule area_rule = AreaRule::union_area;
+  LengthMode length_mode = LengthMode::total;  // the seed: SL "scaled to give the total myocyte length"
+  bool fibroblasts_fixed = false;         // true: fibroblast particles never move
+  StrainBodies strain_bodies = StrainBodies::particles;
+};
+
+// Reads the keys of a `mechanics` object (all optional; defaults as above):
+// solver, contact_law, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
+// damping_ratio_shear, tensile_strength_N, shear_strength_N, friction,
+// fibroblast_stiffness_factor, stiffness_inheritance (contact|series),
+// density_kg_per_m3, safety_factor, dt_ms, area_rule (union|capsule|rectangle),
+// length_mode (spacing|total), fibroblasts_fixed, strain_bodies
+// (particles|bodies). Errors name the JSON path. Does not call finish(): the
+// caller may read its own keys (e.g. output rates) from the same object first.
+DemSpec read_dem_spec(JsonReader& mechanics);
+
+const char* area_rule_name(AreaRule rule);
+const char* length_mode_name(LengthMode mode);
+
+}  // namespace fibrodem
