@@ -1,0 +1,106 @@
+// Excitation-contraction in a whole run: a myofilament model rides on the
+// myocyte's Ca_i; with one-way coupling it cannot change V (bit for bit), with
+// calcium feedback it does; only what the scene calls for is built.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+namespace {
+json em_cell(const std::string& effects_json) {
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "em", "duration_ms": 1000,
+    "tissue": {"builder": "single_cell", "type": "myocyte"},
+    "cells": {"myocyte": {"model": "colman", "myofilament": "rice"}},
+    "stimulus": [{"target": "myocyte", "start_ms": 50, "duration_ms": 2, "amplitude_pA": 2000, "period_ms": 1000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"traces": {"cells": [0], "variables": ["V", "Ca_i"], "every_ms": 0.5}}
+  })");
+  m["effects"] = json::parse(effects_json);
+  return m;
+}
+
+struct Run {
+  std::vector<double> V, Ca_i, SL;
+  ProcessPlan plan;
+};
+
+Run run(const json& m, bool with_sl = false) {
+  json manifest = m;
+  if (with_sl) manifest["output"]["traces"]["variables"].push_back("sarcomere_length");
+  Simulation sim(parse_scene(manifest));
+  sim.run();
+  Run r{sim.trace("V", 0), sim.trace("Ca_i", 0), {}, sim.processes()};
+  if (with_sl) r.SL = sim.trace("sarcomere_length", 0);
+  return r;
+}
+}  // namespace
+
+TEST_CASE("contraction with one-way coupling leaves the membrane potential bit for bit unchanged") {
+  const Run ep = run(em_cell(R"(["electrophysiology"])"));
+  CHECK_FALSE(ep.plan.has("contraction"));
+  const Run em = run(em_cell(R"(["electrophysiology", "contraction"])"), true);
+  CHECK(em.plan.has("contraction"));
+  REQUIRE(ep.V.size() == em.V.size());
+  CHECK(ep.V == em.V);        // exactly, not approximately
+  CHECK(ep.Ca_i == em.Ca_i);
+  // And the cell did contract.
+  const double sl_rest = em.SL.front();
+  const double sl_min = *std::min_element(em.SL.begin(), em.SL.end());
+  CHECK(sl_min < 0.97 * sl_rest);
+}
+
+TEST_CASE("calcium feedback changes the calcium transient and the action potential") {
+  json m = em_cell(R"(["electrophysiology", "contraction"])");
+  const Run one_way = run(m);
+  m["cells"]["myocyte"]["calcium_feedback"] = true;
+  const Run feedback = run(m);
+  REQUIRE(one_way.V.size() == feedback.V.size());
+  double dV = 0, dCa = 0;
+  for (std::size_t k = 0; k < one_way.V.size(); ++k) {
+    dV = std::max(dV, std::abs(one_way.V[k] - feedback.V[k]));
+    dCa = std::max(dCa, std::abs(one_way.Ca_i[k] - feedback.Ca_i[k]));
+  }
+  CAPTURE(dV);
+  CAPTURE(dCa);
+  CHECK(dCa > 1e-6);  // mM: troponin binding buffers the transient visibly (> 1 nM)
+  CHECK(dV > 1e-3);
+}
+
+TEST_CASE("tracing a myofilament variable calls for contraction; without it rice is never loaded") {
+  json m = em_cell("[]");
+  m.erase("effects");
+  m["duration_ms"] = 100;
+  Simulation ep_only(parse_scene(m));
+  CHECK_FALSE(ep_only.processes().has("contraction"));
+  bool noted = false;
+  for (const auto& n : ep_only.processes().notes) noted = noted || n.find("not loaded") != std::string::npos;
+  CHECK(noted);
+  m["output"]["traces"]["variables"].push_back("sarcomere_length");
+  Simulation em(parse_scene(m));
+  CHECK(em.processes().has("contraction"));
+}
+
+TEST_CASE("contraction needs a myofilament model; feedback needs a host that takes it") {
+  json m = em_cell(R"(["electrophysiology", "contraction"])");
+  m["cells"]["myocyte"].erase("myofilament");
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("myofilament"), ManifestError);
+  m = em_cell(R"(["electrophysiology", "contraction"])");
+  m["cells"]["myocyte"]["myofilament"] = "passive_fibroblast";
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("cells.myocyte.myofilament.model"), ManifestError);
+}
+
+TEST_CASE("mechano-electric feedback: no stretch-activated current while the cell is not stretched") {
+  // An unloaded cell only shortens (lambda = SL/SL_rest <= 1), so I_SAC stays 0
+  // and V is that of the EP-only scene; MEF alone builds contraction for lambda.
+  json m = em_cell(R"(["electrophysiology", "mechano_electric_feedback"])");
+  m["duration_ms"] = 200;
+  json ep = em_cell(R"(["electrophysiology"])");
+  ep["duration_ms"] = 200;
+  const Run mef = run(m);
+  CHECK(mef.plan.has("contraction"));
+  CHECK(mef.V == run(ep).V);
+}
