@@ -127,10 +127,10 @@ TEST_CASE("without coupling the cells of a strand do not talk; the log says why"
   CHECK(sim.processes().notes[0].find("coupling not built") != std::string::npos);
 }
 
-TEST_CASE("an effect this version cannot simulate is refused by name") {
+TEST_CASE("an effect the scene cannot support is refused with what it needs") {
   json m = testing::passive_cell_manifest();
-  m["effects"] = {"electrophysiology", "mechanics"};
-  CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("effects[1]"), ManifestError);
+  m["effects"] = {"electrophysiology", "mechanics"};  // mechanics needs contraction, which needs a myofilament model
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("myofilament"), ManifestError);
 }
 
 TEST_CASE("results do not depend on the thread count") {

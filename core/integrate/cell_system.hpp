@@ -5,6 +5,7 @@
 // mechano-electric feedback, a stretch-activated current.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -43,6 +44,9 @@ struct CellSystem {
   StretchActivatedCurrent sac;
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
   std::vector<double> V_mV, i_ext_pA;              // per global cell
+  // Wall time spent [s]: myofilament models, coupling currents, ionic models.
+  std::array<double, 3> seconds{0, 0, 0};
+  enum Timer { kMyofilament, kCoupling, kIonic };
 
   std::size_t cell_count() const { return where.size(); }
 

@@ -1,6 +1,7 @@
 #include "integrate/fixed_step.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -73,9 +74,12 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
     const double h = t_next - t;
     step(system, t, h);
     if (system.coupler && system.implicit_coupling) {
+      const auto start = std::chrono::steady_clock::now();
       system.gather_voltage();
       system.coupler->implicit_step(system.V_mV.data(), h);
       system.scatter_voltage();
+      system.seconds[CellSystem::kCoupling] +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     observer.on_step(t, t_next, nullptr);
     while (observer.next_sample_ms() <= t_next + kTimeEpsilon_ms)

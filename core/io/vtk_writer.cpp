@@ -6,7 +6,8 @@
 namespace fibrodem {
 
 void write_tissue_vtk(const Tissue& tissue, const std::filesystem::path& file,
-                      const CellFields& fields, bool with_bonds) {
+                      const CellFields& fields, bool with_bonds,
+                      const std::vector<std::array<double, 2>>* displacement_um) {
   for (const auto& [name, values] : fields)
     if (values.size() != tissue.cell_count())
       throw std::runtime_error("write_tissue_vtk: field '" + name + "' has " +
@@ -40,6 +41,11 @@ void write_tissue_vtk(const Tissue& tissue, const std::filesystem::path& file,
       if (ch == ' ' || ch == '\t') ch = '_';
     out << "SCALARS " << clean << " double 1\nLOOKUP_TABLE default\n";
     for (const Particle& p : tissue.particles) out << values[p.cell] << '\n';
+  }
+  if (displacement_um) {
+    if (displacement_um->size() != n) throw std::runtime_error("write_tissue_vtk: one displacement per particle");
+    out << "VECTORS displacement_um double\n";
+    for (const auto& d : *displacement_um) out << d[0] << ' ' << d[1] << " 0\n";
   }
   if (!out) throw std::runtime_error("write_tissue_vtk: error writing " + file.string());
 }

@@ -19,6 +19,7 @@
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
+#include "mechanics/mechanics_solver.hpp"
 #include "io/csv_writer.hpp"
 #include "io/tissue_picture.hpp"
 #include "io/vtk_writer.hpp"
@@ -39,7 +40,8 @@ struct TraceColumn {
   bool is_output = false;
   bool myofilament = false;  // population indexes CellSystem::myofilaments
   int index = 0;
-  std::string name() const { return variable + "_" + std::to_string(cell); }
+  int strain = -1;           // >= 0: the tissue strain component (no cell)
+  std::string name() const { return strain >= 0 ? variable : variable + "_" + std::to_string(cell); }
 };
 
 std::string list_names(const std::vector<std::string>& names) {
@@ -77,6 +79,11 @@ struct Simulation::Impl : StepObserver {
   double wall_s = 0;
   long long steps = 0;
   long long snapshots_taken = 0;
+  std::unique_ptr<MechanicsSolver> mechanics;
+  double mechanics_step_ms = 0, mechanics_time_ms = 0, mechanics_seconds = 0;
+  std::vector<double> length_ratio;
+  std::array<double, 3> peak_strain{0, 0, 0};
+  static constexpr const char* kStrainNames[3] = {"eps_xx", "eps_yy", "eps_xy"};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
@@ -92,6 +99,7 @@ struct Simulation::Impl : StepObserver {
     derive_contraction_from_traces();
     build_myofilaments();
     build_coupling();
+    build_mechanics();
     system.stimulus = Stimulus(scene.stimuli, tissue);
     resolve_traces();
     integrator = make_integrator(scene.solver);
@@ -219,8 +227,23 @@ struct Simulation::Impl : StepObserver {
     }
   }
 
+  // DEM tissue mechanics: cells' lengths from their myofilaments drive it;
+  // nothing flows back to the cells.
+  void build_mechanics() {
+    if (!plan.has("mechanics")) return;
+    try {
+      mechanics = make_mechanics_solver(tissue, scene.mechanics);
+    } catch (const std::invalid_argument& e) {
+      throw ManifestError("mechanics", e.what());
+    }
+    mechanics_step_ms = scene.mechanics.dt_ms > 0 ? scene.mechanics.dt_ms : mechanics->stable_step_ms();
+    length_ratio.assign(tissue.cell_count(), 1.0);
+  }
+
   void resolve_traces() {
     const TraceSpec& spec = scene.output.traces;
+    if (mechanics)  // the tissue strain is always traced with mechanics
+      for (int k = 0; k < 3; ++k) columns.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k});
     for (std::size_t i = 0; i < spec.cells.size(); ++i) {
       const int cell = spec.cells[i];
       if (cell >= static_cast<int>(tissue.cell_count()))
@@ -229,6 +252,12 @@ struct Simulation::Impl : StepObserver {
                                 std::to_string(tissue.cell_count()) + " cells)");
       for (std::size_t j = 0; j < spec.variables.size(); ++j) {
         const std::string& var = spec.variables[j];
+        if (is_strain_variable(var)) {
+          if (!mechanics)
+            throw ManifestError(index_path("output.traces.variables", j),
+                                "\"" + var + "\" is the tissue strain, which needs the effect mechanics");
+          continue;
+        }
         const auto [p, local] = system.where[cell];
         TraceColumn col{var, cell, p, local, false, false, -1};
         if (!find_column(system.populations[p], col))
@@ -326,6 +355,9 @@ struct Simulation::Impl : StepObserver {
                 pop.info().kind == ModelKind::ionic ? "ionic" : "myofilament", pop.info().name, pop.info().version,
                 pop.variant.empty() ? "" : ", variant " + pop.variant, pop.size(), pop.n_states());
     });
+    if (mechanics)
+      log->info("mechanics: DEM, contact law {}, step {:.4g} ms (stable {:.4g} ms), subcycled against the "
+                "cells' steps", scene.mechanics.contact_law, mechanics_step_ms, mechanics->stable_step_ms());
     if (system.sac.on)
       log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
                 system.sac.lambda_max);
@@ -352,8 +384,9 @@ struct Simulation::Impl : StepObserver {
     for (std::size_t i = 0; i < columns.size(); ++i) {
       const TraceColumn& c = columns[i];
       const Population& pop = c.myofilament ? system.myofilaments[c.population].pop : system.populations[c.population];
-      const double value = c.is_output ? pop.outputs[c.index * pop.size() + c.local]
-                                       : pop.y[c.index * pop.size() + c.local];
+      const double value = c.strain >= 0 ? mechanics->strain()[c.strain]
+                           : c.is_output ? pop.outputs[c.index * pop.size() + c.local]
+                                         : pop.y[c.index * pop.size() + c.local];
       samples[i].push_back(value);
       if (traces_csv.is_open()) traces_csv.cell(value);
     }
@@ -366,6 +399,7 @@ struct Simulation::Impl : StepObserver {
     check_states(t_new);
     system.gather_voltage();
     tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+    advance_mechanics(t_new);
     const SnapshotSpec& snap = scene.output.snapshots;
     if (!out.empty() && snap.every_ms > 0) {
       const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
@@ -390,6 +424,35 @@ struct Simulation::Impl : StepObserver {
     }
   }
 
+  // Mechanics at its own step up to t, each step with the cells' present lengths.
+  void advance_mechanics(double t) {
+    if (!mechanics) return;
+    const auto start = std::chrono::steady_clock::now();
+    while (mechanics_time_ms + mechanics_step_ms <= t + kTimeEpsilon_ms) {
+      for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
+        length_ratio[cell] = system.stretch(system.where[cell].first, system.where[cell].second);
+      mechanics->set_cell_length_ratios(length_ratio);
+      mechanics->step(mechanics_step_ms);
+      mechanics_time_ms += mechanics_step_ms;
+      const auto strain = mechanics->strain();
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(strain[k]) > std::abs(peak_strain[k])) peak_strain[k] = strain[k];
+    }
+    mechanics_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  // The tissue as it is now: deformed particles when mechanics runs.
+  Tissue present_tissue(std::vector<std::array<double, 2>>* displacement) const {
+    Tissue now = tissue;
+    if (!mechanics) return now;
+    now.particles = mechanics->particles();
+    if (displacement)
+      for (std::size_t p = 0; p < now.particles.size(); ++p)
+        displacement->push_back({now.particles[p].x_um - tissue.particles[p].x_um,
+                                 now.particles[p].y_um - tissue.particles[p].y_um});
+    return now;
+  }
+
   // The tissue coloured by membrane potential at time t (the step's end).
   void write_snapshot(double t) const {
     char stem[64];
@@ -400,10 +463,14 @@ struct Simulation::Impl : StepObserver {
       picture.value_min = -90;
       picture.value_max = 40;
       picture.title = fmt::format("{}   t = {:.1f} ms", scene.name, t);
-      write_tissue_png(tissue, out / (std::string(stem) + ".png"), &system.V_mV, picture);
+      write_tissue_png(present_tissue(nullptr), out / (std::string(stem) + ".png"), &system.V_mV, picture);
     }
-    if (scene.output.snapshots.vtk)
-      write_tissue_vtk(tissue, out / (std::string(stem) + ".vtk"), {{"V_mV", system.V_mV}}, false);
+    if (scene.output.snapshots.vtk) {
+      std::vector<std::array<double, 2>> displacement;
+      const Tissue now = present_tissue(&displacement);
+      write_tissue_vtk(now, out / (std::string(stem) + ".vtk"), {{"V_mV", system.V_mV}}, false,
+                       mechanics ? &displacement : nullptr);
+    }
   }
 
   // Per-cell maps of the last recorded beat: activation time picture and VTK.
@@ -592,8 +659,14 @@ struct Simulation::Impl : StepObserver {
     s["mean_biomarkers"] = mean_biomarkers();
     s["conduction"] = conduction();
     s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
-    // Not measured by this version (mechanics comes later).
-    s["peak_strain"] = nullptr;
+    s["peak_strain"] = mechanics ? json{{"xx", peak_strain[0]}, {"yy", peak_strain[1]}, {"xy", peak_strain[2]}}
+                                 : json(nullptr);
+    if (mechanics) s["mechanics_step_ms"] = mechanics_step_ms;
+    // Where the wall time went (s): the parts of the cell system, mechanics, the rest.
+    s["wall_time_by_process_s"] = {{"ionic_models", system.seconds[CellSystem::kIonic]},
+                                   {"coupling", system.seconds[CellSystem::kCoupling]},
+                                   {"myofilament_models", system.seconds[CellSystem::kMyofilament]},
+                                   {"mechanics", mechanics_seconds}};
     return s;
   }
 

@@ -4,10 +4,9 @@
 
 namespace fibrodem {
 
-namespace {
-// Effects whose processes this version of fibrodem has.
-bool available(const std::string& effect) { return effect != "mechanics"; }
+bool is_strain_variable(const std::string& v) { return v == "eps_xx" || v == "eps_yy" || v == "eps_xy"; }
 
+namespace {
 bool any_myofilament(const Scene& scene) {
   for (const auto& [type, spec] : scene.cells)
     if (spec.myofilament) return true;
@@ -24,13 +23,10 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
   if (scene.effects_listed) {
     for (std::size_t i = 0; i < scene.effects.size(); ++i) {
       const std::string& effect = scene.effects[i];
-      if (!available(effect))
-        throw ManifestError(index_path("effects", i),
-                            "the effect \"" + effect +
-                                "\" is not available in this version of fibrodem (available: "
-                                "electrophysiology, coupling, contraction, mechano_electric_feedback)");
       if (!plan.has(effect)) plan.built.push_back({effect, "listed in the manifest's effects"});
     }
+    if (plan.has("mechanics") && !plan.has("contraction"))
+      plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});
     if (plan.has("mechano_electric_feedback") && !plan.has("contraction"))
       plan.built.push_back({"contraction", "mechano_electric_feedback needs the cells' stretch"});
     if (plan.has("contraction") && !any_myofilament(scene))
@@ -48,6 +44,11 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
                            " cell-graph edges carry no current");
   } else {
     plan.built.push_back({"electrophysiology", "the scene records membrane potentials and biomarkers"});
+    for (const auto& v : scene.output.traces.variables)
+      if (is_strain_variable(v) && !plan.has("mechanics")) {
+        plan.built.push_back({"mechanics", "output.traces records the tissue strain " + v});
+        plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});
+      }
     if (!tissue.cell_edges.empty())
       plan.built.push_back({"coupling", std::to_string(tissue.cell_edges.size()) +
                                             " cell pairs share gap junctions and their potentials "

@@ -22,7 +22,11 @@ struct ProcessPlan {
   bool has(const std::string& name) const;
 };
 
-// Throws ManifestError for an effect this build cannot simulate yet.
+// Throws ManifestError for a combination that cannot be built (e.g. contraction
+// without a myofilament model).
 ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue);
+
+// eps_xx, eps_yy, eps_xy: the tissue strain (traced when mechanics is built).
+bool is_strain_variable(const std::string& variable);
 
 }  // namespace fibrodem

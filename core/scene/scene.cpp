@@ -225,6 +225,11 @@ Scene parse_scene(const json& manifest) {
   }
 
   if (top.has("coupling")) scene.coupling = read_coupling(top.object("coupling"));
+  if (top.has("mechanics")) {
+    JsonReader mechanics = top.object("mechanics");
+    scene.mechanics = read_dem_spec(mechanics);
+    mechanics.finish();
+  }
   if (top.has("mechano_electric_feedback"))
     scene.mechano_electric = read_mechano_electric(top.object("mechano_electric_feedback"));
 

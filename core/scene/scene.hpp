@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "mechanics/dem_spec.hpp"
 #include "scene/json_reader.hpp"
 #include "tissue/tissue_builder.hpp"
 
@@ -112,6 +113,7 @@ struct Scene {
   std::map<CellType, CellTypeSpec> cells;
   CouplingSpec coupling;
   MechanoElectricSpec mechano_electric;
+  DemSpec mechanics;  // Table 1 defaults; used when the effect mechanics is built
   std::vector<StimulusSpec> stimuli;
   SolverSpec solver;
   OutputSpec output;
