@@ -8,7 +8,7 @@
 //               "coupling.D_f_nS": [0.5, 1, 2, 4, 8] } }
 //
 // Runs go to DIR/run_<k>/; DIR/sweep.csv and DIR/sweep.md have one row per run:
-// the grid values, per-cell-type mean biomarkers, CV and status. Runs are
+// the grid values, per-cell-type mean biomarkers, CV, peak strain and status. Runs are
 // spread over N worker threads (each run single-threaded, so the numbers are
 // those of a lone run).
 #include <atomic>
@@ -110,7 +110,7 @@ int sweep_command(const SweepArgs& args) {
     const char* metrics[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
     for (const char* type : {"myocyte", "fibroblast"})
       for (const char* m : metrics) header.push_back(std::string(type) + "_" + m);
-    header.insert(header.end(), {"cv_cm_per_s", "status"});
+    header.insert(header.end(), {"cv_cm_per_s", "peak_eps_xx", "peak_eps_yy", "status"});
     CsvWriter csv(dir / "sweep.csv", header);
     std::ostringstream md;
     for (const auto& h : header) md << "| " << h << " ";
@@ -126,6 +126,9 @@ int sweep_command(const SweepArgs& args) {
           row.push_back(means.contains(type) && !means[type][m].is_null() ? cell_text(means[type][m]) : "");
       row.push_back(points[k].summary.is_null() || points[k].summary["cv_cm_per_s"].is_null()
                         ? "" : cell_text(points[k].summary["cv_cm_per_s"]));
+      for (const char* component : {"xx", "yy"})
+        row.push_back(points[k].summary.is_null() || points[k].summary["peak_strain"].is_null()
+                          ? "" : cell_text(points[k].summary["peak_strain"][component]));
       row.push_back(points[k].error.empty() ? "completed" : "failed");
       for (const auto& c : row) {
         csv.cell(c);

@@ -28,7 +28,7 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-    REQUIRE(cells.size() == 13);  // run, 2 grid values, 2 x 4 means, CV, status
+    REQUIRE(cells.size() == 15);  // run, 2 grid values, 2 x 4 means, CV, 2 peak strains, status
     CHECK(cells.back() == "completed");
     apo.push_back(std::stod(cells[8]) - std::stod(cells[7]));  // fibroblast APO - RMP
   }
