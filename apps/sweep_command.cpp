@@ -107,6 +107,7 @@ int sweep_command(const SweepArgs& args) {
     // The table: grid values, then per-type means, CV and status.
     std::vector<std::string> header = {"run"};
     for (const auto& [path, v] : points.front().values) header.push_back(path);
+    header.push_back("fm_ratio");
     const char* metrics[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
     for (const char* type : {"myocyte", "fibroblast"})
       for (const char* m : metrics) header.push_back(std::string(type) + "_" + m);
@@ -120,6 +121,8 @@ int sweep_command(const SweepArgs& args) {
     for (std::size_t k = 0; k < points.size(); ++k) {
       std::vector<std::string> row = {std::to_string(k)};
       for (const auto& [path, v] : points[k].values) row.push_back(cell_text(v));
+      row.push_back(points[k].summary.is_null() || points[k].summary["fm_ratio"].is_null()
+                        ? "" : cell_text(points[k].summary["fm_ratio"]));
       const json& means = points[k].summary.is_null() ? json::object() : points[k].summary["mean_biomarkers"];
       for (const char* type : {"myocyte", "fibroblast"})
         for (const char* m : metrics)

@@ -24,13 +24,13 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
   CHECK(header.rfind("run,cells.fibroblast.parameters.R_GOhm,stimulus[0].amplitude_pA,", 0) == 0);
   std::vector<double> apo;
   while (std::getline(csv, line)) {
-    // Passive response to I for 5 ms: the peak rises with I R (columns 5.. are fibroblast means).
+    // Passive response to I for 5 ms: the peak rises with I R (columns 8.. are fibroblast means).
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-    REQUIRE(cells.size() == 15);  // run, 2 grid values, 2 x 4 means, CV, 2 peak strains, status
+    REQUIRE(cells.size() == 16);  // run, 2 grid values, F-M, 2 x 4 means, CV, 2 peak strains, status
     CHECK(cells.back() == "completed");
-    apo.push_back(std::stod(cells[8]) - std::stod(cells[7]));  // fibroblast APO - RMP
+    apo.push_back(std::stod(cells[9]) - std::stod(cells[8]));  // fibroblast APO - RMP
   }
   REQUIRE(apo.size() == 4);
   // Order: R 5 (I 1, 2), R 10 (I 1, 2): the rise is proportional to I R (1 - exp(-5/(R C))).
