@@ -162,3 +162,26 @@ TEST_CASE("a concentration below zero is caught and named") {
   CHECK(sim.trace_times().back() < 101);
   CHECK(sim.trace_times().back() > 99);
 }
+
+TEST_CASE("F-M ratios up to 4 in-series: no crash, no NaN, resting potentials between the cells' own") {
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "fm4", "seed": 5, "duration_ms": 60,
+    "tissue": {"builder": "in_series", "width_mm": 0.3, "height_mm": 1.0, "fm_ratio": 4.0},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
+    "coupling": {"D_m_nS": 1000, "D_f_nS": 8},
+    "stimulus": [{"target": "myocyte", "start_ms": 5, "duration_ms": 2, "amplitude_pA": 2000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const json summary = sim.summary();
+  CHECK(summary["fm_ratio"].get<double>() > 2.5);  // random placement: about 4
+  for (const auto& b : sim.biomarkers()) {
+    REQUIRE(std::isfinite(b.rmp_mV));
+    REQUIRE(std::isfinite(b.apo_mV));
+    // Between the fibroblast's own rest (-47.4 mV) and the myocyte's (-75.1 mV), with a margin.
+    CHECK(b.rmp_mV > -80);
+    CHECK(b.rmp_mV < -40);
+  }
+}
