@@ -463,6 +463,10 @@ struct Simulation::Impl : StepObserver {
       picture.value_min = -90;
       picture.value_max = 40;
       picture.title = fmt::format("{}   t = {:.1f} ms", scene.name, t);
+      // The scale of the undeformed tissue, so that every snapshot shows the
+      // deformation at the same magnification.
+      const auto box = tissue.bounds_um();
+      picture.pixels_per_um = picture.height_px / std::max(box[3] - box[2], 1.0);
       write_tissue_png(present_tissue(nullptr), out / (std::string(stem) + ".png"), &system.V_mV, picture);
     }
     if (scene.output.snapshots.vtk) {
