@@ -19,6 +19,7 @@
 
 #include "model/cell_model.hpp"
 #include "model/plugin_registry.hpp"
+#include "support/block_probe.hpp"
 #include "run/simulation.hpp"
 #include "scene/scene.hpp"
 
@@ -46,49 +47,8 @@ const fibrodem::VariantInfo& variant(const ModelInfo& info, const std::string& n
   return info.variants.front();
 }
 
-// One block, one cell per voltage, all other states at the variant's initial state.
-struct BlockResult {
-  std::vector<double> a, b;
-  std::size_t n = 0;
-  double a_of(int k, std::size_t c) const { return a[k * n + c]; }
-  double b_of(int k, std::size_t c) const { return b[k * n + c]; }
-};
-
-BlockResult evaluate_at_voltages(const CellModel& model, const std::string& variant_name,
-                                 const std::vector<double>& voltages) {
-  const ModelInfo& info = model.info();
-  const fibrodem::VariantInfo& var = variant(info, variant_name);
-  const std::size_t n = voltages.size(), ns = info.states.size();
-  std::vector<double> y(ns * n), params, inputs(info.inputs.size() * n, 0.0);
-  for (std::size_t k = 0; k < ns; ++k) {
-    double y0 = info.states[k].initial;
-    if (auto it = var.initial_state.find(info.states[k].name); it != var.initial_state.end())
-      y0 = it->second;
-    for (std::size_t c = 0; c < n; ++c) y[k * n + c] = y0;
-  }
-  for (std::size_t c = 0; c < n; ++c) y[info.voltage_state * n + c] = voltages[c];
-  for (const auto& p : info.parameters) {
-    auto it = var.parameters.find(p.name);
-    params.push_back(it != var.parameters.end() ? it->second : p.default_value);
-  }
-  BlockResult r;
-  r.n = n;
-  r.a.assign(ns * n, 0.0);
-  r.b.assign(ns * n, 0.0);
-  std::vector<double> outputs(info.outputs.size() * n, 0.0);
-  fibrodem::BlockView block;
-  block.begin = 0;
-  block.end = n;
-  block.stride = n;
-  block.y = y.data();
-  block.params = params.data();
-  block.inputs = inputs.data();
-  block.a = r.a.data();
-  block.b = r.b.data();
-  block.outputs = outputs.data();
-  model.evaluate(block, 0.0);
-  return r;
-}
+using fibrodem::testing::BlockResult;
+using fibrodem::testing::evaluate_at_voltages;
 
 }  // namespace
 
@@ -141,7 +101,7 @@ TEST_CASE("colman: removable singularities are finite, continuous and at their l
     CAPTURE(var);
     for (double V0 : {-47.13, -14.1, 3.3328, 19.9, -10.0}) {
       CAPTURE(V0);
-      const BlockResult r = evaluate_at_voltages(*model, var, {V0 - h, V0, V0 + h});
+      const BlockResult r = evaluate_at_voltages(*model, {V0 - h, V0, V0 + h}, var);
       for (std::size_t k = 0; k < info.states.size(); ++k) {
         CAPTURE(info.states[k].name);
         for (const auto* v : {&r.a, &r.b}) {
@@ -162,21 +122,21 @@ TEST_CASE("colman: removable singularities are finite, continuous and at their l
   const int m = state_index(info, "m"), d = state_index(info, "d");
   const int xs = state_index(info, "xs"), xr = state_index(info, "xr");
   {  // alpha_m -> 3.2 /ms at V = -47.13 (gate_alpha_beta: a = alpha)
-    const BlockResult r = evaluate_at_voltages(*model, "colman2013", {-47.13});
+    const BlockResult r = evaluate_at_voltages(*model, {-47.13}, "colman2013");
     CHECK(r.a_of(m, 0) == doctest::Approx(3.2).epsilon(1e-9));
   }
   {  // tau_d -> a/(0.035*6.24), a = 1/2 at V = -10
-    const BlockResult r = evaluate_at_voltages(*model, "colman2013", {-10.0});
+    const BlockResult r = evaluate_at_voltages(*model, {-10.0}, "colman2013");
     CHECK(r.b_of(d, 0) == doctest::Approx(-0.035 * 6.24 * 2.0).epsilon(1e-9));
   }
   {  // tau_xs = 0.5/(alpha + beta), alpha -> 6.8e-4, beta -> 3.15e-4 /ms at V = 19.9
-    const BlockResult r = evaluate_at_voltages(*model, "colman2013", {19.9});
+    const BlockResult r = evaluate_at_voltages(*model, {19.9}, "colman2013");
     CHECK(r.b_of(xs, 0) == doctest::Approx(-(6.8e-4 + 3.15e-4) / 0.5).epsilon(1e-9));
   }
   {  // xr at 3.3328: beta -> 7.3898e-5 * 5.1237 /ms; alpha from the CRN formula
     const double x = 3.3328 + 14.1;
     const double alpha = 0.0003 * x / (1.0 - std::exp(-x / 5.0));
-    const BlockResult r = evaluate_at_voltages(*model, "colman2013", {3.3328});
+    const BlockResult r = evaluate_at_voltages(*model, {3.3328}, "colman2013");
     CHECK(r.b_of(xr, 0) == doctest::Approx(-(alpha + 7.3898e-5 * 5.1237)).epsilon(1e-9));
   }
 }

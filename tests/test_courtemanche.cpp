@@ -14,6 +14,7 @@
 
 #include "model/cell_model.hpp"
 #include "model/plugin_registry.hpp"
+#include "support/block_probe.hpp"
 #include "run/simulation.hpp"
 #include "scene/scene.hpp"
 
@@ -29,42 +30,8 @@ int state_index(const ModelInfo& info, const std::string& name) {
   return -1;
 }
 
-// Evaluates a block of cells that share the model's initial state except for V,
-// which takes the given values (one cell per value). Returns a and b per state and
-// cell, laid out as the block: [k * n + c].
-struct BlockResult {
-  std::vector<double> a, b;
-  std::size_t n = 0;
-  double a_of(int k, std::size_t c) const { return a[k * n + c]; }
-  double b_of(int k, std::size_t c) const { return b[k * n + c]; }
-};
-
-BlockResult evaluate_at_voltages(const CellModel& model, const std::vector<double>& voltages) {
-  const ModelInfo& info = model.info();
-  const std::size_t n = voltages.size(), ns = info.states.size();
-  std::vector<double> y(ns * n), params, inputs(info.inputs.size() * n, 0.0);
-  for (std::size_t k = 0; k < ns; ++k)
-    for (std::size_t c = 0; c < n; ++c) y[k * n + c] = info.states[k].initial;
-  for (std::size_t c = 0; c < n; ++c) y[info.voltage_state * n + c] = voltages[c];
-  for (const auto& p : info.parameters) params.push_back(p.default_value);
-  BlockResult r;
-  r.n = n;
-  r.a.assign(ns * n, 0.0);
-  r.b.assign(ns * n, 0.0);
-  std::vector<double> outputs(info.outputs.size() * n, 0.0);
-  fibrodem::BlockView block;
-  block.begin = 0;
-  block.end = n;
-  block.stride = n;
-  block.y = y.data();
-  block.params = params.data();
-  block.inputs = inputs.data();
-  block.a = r.a.data();
-  block.b = r.b.data();
-  block.outputs = outputs.data();
-  model.evaluate(block, 0.0);
-  return r;
-}
+using fibrodem::testing::BlockResult;
+using fibrodem::testing::evaluate_at_voltages;
 
 std::shared_ptr<const CellModel> load_crn() {
   static fibrodem::PluginRegistry registry;
