@@ -16,6 +16,8 @@
 //   should take each bond's initial gap as its reference).
 #pragma once
 
+#include "tissue/tissue_builder.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -65,6 +67,17 @@ struct ColumnTissueSpec {
 };
 
 Tissue build_column_tissue(const ColumnTissueSpec& spec, std::uint64_t seed);
+
+// The builder of every column tissue (in_series, interstitial, fibrotic_patch):
+// they differ only in the spec their factories read.
+class ColumnTissueBuilder final : public TissueBuilder {
+ public:
+  explicit ColumnTissueBuilder(ColumnTissueSpec spec) : spec_(std::move(spec)) {}
+  Tissue build(std::uint64_t seed) const override { return build_column_tissue(spec_, seed); }
+
+ private:
+  ColumnTissueSpec spec_;
+};
 
 // Column axes at kColumnPitch_um from x = r, as many as fit in the width.
 std::vector<double> in_series_columns(double width_um);

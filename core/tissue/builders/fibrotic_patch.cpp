@@ -19,19 +19,6 @@
 #include "tissue/tissue_builder.hpp"
 
 namespace fibrodem {
-namespace {
-
-class FibroticPatchBuilder final : public TissueBuilder {
- public:
-  explicit FibroticPatchBuilder(ColumnTissueSpec spec) : spec_(std::move(spec)) {}
-  Tissue build(std::uint64_t seed) const override { return build_column_tissue(spec_, seed); }
-
- private:
-  ColumnTissueSpec spec_;
-};
-
-}  // namespace
-
 std::unique_ptr<TissueBuilder> make_fibrotic_patch_builder(JsonReader& tissue) {
   ColumnTissueSpec spec;
   spec.width_um = tissue.number("width_mm", 2.32, 0.1, 100) * 1000;
@@ -69,7 +56,7 @@ std::unique_ptr<TissueBuilder> make_fibrotic_patch_builder(JsonReader& tissue) {
     for (std::size_t k = 1; k + 1 < inside.size(); ++k)
       if (k % stride == 1 % stride) spec.column_in_patch[inside[k]] = true;
   }
-  return std::make_unique<FibroticPatchBuilder>(std::move(spec));
+  return std::make_unique<ColumnTissueBuilder>(std::move(spec));
 }
 
 }  // namespace fibrodem

@@ -16,29 +16,14 @@
 #include "tissue/tissue_builder.hpp"
 
 namespace fibrodem {
-namespace {
-
-class InSeriesBuilder final : public TissueBuilder {
- public:
-  InSeriesBuilder(double width_mm, double height_mm, double fm_ratio) {
-    spec_.width_um = width_mm * 1000;
-    spec_.height_um = height_mm * 1000;
-    spec_.column_x_um = in_series_columns(spec_.width_um);
-    spec_.fibroblast_odds_outside = fm_ratio / (1 + fm_ratio);
-  }
-  Tissue build(std::uint64_t seed) const override { return build_column_tissue(spec_, seed); }
-
- private:
-  ColumnTissueSpec spec_;
-};
-
-}  // namespace
-
 std::unique_ptr<TissueBuilder> make_in_series_builder(JsonReader& tissue) {
-  const double width = tissue.number("width_mm", 1.16, 0.025, 100);
-  const double height = tissue.number("height_mm", 6.27, 0.125, 100);
+  ColumnTissueSpec spec;
+  spec.width_um = tissue.number("width_mm", 1.16, 0.025, 100) * 1000;
+  spec.height_um = tissue.number("height_mm", 6.27, 0.125, 100) * 1000;
   const double fm = tissue.number("fm_ratio", 0.41, 0, 1000);
-  return std::make_unique<InSeriesBuilder>(width, height, fm);
+  spec.column_x_um = in_series_columns(spec.width_um);
+  spec.fibroblast_odds_outside = fm / (1 + fm);
+  return std::make_unique<ColumnTissueBuilder>(std::move(spec));
 }
 
 }  // namespace fibrodem

@@ -41,15 +41,6 @@ namespace {
 
 constexpr double kDefaultSpacing_um = 24.0;
 
-class InterstitialBuilder final : public TissueBuilder {
- public:
-  explicit InterstitialBuilder(ColumnTissueSpec spec) : spec_(std::move(spec)) {}
-  Tissue build(std::uint64_t seed) const override { return build_column_tissue(spec_, seed); }
-
- private:
-  ColumnTissueSpec spec_;
-};
-
 }  // namespace
 
 std::unique_ptr<TissueBuilder> make_interstitial_builder(JsonReader& tissue) {
@@ -68,7 +59,7 @@ std::unique_ptr<TissueBuilder> make_interstitial_builder(JsonReader& tissue) {
   spec.patch_interstitial = true;
   spec.column_in_patch.assign(spec.column_x_um.size(), true);
   spec.fill_below_median_top = true;
-  return std::make_unique<InterstitialBuilder>(std::move(spec));
+  return std::make_unique<ColumnTissueBuilder>(std::move(spec));
 }
 
 }  // namespace fibrodem
