@@ -226,7 +226,6 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
       const double t_old = t;
       const int flag = CVode(g.mem, stop, g.y, &t, CV_ONE_STEP);
       check(flag, "step", ctx);
-      ++steps_;
       // Samples inside the step, from CVODE's interpolating polynomial.
       while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) {
         const double ts = observer.next_sample_ms();

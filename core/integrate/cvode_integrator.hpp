@@ -24,11 +24,8 @@ class CvodeIntegrator final : public Integrator {
                StepObserver& observer) override;
   std::string describe() const override;
 
-  long steps_taken() const { return steps_; }
-
  private:
   SolverSpec spec_;
-  long steps_ = 0;
   std::string linear_solver_used_;
 };
 

@@ -693,7 +693,6 @@ const Tissue& Simulation::tissue() const { return impl_->tissue; }
 const ProcessPlan& Simulation::processes() const { return impl_->plan; }
 const std::vector<BeatBiomarkers>& Simulation::biomarkers() const { return impl_->beats; }
 const std::vector<double>& Simulation::trace_times() const { return impl_->times; }
-json Simulation::mean_biomarkers() const { return impl_->mean_biomarkers(); }
 json Simulation::summary() const { return impl_->summary(); }
 std::string Simulation::integrator_description() const { return impl_->integrator->describe(); }
 

@@ -51,8 +51,6 @@ class Simulation {
   // Every traced column's name (VAR_CELL, as in traces.csv) and samples.
   std::vector<std::string> trace_column_names() const;
   const std::vector<std::vector<double>>& trace_samples() const;
-  // Per-cell-type means of the biomarkers recorded (summary.json's mean_biomarkers).
-  json mean_biomarkers() const;
   json summary() const;
   std::string integrator_description() const;
 
