@@ -8,8 +8,18 @@
 
 using namespace fibrodem;
 
+namespace {
+RunRecord labelled(std::string label, std::vector<std::string> columns = {}) {
+  RunRecord r;
+  r.label = std::move(label);
+  r.samples.resize(columns.size());
+  r.columns = std::move(columns);
+  return r;
+}
+}  // namespace
+
 TEST_CASE("the comparison table holds A, B, their difference and relative difference") {
-  RunRecord a{.label = "A"}, b{.label = "B"};
+  RunRecord a = labelled("A"), b = labelled("B");
   a.mean_biomarkers = {{"myocyte", {{"rmp_mV", -80.0}, {"apo_mV", 20.0}, {"apd90_ms", 300.0}, {"dvdt_max_mV_per_ms", 200.0}}}};
   b.mean_biomarkers = {{"myocyte", {{"rmp_mV", -76.0}, {"apo_mV", 20.0}, {"apd90_ms", 270.0}, {"dvdt_max_mV_per_ms", nullptr}}}};
   const auto rows = compare_biomarkers(a, b);
@@ -27,8 +37,8 @@ TEST_CASE("the comparison table holds A, B, their difference and relative differ
 TEST_CASE("traces of both runs are interpolated onto a common time base") {
   // A sampled every 1 ms on [0, 10], B every 0.5 ms on [2, 12]: common span
   // [2, 10] at 0.5 ms; both are straight lines, so interpolation is exact.
-  RunRecord a{.label = "A", .columns = {"V_0"}, .samples = {{}}};
-  RunRecord b{.label = "B", .columns = {"V_0", "V_1"}, .samples = {{}, {}}};
+  RunRecord a = labelled("A", {"V_0"});
+  RunRecord b = labelled("B", {"V_0", "V_1"});
   for (int k = 0; k <= 10; ++k) {
     a.times_ms.push_back(k);
     a.samples[0].push_back(2.0 * k);
