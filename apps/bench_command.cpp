@@ -43,10 +43,31 @@ void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> mo
       benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
 }
 
-// A whole Rush-Larsen step (evaluate + update) over a block of 10^4 cells, one thread.
-void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel> model) {
+// The same with solver.lookup_tables: voltage_only gates' rates from the table.
+void evaluate_block_lut(benchmark::State& state, std::shared_ptr<const CellModel> model) {
   omp_set_num_threads(1);
   Population pop = block_of(std::move(model));
+  if (!pop.use_lookup_table()) {
+    state.SkipWithError("the model marks no voltage_only gate");
+    return;
+  }
+  for (auto _ : state) {
+    pop.evaluate(0.0);
+    benchmark::DoNotOptimize(pop.a.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["cell_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
+}
+
+// A whole Rush-Larsen step (evaluate + update) over a block of 10^4 cells, one thread.
+void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel> model, bool lookup_tables) {
+  omp_set_num_threads(1);
+  Population pop = block_of(std::move(model));
+  if (lookup_tables && !pop.use_lookup_table()) {
+    state.SkipWithError("the model marks no voltage_only gate");
+    return;
+  }
   FixedStepIntegrator rl(FixedStepIntegrator::Rule::rush_larsen, 0.01);
   for (auto _ : state) {
     pop.evaluate(0.0);
@@ -93,8 +114,16 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
     models.push_back(model);
     benchmark::RegisterBenchmark(("evaluate_block_1e4/" + name).c_str(), evaluate_block, model)
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model)
+    bool any_voltage_only = false;
+    for (const auto& s : model->info().states) any_voltage_only = any_voltage_only || s.voltage_only;
+    if (any_voltage_only)
+      benchmark::RegisterBenchmark(("evaluate_block_1e4_lut/" + name).c_str(), evaluate_block_lut, model)
+          ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model, false)
         ->Unit(benchmark::kMicrosecond);
+    if (any_voltage_only)
+      benchmark::RegisterBenchmark(("rush_larsen_step_1e4_lut/" + name).c_str(), rush_larsen_block, model, true)
+          ->Unit(benchmark::kMicrosecond);
     const bool myocyte = find_output(model->info(), "Ca_i") >= 0;
     benchmark::RegisterBenchmark(("one_cell_1s/" + name + "/cvode_rtol1e-6").c_str(), single_cell_second, name,
                                  myocyte, json{{"method", "cvode"}, {"rtol", 1e-6}, {"atol", 1e-8}})

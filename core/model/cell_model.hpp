@@ -23,7 +23,7 @@
 namespace fibrodem {
 
 // Bumped whenever anything in this header changes layout or meaning.
-inline constexpr int kPluginAbiVersion = 1;
+inline constexpr int kPluginAbiVersion = 2;
 
 enum class ModelKind { ionic, myofilament };
 
@@ -36,6 +36,9 @@ struct StateInfo {
   double upper = 1e300;
   // Gating variable: integrated exactly by Rush-Larsen from its linear form.
   bool gate = false;
+  // A gate whose a and b depend only on V (and the parameters): the core may
+  // tabulate them in V (solver.lookup_tables) and ask the model to skip them.
+  bool voltage_only = false;
 };
 
 struct ParameterInfo {
@@ -92,6 +95,10 @@ struct BlockView {
   double* a = nullptr;             // dy/dt = a + b*y   [n_states * stride]
   double* b = nullptr;             //                   [n_states * stride]
   double* outputs = nullptr;       // outputs    [n_outputs * stride], may be null
+  // When true the model may leave a, b of its voltage_only gates unwritten: the
+  // core fills them from its lookup table (it never sets this for a model
+  // without voltage_only gates). Everything else must still be written.
+  bool skip_voltage_only_gates = false;
 };
 
 class CellModel {

@@ -39,8 +39,19 @@ void Population::evaluate(double t_ms) {
     BlockView block = whole;
     block.begin = static_cast<std::size_t>(k) * kCellsPerBlock;
     block.end = std::min(size(), block.begin + kCellsPerBlock);
-    model->evaluate(block, t_ms);
+    if (table) {
+      block.skip_voltage_only_gates = true;
+      model->evaluate(block, t_ms);
+      table->fill(block, voltage_state);
+    } else {
+      model->evaluate(block, t_ms);
+    }
   }
+}
+
+bool Population::use_lookup_table() {
+  table = VoltageTable::build(*this);
+  return table != nullptr;
 }
 
 namespace {

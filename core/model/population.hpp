@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "model/cell_model.hpp"
+#include "model/voltage_table.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
@@ -25,6 +26,10 @@ struct Population {
   std::vector<double> y, a, b, inputs, outputs;
   int voltage_state = -1;
   double capacitance_pF = 0;
+  // Lookup table of the voltage_only gates' rates (solver.lookup_tables), or
+  // null: evaluate() then calls the model with skip_voltage_only_gates and
+  // fills those gates from the table. Built by use_lookup_table().
+  std::shared_ptr<const VoltageTable> table;
 
   const ModelInfo& info() const { return model->info(); }
   std::size_t size() const { return cells.size(); }
@@ -39,6 +44,9 @@ struct Population {
   // Evaluates a, b and outputs for the whole block at time t.
   void evaluate(double t_ms);
   BlockView view();
+  // Builds the table from the current parameters and initial state; false
+  // (and no table) when the model has no voltage_only gates.
+  bool use_lookup_table();
 };
 
 // Index of a named state / parameter / output, or -1.

@@ -102,8 +102,28 @@ struct Simulation::Impl : StepObserver {
     build_mechanics();
     system.stimulus = Stimulus(scene.stimuli, tissue);
     resolve_traces();
+    build_lookup_tables();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
+  }
+
+  // solver.lookup_tables: a table of the voltage_only gates' rates per ionic
+  // population whose model marks any (after every parameter change above).
+  void build_lookup_tables() {
+    if (!scene.solver.lookup_tables) return;
+    for (auto& pop : system.populations) {
+      std::string note = std::string("lookup tables: ") + cell_type_name(pop.type) + " model " + pop.info().name;
+      if (pop.use_lookup_table()) {
+        std::string names;
+        for (int k : pop.table->gates()) names += (names.empty() ? "" : " ") + pop.info().states[k].name;
+        note += ": " + std::to_string(pop.table->gates().size()) + " voltage-only gates (" + names + ") from V = " +
+                fmt::format("{:g}", pop.table->v_min()) + " to " + fmt::format("{:g}", pop.table->v_max()) +
+                " mV every " + fmt::format("{:g}", pop.table->step()) + " mV, linear interpolation";
+      } else {
+        note += ": no voltage-only gates, evaluated exactly";
+      }
+      plan.notes.push_back(note);
+    }
   }
 
   void make_logger() {
@@ -578,6 +598,12 @@ struct Simulation::Impl : StepObserver {
     if (options.progress) std::fprintf(stderr, "\n");
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     if (traces_csv.is_open()) traces_csv.flush();
+    for (const auto& pop : system.populations)
+      if (pop.table && pop.table->clamp_count() > 0)
+        log->warn("lookup tables: {} model {}: V left the table [{:g}, {:g}] mV in {} cell evaluations "
+                  "(rates clamped to the table's ends)",
+                  cell_type_name(pop.type), pop.info().name, pop.table->v_min(), pop.table->v_max(),
+                  pop.table->clamp_count());
     if (status == "failed") log->error("run failed: {}", error);
     else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
     if (!out.empty()) {

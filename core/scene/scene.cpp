@@ -134,6 +134,7 @@ SolverSpec read_solver(JsonReader r) {
   s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
   s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band", "krylov"});
   s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
+  s.lookup_tables = r.boolean("lookup_tables", s.lookup_tables);
   r.finish();
   return s;
 }

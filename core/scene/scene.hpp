@@ -76,6 +76,7 @@ struct SolverSpec {
   double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
   std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
   int threads = 1;                     // 0: OpenMP's default (every core); results do not depend on it
+  bool lookup_tables = false;          // voltage_only gate rates from tables in V (linear, 0.05 mV)
 };
 
 struct TraceSpec {

@@ -352,6 +352,9 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
   const bool ito_sq = P[k_ito_tau_squared] > 0.5;
   const bool ikur_ni = P[k_ikur_formulation] > 0.5;
   const bool nai_clamped = P[k_Na_i_clamped] > 0.5;
+  // Gates marked voltage_only (rates from V and the parameters alone) may be
+  // left to the core's lookup table.
+  const bool skip_v = block.skip_voltage_only_gates;
 
   // Voltage-independent factors of the pumps/exchanger (CRN).
   const double sigma = (std::exp(Nao / 67.3) - 1.0) / 7.0;
@@ -377,20 +380,24 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     // I_Na
     const double m = cell.state(k_m), h = cell.state(k_h), j = cell.state(k_j);
     const double INa = Cm * P[k_g_Na_nS_per_pF] * P[k_g_Na_scale] * m * m * m * h * j * (V - ENa);
-    const AlphaBeta am = ina_m(V, P[k_INa_m_shift_mV]);
-    const AlphaBeta ah = ina_h(V);
-    const AlphaBeta aj = ina_j(V);
-    cell.gate_alpha_beta(k_m, am.alpha, am.beta);
-    cell.gate_alpha_beta(k_h, ah.alpha, ah.beta);
-    cell.gate_alpha_beta(k_j, aj.alpha, aj.beta);
+    if (!skip_v) {
+      const AlphaBeta am = ina_m(V, P[k_INa_m_shift_mV]);
+      const AlphaBeta ah = ina_h(V);
+      const AlphaBeta aj = ina_j(V);
+      cell.gate_alpha_beta(k_m, am.alpha, am.beta);
+      cell.gate_alpha_beta(k_h, ah.alpha, ah.beta);
+      cell.gate_alpha_beta(k_j, aj.alpha, aj.beta);
+    }
 
     // I_to
     const double Ito = P[k_k_to] * Cm * P[k_g_to_nS_per_pF] * P[k_g_to_scale] * cell.state(k_ito_r) *
                        cell.state(k_ito_s) * (V - EK);
-    const Gate gr = ito_r(V, P[k_Ito_r_shift_mV], ito_sq);
-    const Gate gs = ito_s(V, ito_sq);
-    cell.gate_inf_tau(k_ito_r, gr.inf, gr.tau);
-    cell.gate_inf_tau(k_ito_s, gs.inf, gs.tau);
+    if (!skip_v) {
+      const Gate gr = ito_r(V, P[k_Ito_r_shift_mV], ito_sq);
+      const Gate gs = ito_s(V, ito_sq);
+      cell.gate_inf_tau(k_ito_r, gr.inf, gr.tau);
+      cell.gate_inf_tau(k_ito_s, gs.inf, gs.tau);
+    }
 
     // I_Kur: the two formulations share the states ikur_a (activation) and ikur_i (inactivation).
     const double ka = cell.state(k_ikur_a), ki = cell.state(k_ikur_i);
@@ -398,37 +405,47 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     if (ikur_ni) {
       IKur = Cm * P[k_g_Kur_Ni_nS_per_pF] * P[k_g_Kur_scale] *
              (4.5128 + 1.899769 / (1.0 + std::exp((V - 20.5232) / -8.26597))) * ka * ki * (V - EK);
-      const Gate ga = ikur_a_ni(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale], P[k_IKur_KQ10]);
-      const Gate gi = ikur_i_ni(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale], P[k_IKur_KQ10]);
-      cell.gate_inf_tau(k_ikur_a, ga.inf, ga.tau);
-      cell.gate_inf_tau(k_ikur_i, gi.inf, gi.tau);
+      if (!skip_v) {
+        const Gate ga = ikur_a_ni(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale], P[k_IKur_KQ10]);
+        const Gate gi = ikur_i_ni(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale], P[k_IKur_KQ10]);
+        cell.gate_inf_tau(k_ikur_a, ga.inf, ga.tau);
+        cell.gate_inf_tau(k_ikur_i, gi.inf, gi.tau);
+      }
     } else {
       IKur = Cm * P[k_g_Kur_Maleckar_nS_per_pF] * P[k_g_Kur_scale] * ka * ki * (V - EK);
-      const Gate ga = ikur_r_maleckar(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale]);
-      const Gate gi = ikur_s_maleckar(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale]);
-      cell.gate_inf_tau(k_ikur_a, ga.inf, ga.tau);
-      cell.gate_inf_tau(k_ikur_i, gi.inf, gi.tau);
+      if (!skip_v) {
+        const Gate ga = ikur_r_maleckar(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale]);
+        const Gate gi = ikur_s_maleckar(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale]);
+        cell.gate_inf_tau(k_ikur_a, ga.inf, ga.tau);
+        cell.gate_inf_tau(k_ikur_i, gi.inf, gi.tau);
+      }
     }
 
     // I_Kr
     const double IKr = Cm * P[k_g_Kr_nS_per_pF] * P[k_g_Kr_scale] * cell.state(k_xr) * (V - EK) /
                        (1.0 + std::exp((V + 15.0) / 22.4));
-    const Gate gxr = ikr_xr(V);
-    cell.gate_inf_tau(k_xr, gxr.inf, gxr.tau);
+    if (!skip_v) {
+      const Gate gxr = ikr_xr(V);
+      cell.gate_inf_tau(k_xr, gxr.inf, gxr.tau);
+    }
 
     // I_Ks
     const double xs = cell.state(k_xs);
     const double IKs = Cm * P[k_g_Ks_nS_per_pF] * P[k_g_Ks_scale] * xs * xs * (V - EK);
-    const Gate gxs = iks_xs(V, P[k_IKs_shift_mV], P[k_IKs_slope_scale]);
-    cell.gate_inf_tau(k_xs, gxs.inf, gxs.tau);
+    if (!skip_v) {
+      const Gate gxs = iks_xs(V, P[k_IKs_shift_mV], P[k_IKs_slope_scale]);
+      cell.gate_inf_tau(k_xs, gxs.inf, gxs.tau);
+    }
 
     // I_CaL
     const double ICaL = P[k_k_CaL] * Cm * P[k_g_CaL_nS_per_pF] * P[k_g_CaL_scale] * cell.state(k_d) *
                         cell.state(k_f) * cell.state(k_fca) * (V - P[k_E_CaL_mV]);
-    const Gate gd = ical_d(V);
-    const Gate gf = ical_f(V, P[k_ICaL_f_tau_scale]);
-    cell.gate_inf_tau(k_d, gd.inf, gd.tau);
-    cell.gate_inf_tau(k_f, gf.inf, gf.tau);
+    if (!skip_v) {
+      const Gate gd = ical_d(V);
+      const Gate gf = ical_f(V, P[k_ICaL_f_tau_scale]);
+      cell.gate_inf_tau(k_d, gd.inf, gd.tau);
+      cell.gate_inf_tau(k_f, gf.inf, gf.tau);
+    }
     cell.gate_inf_tau(k_fca, 1.0 / (1.0 + Cass / 0.00035), 2.0);
 
     // I_K1
@@ -646,6 +663,10 @@ Colman::Colman() {
   info_.states.push_back({#name, unit, init, lo, hi, gate});
   COLMAN_STATES(COLMAN_STATE_INFO)
 #undef COLMAN_STATE_INFO
+  // Gates whose rates depend only on V and the parameters (fca and the RyR gates
+  // depend on Ca; the I_Kur formulation switch is a parameter).
+  for (int k : {k_m, k_h, k_j, k_d, k_f, k_xr, k_xs, k_ito_r, k_ito_s, k_ikur_a, k_ikur_i})
+    info_.states[k].voltage_only = true;
 #define COLMAN_PARAM_INFO(name, unit, def, desc) info_.parameters.push_back({#name, unit, def, desc});
   COLMAN_PARAMS(COLMAN_PARAM_INFO)
 #undef COLMAN_PARAM_INFO

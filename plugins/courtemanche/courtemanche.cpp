@@ -225,6 +225,9 @@ class Courtemanche1998 final : public fibrodem::CellModel {
     info_.states[ku] = {"u", "1", 2.35e-112, g0, g1, true};
     info_.states[kv] = {"v", "1", 1.0, g0, g1, true};
     info_.states[kw] = {"w", "1", 0.9992, g0, g1, true};
+    // Gates whose rates depend only on V (f_Ca on Ca_i, u and v on the release
+    // flux Fn; w's rates are V-only too but stay with u, v in the release block).
+    for (int k : {km, kh, kj, koa, koi, kua, kui, kxr, kxs, kd, kf}) info_.states[k].voltage_only = true;
 
     info_.parameters.resize(kNumParams);
     auto& p = info_.parameters;
@@ -443,59 +446,62 @@ class Courtemanche1998 final : public fibrodem::CellModel {
       cell.rate(kCa_rel, (i_tr - i_rel) / (1.0 + p[kCSQN_max] * p[kKm_CSQN] / (kq * kq)));
 
       // ---- Gates ----
-      double a, b;
-      gate_m(V, a, b);
-      cell.gate_alpha_beta(km, a, b);
-      gate_h(V, a, b);
-      cell.gate_alpha_beta(kh, a, b);
-      gate_j(V, a, b);
-      cell.gate_alpha_beta(kj, a, b);
+      // Gates marked voltage_only may be left to the core's lookup table.
+      if (!block.skip_voltage_only_gates) {
+        double a, b;
+        gate_m(V, a, b);
+        cell.gate_alpha_beta(km, a, b);
+        gate_h(V, a, b);
+        cell.gate_alpha_beta(kh, a, b);
+        gate_j(V, a, b);
+        cell.gate_alpha_beta(kj, a, b);
 
-      // Ito oa, oi (eq. 37-40).
-      const double tau_a = 1.0 / ((rate_alpha_a(V) + rate_beta_a(V)) * KQ10);
-      cell.gate_inf_tau(koa, sigmoid((V + 20.47) / -17.54), tau_a);
-      {
-        const double a_oi = 1.0 / (18.53 + std::exp((V + 113.7) / 10.95));
-        const double b_oi = 1.0 / (35.56 + std::exp((V + 1.26) / -7.44));
-        cell.gate_inf_tau(koi, sigmoid((V + 43.1) / 5.3), 1.0 / ((a_oi + b_oi) * KQ10));
-      }
-      // IKur ua, ui (eq. 42-46); ui beta as in the CellML: exp((V - 158)/16).
-      cell.gate_inf_tau(kua, sigmoid((V + 30.3) / -9.6), tau_a);
-      {
-        const double a_ui = 1.0 / (21.0 + std::exp((V - 185.0) / -28.0));
-        const double b_ui = std::exp((V - 158.0) / 16.0);
-        cell.gate_inf_tau(kui, sigmoid((V - 99.45) / 27.48), 1.0 / ((a_ui + b_ui) * KQ10));
-      }
-      // IKr xr (eq. 48-49): alpha = 0.0003 (V+14.1)/(1-exp(-(V+14.1)/5)) = 0.0015
-      // exprel(-(V+14.1)/5); beta = 7.3898e-5 (V-3.3328)/(exp((V-3.3328)/5.1237)-1)
-      // = 7.3898e-5*5.1237 exprel(...).
-      {
-        const double a_xr = 0.0003 * 5.0 * exprel(-(V + 14.1) / 5.0);
-        const double b_xr = 7.3898e-5 * 5.1237 * exprel((V - 3.3328) / 5.1237);
-        cell.gate_inf_tau(kxr, sigmoid((V + 14.1) / -6.5), 1.0 / (a_xr + b_xr));
-      }
-      // IKs xs (eq. 51-52): alpha = 4e-5*17 exprel(-(V-19.9)/17), beta = 3.5e-5*9
-      // exprel((V-19.9)/9).
-      {
-        const double a_xs = 4e-5 * 17.0 * exprel(-(V - 19.9) / 17.0);
-        const double b_xs = 3.5e-5 * 9.0 * exprel((V - 19.9) / 9.0);
-        const double xs_inf = 1.0 / std::sqrt(1.0 + std::exp((V - 19.9) / -12.7));
-        cell.gate_inf_tau(kxs, xs_inf, 0.5 / (a_xs + b_xs));
-      }
-      // ICaL d (eq. 54): tau_d = (1-e^{-x})/(0.035*6.24 x (1+e^{-x})), x = (V+10)/6.24,
-      // and (1-e^{-x})/x = 1/exprel(-x).
-      {
-        const double x = (V + 10.0) / 6.24;
-        const double tau_d = 1.0 / (0.035 * 6.24 * exprel(-x) * (1.0 + std::exp(-x)));
-        cell.gate_inf_tau(kd, sigmoid((V + 10.0) / -8.0), tau_d);
-      }
-      // ICaL f (eq. 55), f_Ca (eq. 56).
-      {
-        const double dv = V + 10.0;
-        const double tau_f = 9.0 / (0.0197 * std::exp(-0.0337 * 0.0337 * dv * dv) + 0.02);
-        cell.gate_inf_tau(kf, sigmoid((V + 28.0) / 6.9), tau_f);
-        cell.gate_inf_tau(kf_Ca, 1.0 / (1.0 + Ca_i / p[kKm_f_Ca]), p[ktau_f_Ca]);
-      }
+        // Ito oa, oi (eq. 37-40).
+        const double tau_a = 1.0 / ((rate_alpha_a(V) + rate_beta_a(V)) * KQ10);
+        cell.gate_inf_tau(koa, sigmoid((V + 20.47) / -17.54), tau_a);
+        {
+          const double a_oi = 1.0 / (18.53 + std::exp((V + 113.7) / 10.95));
+          const double b_oi = 1.0 / (35.56 + std::exp((V + 1.26) / -7.44));
+          cell.gate_inf_tau(koi, sigmoid((V + 43.1) / 5.3), 1.0 / ((a_oi + b_oi) * KQ10));
+        }
+        // IKur ua, ui (eq. 42-46); ui beta as in the CellML: exp((V - 158)/16).
+        cell.gate_inf_tau(kua, sigmoid((V + 30.3) / -9.6), tau_a);
+        {
+          const double a_ui = 1.0 / (21.0 + std::exp((V - 185.0) / -28.0));
+          const double b_ui = std::exp((V - 158.0) / 16.0);
+          cell.gate_inf_tau(kui, sigmoid((V - 99.45) / 27.48), 1.0 / ((a_ui + b_ui) * KQ10));
+        }
+        // IKr xr (eq. 48-49): alpha = 0.0003 (V+14.1)/(1-exp(-(V+14.1)/5)) = 0.0015
+        // exprel(-(V+14.1)/5); beta = 7.3898e-5 (V-3.3328)/(exp((V-3.3328)/5.1237)-1)
+        // = 7.3898e-5*5.1237 exprel(...).
+        {
+          const double a_xr = 0.0003 * 5.0 * exprel(-(V + 14.1) / 5.0);
+          const double b_xr = 7.3898e-5 * 5.1237 * exprel((V - 3.3328) / 5.1237);
+          cell.gate_inf_tau(kxr, sigmoid((V + 14.1) / -6.5), 1.0 / (a_xr + b_xr));
+        }
+        // IKs xs (eq. 51-52): alpha = 4e-5*17 exprel(-(V-19.9)/17), beta = 3.5e-5*9
+        // exprel((V-19.9)/9).
+        {
+          const double a_xs = 4e-5 * 17.0 * exprel(-(V - 19.9) / 17.0);
+          const double b_xs = 3.5e-5 * 9.0 * exprel((V - 19.9) / 9.0);
+          const double xs_inf = 1.0 / std::sqrt(1.0 + std::exp((V - 19.9) / -12.7));
+          cell.gate_inf_tau(kxs, xs_inf, 0.5 / (a_xs + b_xs));
+        }
+        // ICaL d (eq. 54): tau_d = (1-e^{-x})/(0.035*6.24 x (1+e^{-x})), x = (V+10)/6.24,
+        // and (1-e^{-x})/x = 1/exprel(-x).
+        {
+          const double x = (V + 10.0) / 6.24;
+          const double tau_d = 1.0 / (0.035 * 6.24 * exprel(-x) * (1.0 + std::exp(-x)));
+          cell.gate_inf_tau(kd, sigmoid((V + 10.0) / -8.0), tau_d);
+        }
+        // ICaL f (eq. 55), f_Ca (eq. 56).
+        {
+          const double dv = V + 10.0;
+          const double tau_f = 9.0 / (0.0197 * std::exp(-0.0337 * 0.0337 * dv * dv) + 0.02);
+          cell.gate_inf_tau(kf, sigmoid((V + 28.0) / 6.9), tau_f);
+        }
+      }  // voltage_only gates
+      cell.gate_inf_tau(kf_Ca, 1.0 / (1.0 + Ca_i / p[kKm_f_Ca]), p[ktau_f_Ca]);
       // Irel u, v, w (eq. 64-67).
       {
         const double c1 = p[kFn_c1], c2 = p[kFn_c2];

@@ -1,0 +1,75 @@
+#include "model/voltage_table.hpp"
+
+#include <cmath>
+
+#include "model/population.hpp"
+
+namespace fibrodem {
+
+std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double v_min_mV, double v_max_mV,
+                                                  double step_mV) {
+  if (pop.voltage_state < 0 || !(v_max_mV > v_min_mV) || !(step_mV > 0)) return nullptr;
+  auto table = std::make_shared<VoltageTable>();
+  const auto& states = pop.info().states;
+  for (std::size_t k = 0; k < states.size(); ++k)
+    if (states[k].voltage_only) table->gates_.push_back(static_cast<int>(k));
+  if (table->gates_.empty()) return nullptr;
+  table->v_min_ = v_min_mV;
+  table->step_ = step_mV;
+  table->inv_step_ = 1.0 / step_mV;
+  table->points_ = static_cast<std::size_t>(std::llround((v_max_mV - v_min_mV) / step_mV)) + 1;
+
+  // The probe: one cell per table point, exact model (no table on the probe).
+  Population probe;
+  probe.type = pop.type;
+  probe.model = pop.model;
+  probe.params = pop.params;
+  probe.initial_state = pop.initial_state;
+  probe.voltage_state = pop.voltage_state;
+  const std::size_t n = table->points_;
+  probe.cells.resize(n);
+  probe.reset();
+  for (std::size_t c = 0; c < n; ++c)
+    probe.state(pop.voltage_state, c) = v_min_mV + step_mV * static_cast<double>(c);
+  probe.evaluate(0.0);
+
+  const std::size_t g = table->gates_.size();
+  table->rows_.resize(n * 2 * g);
+  for (std::size_t c = 0; c < n; ++c)
+    for (std::size_t i = 0; i < g; ++i) {
+      const std::size_t k = static_cast<std::size_t>(table->gates_[i]);
+      table->rows_[c * 2 * g + 2 * i] = probe.a[k * n + c];
+      table->rows_[c * 2 * g + 2 * i + 1] = probe.b[k * n + c];
+    }
+  return table;
+}
+
+void VoltageTable::fill(const BlockView& block, int voltage_state) const {
+  const std::size_t g = gates_.size(), width = 2 * g;
+  const double last = static_cast<double>(points_ - 1);
+  const double* V = block.y + static_cast<std::size_t>(voltage_state) * block.stride;
+  long long clamped = 0;
+  for (std::size_t c = block.begin; c < block.end; ++c) {
+    double x = (V[c] - v_min_) * inv_step_;
+    if (!(x >= 0.0)) {  // below the table, or NaN
+      x = 0.0;
+      ++clamped;
+    } else if (x > last) {
+      x = last;
+      ++clamped;
+    }
+    std::size_t i = static_cast<std::size_t>(x);
+    if (i + 1 >= points_) i = points_ - 2;
+    const double w = x - static_cast<double>(i);
+    const double* r0 = rows_.data() + i * width;
+    const double* r1 = r0 + width;
+    for (std::size_t q = 0; q < g; ++q) {
+      const std::size_t at = static_cast<std::size_t>(gates_[q]) * block.stride + c;
+      block.a[at] = r0[2 * q] + w * (r1[2 * q] - r0[2 * q]);
+      block.b[at] = r0[2 * q + 1] + w * (r1[2 * q + 1] - r0[2 * q + 1]);
+    }
+  }
+  if (clamped != 0) clamps_.fetch_add(clamped, std::memory_order_relaxed);
+}
+
+}  // namespace fibrodem
