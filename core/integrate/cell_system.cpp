@@ -71,8 +71,12 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms) {
   std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
   stimulus.add_current(t_stim_ms, i_ext_pA.data());
   if (coupler && !implicit_coupling) {
-    gather_voltage();
-    coupler->add_current(V_mV.data(), i_ext_pA.data());
+    if (refresh_coupling || gap_current_pA.size() != V_mV.size()) {
+      gather_voltage();
+      gap_current_pA.assign(V_mV.size(), 0.0);
+      coupler->add_current(V_mV.data(), gap_current_pA.data());
+    }
+    for (std::size_t i = 0; i < i_ext_pA.size(); ++i) i_ext_pA[i] += gap_current_pA[i];
   }
   if (sac.on) add_stretch_activated_current();
   for (auto& pop : populations) {

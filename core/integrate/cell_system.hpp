@@ -40,6 +40,11 @@ struct CellSystem {
   std::unique_ptr<Coupler> coupler;  // null: coupling not built
   std::vector<std::pair<int, int>> coupled_pairs;  // cell-graph edges the coupler joins
   bool implicit_coupling = false;    // coupling advanced by backward Euler (split)
+  // Multirate coupling (fixed-step methods): the coupling is updated every
+  // coupling_every cell steps; in between an explicit current is held.
+  int coupling_every = 1;
+  bool refresh_coupling = true;          // set by the integrator for each step
+  std::vector<double> gap_current_pA;    // the explicit coupling current last computed
   Stimulus stimulus;
   StretchActivatedCurrent sac;
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)

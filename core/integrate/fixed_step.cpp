@@ -69,14 +69,19 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
   const auto steps = static_cast<long long>(std::ceil((t_end - t_start) / dt_ms_ - 1e-9));
   double t = t_start;
   while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
+  const int every = std::max(1, system.coupling_every);
+  double since_coupling = 0;  // time the implicit coupling still owes
   for (long long n = 0; n < steps; ++n) {
     const double t_next = (n + 1 == steps) ? t_end : t_start + static_cast<double>(n + 1) * dt_ms_;
     const double h = t_next - t;
+    system.refresh_coupling = n % every == 0;
     step(system, t, h);
-    if (system.coupler && system.implicit_coupling) {
+    since_coupling += h;
+    if (system.coupler && system.implicit_coupling && ((n + 1) % every == 0 || n + 1 == steps)) {
       const auto start = std::chrono::steady_clock::now();
       system.gather_voltage();
-      system.coupler->implicit_step(system.V_mV.data(), h);
+      system.coupler->implicit_step(system.V_mV.data(), since_coupling);
+      since_coupling = 0;
       system.scatter_voltage();
       system.seconds[CellSystem::kCoupling] +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

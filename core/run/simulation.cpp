@@ -173,6 +173,14 @@ struct Simulation::Impl : StepObserver {
                                                           scene.coupling.D_f_nS, capacitance);
     system.coupled_pairs = tissue.cell_edges;
     system.implicit_coupling = scene.coupling.scheme == "implicit" && scene.solver.method != "cvode";
+    if (scene.coupling.dt_ms > 0 && scene.solver.method != "cvode") {
+      const double ratio = scene.coupling.dt_ms / scene.solver.dt_ms;
+      if (ratio < 1 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-6 * ratio)
+        throw ManifestError("coupling.dt_ms", "expected a multiple of solver.dt_ms (" +
+                                                  format_number(scene.solver.dt_ms) + " ms), got " +
+                                                  format_number(scene.coupling.dt_ms));
+      system.coupling_every = static_cast<int>(std::lround(ratio));
+    }
   }
 
   // Without a list of effects, a traced variable of a cell type's myofilament
@@ -382,8 +390,9 @@ struct Simulation::Impl : StepObserver {
       log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
                 system.sac.lambda_max);
     if (system.coupler)
-      log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS,
-                scene.coupling.D_f_nS, system.implicit_coupling ? "backward Euler (split)" : "explicit");
+      log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}, updated every {} cell step(s)",
+                scene.coupling.D_m_nS, scene.coupling.D_f_nS,
+                system.implicit_coupling ? "backward Euler (split)" : "explicit", system.coupling_every);
     log->info("integrator: {}; {} threads", integrator->describe(), omp_get_max_threads());
     for (const auto& w : warnings) log->warn("{}", w);
   }

@@ -50,6 +50,7 @@ struct CouplingSpec {
   double D_m_nS = 1000.0;  // myocyte-myocyte (seed paper eq. 5)
   double D_f_nS = 2.0;     // any pair with a fibroblast
   std::string scheme = "explicit";  // explicit | implicit (backward Euler)
+  double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step
 };
 
 struct StimulusTarget {
