@@ -30,24 +30,12 @@ Population block_of(std::shared_ptr<const CellModel> model) {
 }
 
 // One evaluation of the model's derivatives over a block of 10^4 cells, on one
-// thread (the kernel's own throughput; threads split blocks of cells).
-void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> model) {
+// thread (the kernel's own throughput; threads split blocks of cells); with
+// lookup_tables the voltage_only gates' rates come from the table.
+void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> model, bool lookup_tables) {
   omp_set_num_threads(1);
   Population pop = block_of(std::move(model));
-  for (auto _ : state) {
-    pop.evaluate(0.0);
-    benchmark::DoNotOptimize(pop.a.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["cell_steps_per_s"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
-}
-
-// The same with solver.lookup_tables: voltage_only gates' rates from the table.
-void evaluate_block_lut(benchmark::State& state, std::shared_ptr<const CellModel> model) {
-  omp_set_num_threads(1);
-  Population pop = block_of(std::move(model));
-  if (!pop.use_lookup_table()) {
+  if (lookup_tables && !pop.use_lookup_table()) {
     state.SkipWithError("the model marks no voltage_only gate");
     return;
   }
@@ -112,12 +100,12 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
     auto model = registry.load(name);
     if (model->info().kind != ModelKind::ionic) continue;
     models.push_back(model);
-    benchmark::RegisterBenchmark(("evaluate_block_1e4/" + name).c_str(), evaluate_block, model)
+    benchmark::RegisterBenchmark(("evaluate_block_1e4/" + name).c_str(), evaluate_block, model, false)
         ->Unit(benchmark::kMicrosecond);
     bool any_voltage_only = false;
     for (const auto& s : model->info().states) any_voltage_only = any_voltage_only || s.voltage_only;
     if (any_voltage_only)
-      benchmark::RegisterBenchmark(("evaluate_block_1e4_lut/" + name).c_str(), evaluate_block_lut, model)
+      benchmark::RegisterBenchmark(("evaluate_block_1e4_lut/" + name).c_str(), evaluate_block, model, true)
           ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model, false)
         ->Unit(benchmark::kMicrosecond);

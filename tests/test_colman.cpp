@@ -96,26 +96,11 @@ TEST_CASE("colman: removable singularities are finite, continuous and at their l
   const ModelInfo& info = model->info();
   // Singular voltages (REFERENCES.md 1.3): INa m alpha -47.13, IKr xr alpha -14.1 and
   // beta 3.3328, IKs xs 19.9, ICaL d tau -10 mV.
-  const double h = 1e-7;
   for (const char* var : {"colman2013", "ni2017"}) {
     CAPTURE(var);
     for (double V0 : {-47.13, -14.1, 3.3328, 19.9, -10.0}) {
       CAPTURE(V0);
-      const BlockResult r = evaluate_at_voltages(*model, {V0 - h, V0, V0 + h}, var);
-      for (std::size_t k = 0; k < info.states.size(); ++k) {
-        CAPTURE(info.states[k].name);
-        for (const auto* v : {&r.a, &r.b}) {
-          const double lo = (*v)[k * r.n + 0], mid = (*v)[k * r.n + 1], hi = (*v)[k * r.n + 2];
-          REQUIRE(std::isfinite(lo));
-          REQUIRE(std::isfinite(mid));
-          REQUIRE(std::isfinite(hi));
-          // Over 1e-7 mV a smooth rate changes by ~1e-7 x (relative slope < 1 /mV), so
-          // 1e-6 of its size bounds any honest change; a wrong limit value fails.
-          const double scale = std::max({std::fabs(lo), std::fabs(mid), std::fabs(hi), 1e-300});
-          CHECK(std::fabs(mid - lo) <= 1e-6 * scale);
-          CHECK(std::fabs(hi - mid) <= 1e-6 * scale);
-        }
-      }
+      fibrodem::testing::check_continuous_at(*model, V0, var);
     }
   }
   // Analytic limits (relative 1e-9 for rounding).

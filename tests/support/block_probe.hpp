@@ -3,6 +3,10 @@
 // models look at.
 #pragma once
 
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -48,6 +52,28 @@ inline BlockResult evaluate_at_voltages(const CellModel& model, const std::vecto
   BlockView block{0, n, n, y.data(), params.data(), inputs.data(), r.a.data(), r.b.data(), outputs.data()};
   model.evaluate(block, 0.0);
   return r;
+}
+
+// At a removable singularity V0, every a and b is finite and continuous: over
+// 1e-7 mV a smooth rate changes by ~1e-7 x (its relative slope, < 1 /mV in
+// these models), so 1e-6 of its size bounds any honest change; a wrong limit
+// value (e.g. the CRN CellML's beta_xr fallback, off by 7e-4 relative) fails.
+inline void check_continuous_at(const CellModel& model, double V0, const std::string& variant_name = "") {
+  const double h = 1e-7;
+  const BlockResult r = evaluate_at_voltages(model, {V0 - h, V0, V0 + h}, variant_name);
+  const auto& states = model.info().states;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    CAPTURE(states[k].name);
+    for (const auto* v : {&r.a, &r.b}) {
+      const double lo = (*v)[k * r.n + 0], mid = (*v)[k * r.n + 1], hi = (*v)[k * r.n + 2];
+      REQUIRE(std::isfinite(lo));
+      REQUIRE(std::isfinite(mid));
+      REQUIRE(std::isfinite(hi));
+      const double scale = std::max({std::fabs(lo), std::fabs(mid), std::fabs(hi), 1e-300});
+      CHECK(std::fabs(mid - lo) <= 1e-6 * scale);
+      CHECK(std::fabs(hi - mid) <= 1e-6 * scale);
+    }
+  }
 }
 
 }  // namespace fibrodem::testing
