@@ -25,9 +25,12 @@
 
 namespace fibrodem {
 
-// All bonds of a tissue, one entry per bond (SoA). The constants are set by the
+// Contacts in SoA, one entry per pair: the tissue's bonds, or the unbonded
+// contacts found by detection (intact 0 from the start, reference gap 0: a
+// plain linear contact, PFC's linear model). The constants are set by the
 // solver (stiffness after inheritance and the fibroblast factor, effective
-// mass, reference gap) and by the law's prepare(); the state by update().
+// mass, reference gap) and by the law's prepare(); the state (fn, fs, intact)
+// is initialised by the solver and updated by update().
 struct BondSet {
   std::vector<int> p, q;              // particle indices
   std::vector<double> kn, ks;         // N/m
@@ -55,8 +58,8 @@ class ContactLaw {
  public:
   virtual ~ContactLaw() = default;
   virtual std::string name() const = 0;
-  // Sets per-bond constants the law needs (e.g. dashpot coefficients) once
-  // kn, ks and m_eff are known; resets the state.
+  // Sets the per-contact constants the law needs (e.g. dashpot coefficients)
+  // once kn, ks and m_eff are known; leaves the state alone.
   virtual void prepare(BondSet& bonds) const = 0;
   // Updates the bonds of one block over a step of dt [s]; may break bonds.
   virtual void update(BondSet& bonds, const BondBlock& block, double dt_s) const = 0;

@@ -153,43 +153,86 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     origin_y_ += py_[i] / static_cast<double>(np);
   }
 
-  // Bonds: stiffness by inheritance and cell types, effective mass of the bodies.
+  // Bonds: formed at the start, unloaded (reference gap = the gap now).
   bonds_.resize(t.bonds.size());
-  const double series = spec_.stiffness_inheritance == StiffnessInheritance::series ? 0.5 : 1.0;
+  std::vector<std::pair<int, int>> bonded(t.bonds.size());
   for (std::size_t k = 0; k < t.bonds.size(); ++k) {
     const int p = t.bonds[k].p, q = t.bonds[k].q;
     if (p < 0 || q < 0 || static_cast<std::size_t>(p) >= np || static_cast<std::size_t>(q) >= np || p == q)
       throw std::invalid_argument("bond " + std::to_string(k) + " joins invalid particles");
-    const int bp = pbody_[p], bq = pbody_[q];
-    if (bp == bq) throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
-    const bool fib = t.type[t.particles[p].cell] == CellType::fibroblast ||
-                     t.type[t.particles[q].cell] == CellType::fibroblast;
-    const double factor = series * (fib ? spec_.fibroblast_stiffness_factor : 1.0);
-    bonds_.p[k] = p;
-    bonds_.q[k] = q;
-    bonds_.kn[k] = spec_.kn_N_per_m * factor;
-    bonds_.ks[k] = spec_.ks_N_per_m * factor;
-    const double mp = mass_[bp], mq = mass_[bq];
-    bonds_.m_eff[k] = bfixed_[bp] && !bfixed_[bq]   ? mq
-                      : bfixed_[bq] && !bfixed_[bp] ? mp
-                                                    : mp * mq / (mp + mq);
-    const double d = std::hypot(px_[q] - px_[p], py_[q] - py_[p]);
-    bonds_.ref_gap[k] = d - br_[bp] - br_[bq];
+    if (pbody_[p] == pbody_[q])
+      throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
+    set_contact_constants(bonds_, k, p, q);
+    bonds_.ref_gap[k] = std::hypot(px_[q] - px_[p], py_[q] - py_[p]) - br_[pbody_[p]] - br_[pbody_[q]];
+    bonds_.intact[k] = 1;
+    bonded[k] = {p, q};
   }
   law_->prepare(bonds_);
-  compute_stable_step();
+  if (spec_.contact_detection) {
+    detector_ = std::make_unique<ContactDetector>(pbody_, bonded, spec_.contact_skin_um * kUm);
+    rebuild_contacts();
+  } else {
+    compute_stable_step();
+  }
   if (spec_.dt_ms > stable_step_ms_)
     throw std::invalid_argument("mechanics.dt_ms " + fmt(spec_.dt_ms) + " ms exceeds the stable DEM step " +
                                 fmt(stable_step_ms_) + " ms");
 }
 
+// Stiffness by inheritance and cell types, effective mass of the two bodies (a
+// fixed body's partner alone); state zeroed, reference gap 0 (a contact).
+void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q) const {
+  const double series = spec_.stiffness_inheritance == StiffnessInheritance::series ? 0.5 : 1.0;
+  const int bp = pbody_[p], bq = pbody_[q];
+  const bool fib = !bclump_[bp] || !bclump_[bq];
+  const double factor = series * (fib ? spec_.fibroblast_stiffness_factor : 1.0);
+  set.p[k] = p;
+  set.q[k] = q;
+  set.kn[k] = spec_.kn_N_per_m * factor;
+  set.ks[k] = spec_.ks_N_per_m * factor;
+  const double mp = mass_[bp], mq = mass_[bq];
+  set.m_eff[k] = bfixed_[bp] && !bfixed_[bq]   ? mq
+                 : bfixed_[bq] && !bfixed_[bp] ? mp
+                                               : mp * mq / (mp + mq);
+  set.ref_gap[k] = 0;
+  set.fn[k] = 0;
+  set.fs[k] = 0;
+  set.intact[k] = 0;
+}
+
+// A new Verlet list of unbonded contacts; a pair on the old list keeps its
+// shear force (both lists ascending, merged); the stable step follows.
+void DemSolver::rebuild_contacts() {
+  detector_->build(px_.data(), py_.data(), pr_.data(), candidate_pairs_);
+  const std::size_t n = candidate_pairs_.size();
+  next_contacts_.resize(n);
+  std::size_t old = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [p, q] = candidate_pairs_[k];
+    set_contact_constants(next_contacts_, k, p, q);
+    while (old < contacts_.size() && std::make_pair(contacts_.p[old], contacts_.q[old]) < candidate_pairs_[k]) ++old;
+    if (old < contacts_.size() && contacts_.p[old] == p && contacts_.q[old] == q) {
+      next_contacts_.fn[k] = contacts_.fn[old];
+      next_contacts_.fs[k] = contacts_.fs[old];
+    }
+  }
+  law_->prepare(next_contacts_);
+  std::swap(contacts_, next_contacts_);
+  compute_stable_step();
+  if (spec_.dt_ms > stable_step_ms_ && steps_ > 0)
+    throw std::invalid_argument("at t = " + fmt(time_ms()) + " ms new contacts lower the stable DEM step to " +
+                                fmt(stable_step_ms_) + " ms, below mechanics.dt_ms " + fmt(spec_.dt_ms) +
+                                " ms: lower mechanics.dt_ms, or leave it out (automatic step)");
+}
+
 void DemSolver::compute_stable_step() {
   const std::size_t nb = bx_.size();
   std::vector<double> kt(nb, 0.0), kr(nb, 0.0);
-  for (std::size_t k = 0; k < bonds_.size(); ++k) {
-    const int p = bonds_.p[k], q = bonds_.q[k];
-    const double kn = law_->stable_step_stiffness(bonds_.kn[k], false);
-    const double ks = law_->stable_step_stiffness(bonds_.ks[k], true);
+  for (const BondSet* set : {&bonds_, &contacts_})
+  for (std::size_t k = 0; k < set->size(); ++k) {
+    const int p = set->p[k], q = set->q[k];
+    const double kn = law_->stable_step_stiffness(set->kn[k], false);
+    const double ks = law_->stable_step_stiffness(set->ks[k], true);
     const double dx = px_[q] - px_[p], dy = py_[q] - py_[p];
     const double d = std::hypot(dx, dy);
     const double nx = d > 0 ? dx / d : 1.0, ny = d > 0 ? dy / d : 0.0;
@@ -270,9 +313,25 @@ void DemSolver::compute_forces(double dt_s) {
   std::fill(pfx_.begin(), pfx_.end(), 0.0);
   std::fill(pfy_.begin(), pfy_.end(), 0.0);
   std::fill(ptq_.begin(), ptq_.end(), 0.0);
-  const std::size_t nbonds = bonds_.size();
-  const int* const P = bonds_.p.data();
-  const int* const Q = bonds_.q.data();
+  add_contact_forces(bonds_, dt_s);
+  add_contact_forces(contacts_, dt_s);
+  // Reduce to bodies: F = sum f, T = sum (t_p + (x_p - x_G) x f_p).
+  std::fill(bfx_.begin(), bfx_.end(), 0.0);
+  std::fill(bfy_.begin(), bfy_.end(), 0.0);
+  std::fill(btq_.begin(), btq_.end(), 0.0);
+  for (std::size_t i = 0; i < pbody_.size(); ++i) {
+    const int b = pbody_[i];
+    bfx_[b] += pfx_[i];
+    bfy_[b] += pfy_[i];
+    btq_[b] += ptq_[i] + (px_[i] - bx_[b]) * pfy_[i] - (py_[i] - by_[b]) * pfx_[i];
+  }
+}
+
+// The forces of one contact set on its particles, block by block.
+void DemSolver::add_contact_forces(BondSet& set, double dt_s) {
+  const std::size_t nbonds = set.size();
+  const int* const P = set.p.data();
+  const int* const Q = set.q.data();
   for (std::size_t begin = 0; begin < nbonds; begin += kBlock) {
     const std::size_t count = std::min(kBlock, nbonds - begin);
     // Kinematics of the block.
@@ -296,7 +355,7 @@ void DemSolver::compute_forces(double dt_s) {
       ds_[j] = (-dvx * ny + dvy * nx) * dt_s;
     }
     const BondBlock block{begin, count, gap_.data(), dn_.data(), ds_.data(), fnt_.data(), fst_.data()};
-    law_->update(bonds_, block, dt_s);
+    law_->update(set, block, dt_s);
     // Forces on q (minus on p); the shear force's moment about each centre.
     for (std::size_t j = 0; j < count; ++j) {
       const int p = P[begin + j], q = Q[begin + j];
@@ -313,15 +372,18 @@ void DemSolver::compute_forces(double dt_s) {
       ptq_[p] -= (pr_[p] + half_gap) * fs;
     }
   }
-  // Reduce to bodies: F = sum f, T = sum (t_p + (x_p - x_G) x f_p).
-  std::fill(bfx_.begin(), bfx_.end(), 0.0);
-  std::fill(bfy_.begin(), bfy_.end(), 0.0);
-  std::fill(btq_.begin(), btq_.end(), 0.0);
-  for (std::size_t i = 0; i < pbody_.size(); ++i) {
-    const int b = pbody_[i];
-    bfx_[b] += pfx_[i];
-    bfy_[b] += pfy_[i];
-    btq_[b] += ptq_[i] + (px_[i] - bx_[b]) * pfy_[i] - (py_[i] - by_[b]) * pfx_[i];
+}
+
+// v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
+// local damping; alpha 0: plain Newton).
+void DemSolver::kick(double h_s) {
+  const double alpha = spec_.local_damping;
+  auto damped = [alpha](double f, double v) { return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f; };
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
+    if (bfixed_[b]) continue;
+    bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;
+    bvy_[b] += damped(bfy_[b], bvy_[b]) * inv_m_[b] * h_s;
+    bw_[b] += damped(btq_[b], bw_[b]) * inv_i_[b] * h_s;
   }
 }
 
@@ -333,11 +395,9 @@ void DemSolver::step(double dt_ms) {
   const double h = 0.5 * dt;
   const std::size_t nb = bx_.size();
   // Half kick with the forces of the present state, then drift.
+  kick(h);
   for (std::size_t b = 0; b < nb; ++b) {
     if (bfixed_[b]) continue;
-    bvx_[b] += bfx_[b] * inv_m_[b] * h;
-    bvy_[b] += bfy_[b] * inv_m_[b] * h;
-    bw_[b] += btq_[b] * inv_i_[b] * h;
     bx_[b] += bvx_[b] * dt;
     by_[b] += bvy_[b] * dt;
     bth_[b] += bw_[b] * dt;
@@ -347,6 +407,7 @@ void DemSolver::step(double dt_ms) {
   py_old_.swap(py_);
   update_geometry(dt);
   place_particles();
+  if (detector_ && detector_->needs_rebuild(px_.data(), py_.data(), pr_.data())) rebuild_contacts();
 
   // Strain rate: least-squares velocity gradient over particles or bodies.
   {
@@ -402,12 +463,7 @@ void DemSolver::step(double dt_ms) {
   }
 
   compute_forces(dt);
-  for (std::size_t b = 0; b < nb; ++b) {
-    if (bfixed_[b]) continue;
-    bvx_[b] += bfx_[b] * inv_m_[b] * h;
-    bvy_[b] += bfy_[b] * inv_m_[b] * h;
-    bw_[b] += btq_[b] * inv_i_[b] * h;
-  }
+  kick(h);
   time_s_ += dt;
   ++steps_;
   out_dirty_ = true;
@@ -447,6 +503,23 @@ std::size_t DemSolver::broken_bonds() const {
   return static_cast<std::size_t>(std::count(bonds_.intact.begin(), bonds_.intact.end(), 0));
 }
 
+std::string DemSolver::report() const {
+  std::string r = std::to_string(steps_) + " steps, stable step now " + fmt(stable_step_ms_) + " ms; " +
+                  std::to_string(bonds_.size()) + " bonds (" + std::to_string(broken_bonds()) + " broken)";
+  if (detector_)
+    r += "; unbonded contacts: " + std::to_string(touching_contacts()) + " touching of " +
+         std::to_string(contacts_.size()) + " listed, list built " + std::to_string(detector_->builds()) + " times";
+  else
+    r += "; no contact detection";
+  return r;
+}
+
+std::size_t DemSolver::touching_contacts() const {
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < contacts_.size(); ++k) n += contacts_.fn[k] > 0;
+  return n;
+}
+
 double DemSolver::kinetic_energy_J() const {
   double e = 0;
   for (std::size_t b = 0; b < bx_.size(); ++b)
@@ -456,10 +529,11 @@ double DemSolver::kinetic_energy_J() const {
 
 double DemSolver::elastic_energy_J() const {
   double e = 0;
-  for (std::size_t k = 0; k < bonds_.size(); ++k) {
-    e += 0.5 * bonds_.fn[k] * bonds_.fn[k] / bonds_.kn[k];
-    if (bonds_.ks[k] > 0) e += 0.5 * bonds_.fs[k] * bonds_.fs[k] / bonds_.ks[k];
-  }
+  for (const BondSet* set : {&bonds_, &contacts_})
+    for (std::size_t k = 0; k < set->size(); ++k) {
+      e += 0.5 * set->fn[k] * set->fn[k] / set->kn[k];
+      if (set->ks[k] > 0) e += 0.5 * set->fs[k] * set->fs[k] / set->ks[k];
+    }
   return e;
 }
 

@@ -9,14 +9,18 @@
 // `fibroblasts_fixed`); the particles of a multi-particle fibroblast are
 // separate disks held by their bonds.
 //
-// Contacts: the tissue's bonds, static (no contact detection: bonds never form,
-// they can only break), in SoA order, their law called once per block of 512.
+// Contacts: the tissue's bonds (formed at the start, never re-formed; they can
+// break), and, with `contact_detection`, the contacts between particles that
+// were not bonded, found on a Verlet list (contact_detector.hpp) and given the
+// law's unbonded state (PFC's linear model: repulsion and dashpots while they
+// overlap). Both in SoA order, their law called once per block of 512.
 // Contact point velocities include a pebble's motion along the clump's axis
 // from contraction (so dashpots and shear springs see it).
 //
 // Motion: velocity Verlet (PFC 6+; the same positions as PFC 5's centred
 // differences): half kick, drift, new geometry at the length ratios set, forces,
-// half kick. Dashpots see the half-step velocities.
+// half kick. Dashpots see the half-step velocities; PFC's local damping
+// (optional) acts in the kicks.
 //
 // Strain: each step, alpha = (sum V~ x~^T)(sum x~ x~^T)^+ over all particles
 // (or bodies), V the half-step velocity (x^{n+1} - x^n)/dt of each, x its
@@ -38,6 +42,7 @@
 #include <vector>
 
 #include "mechanics/clump_geometry.hpp"
+#include "mechanics/contact_detector.hpp"
 #include "mechanics/contact_law.hpp"
 #include "mechanics/mechanics_solver.hpp"
 
@@ -55,9 +60,9 @@ class DemSolver final : public MechanicsSolver {
   void step(double dt_ms) override;
   std::array<double, 3> strain() const override { return strain_; }
   const std::vector<Particle>& particles() const override;
+  std::string report() const override;
 
-  // The step to use: spec.dt_ms, or the stable step if that is 0.
-  double step_ms() const { return spec_.dt_ms > 0 ? spec_.dt_ms : stable_step_ms_; }
+  double step_ms() const override { return spec_.dt_ms > 0 ? spec_.dt_ms : stable_step_ms_; }
   const DemSpec& spec() const { return spec_; }
   double time_ms() const { return time_s_ * 1e3; }
   std::size_t steps() const { return steps_; }
@@ -79,15 +84,24 @@ class DemSolver final : public MechanicsSolver {
 
   const BondSet& bonds() const { return bonds_; }
   std::size_t broken_bonds() const;
+  // Unbonded contacts on the present Verlet list (empty without detection),
+  // how many of them touch, and how often the list was built.
+  const BondSet& contacts() const { return contacts_; }
+  std::size_t touching_contacts() const;
+  std::size_t contact_list_builds() const { return detector_ ? detector_->builds() : 0; }
   // Energies at the last full step [J] (unit thickness): kinetic (translation +
   // rotation) and elastic (springs of the active contacts, 1/2 F^2 / k).
   double kinetic_energy_J() const;
   double elastic_energy_J() const;
 
  private:
+  void kick(double h_s);
   void update_geometry(double dt_s);
   void place_particles();
   void compute_forces(double dt_s);
+  void add_contact_forces(BondSet& set, double dt_s);
+  void set_contact_constants(BondSet& set, std::size_t k, int p, int q) const;
+  void rebuild_contacts();
   void compute_stable_step();
 
   static constexpr std::size_t kBlock = 512;
@@ -111,8 +125,10 @@ class DemSolver final : public MechanicsSolver {
   std::vector<double> pa_;  // axial offset in spacings (k - (N-1)/2)
   std::vector<double> px_, py_, px_old_, py_old_, pvx_, pvy_, pr_, pw_, pfx_, pfy_, ptq_;
 
-  // Bonds and one block's scratch.
-  BondSet bonds_;
+  // Bonds, unbonded contacts (and the next list, scratch), one block's scratch.
+  BondSet bonds_, contacts_, next_contacts_;
+  std::unique_ptr<ContactDetector> detector_;
+  std::vector<std::pair<int, int>> candidate_pairs_;
   std::array<double, kBlock> gap_{}, dn_{}, ds_{}, nx_{}, ny_{}, fnt_{}, fst_{};
 
   double stable_step_ms_ = 0;

@@ -33,6 +33,7 @@ DemSpec read_dem_spec(JsonReader& r) {
   s.tensile_strength_N = r.number("tensile_strength_N", s.tensile_strength_N, 0, big);
   s.shear_strength_N = r.number("shear_strength_N", s.shear_strength_N, 0, big);
   s.friction = r.number("friction", s.friction, 0, 1e6);
+  s.local_damping = r.number("local_damping", s.local_damping, 0, 1);
   s.fibroblast_stiffness_factor =
       r.number("fibroblast_stiffness_factor", s.fibroblast_stiffness_factor, 1e-6, 1e6);
   s.stiffness_inheritance =
@@ -53,6 +54,8 @@ DemSpec read_dem_spec(JsonReader& r) {
   s.strain_bodies = r.text("strain_bodies", "particles", {"particles", "bodies"}) == "bodies"
                         ? StrainBodies::bodies
                         : StrainBodies::particles;
+  s.contact_detection = r.boolean("contact_detection", s.contact_detection);
+  s.contact_skin_um = r.number("contact_skin_um", s.contact_skin_um, 1e-3, 1e3);
   return s;
 }
 

@@ -41,6 +41,10 @@ struct DemSpec {
   double tensile_strength_N = 1e200;      // T_F, Table 1 (a force, PFC cb_tenf)
   double shear_strength_N = 1e200;        // S_F, Table 1 (a force, PFC cb_shearf)
   double friction = 0.0;                  // Coulomb coefficient of a broken bond's contact
+  // PFC's local damping: each body's force and moment reduced by alpha |F| in
+  // the direction against its velocity (REFERENCES.md 2.1: default 0 in PFC 5+,
+  // 0.7 in PFC 4; the seed lists only the dashpots).
+  double local_damping = 0.0;
   double fibroblast_stiffness_factor = 1.0;  // kn, ks x this if either end is a fibroblast (seed: 1.5)
   StiffnessInheritance stiffness_inheritance = StiffnessInheritance::contact;
   double density_kg_per_m3 = 1053.0;      // Table 1: 1.053 g/ml; 2D disks of unit thickness (1 m)
@@ -50,15 +54,19 @@ struct DemSpec {
   LengthMode length_mode = LengthMode::total;  // the seed: SL "scaled to give the total myocyte length"
   bool fibroblasts_fixed = false;         // true: fibroblast particles never move
   StrainBodies strain_bodies = StrainBodies::particles;
+  // New contacts between particles not bonded at the start (PFC detects them;
+  // REFERENCES.md 2.10): the linear contact model (the law's unbonded state).
+  bool contact_detection = true;
+  double contact_skin_um = 2.5;           // Verlet skin: a fifth of a myocyte pebble's radius
 };
 
 // Reads the keys of a `mechanics` object (all optional; defaults as above):
 // solver, contact_law, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
-// damping_ratio_shear, tensile_strength_N, shear_strength_N, friction,
+// damping_ratio_shear, tensile_strength_N, shear_strength_N, friction, local_damping,
 // fibroblast_stiffness_factor, stiffness_inheritance (contact|series),
 // density_kg_per_m3, safety_factor, dt_ms, area_rule (union|capsule|rectangle),
 // length_mode (spacing|total), fibroblasts_fixed, strain_bodies
-// (particles|bodies). Errors name the JSON path. Does not call finish(): the
+// (particles|bodies), contact_detection, contact_skin_um. Errors name the JSON path. Does not call finish(): the
 // caller may read its own keys (e.g. output rates) from the same object first.
 DemSpec read_dem_spec(JsonReader& mechanics);
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "mechanics/contact_law.hpp"
@@ -20,6 +21,9 @@ class MechanicsSolver {
   // The largest step [ms] at which the explicit scheme is stable (with the
   // dashpot correction and the safety factor); step() refuses a larger one.
   virtual double stable_step_ms() const = 0;
+  // The step to take next [ms]: the spec's dt_ms, or else the stable step,
+  // which may change as contacts form and part (ask before each step).
+  virtual double step_ms() const = 0;
   // Sets each cell's length relative to rest (1 = rest; one value per cell,
   // fibroblasts' ignored), e.g. SL / SL_rest. It takes effect in the next
   // step(), as the length at the end of that step. Throws std::invalid_argument
@@ -33,6 +37,8 @@ class MechanicsSolver {
   // least-squares velocity gradient times dt): eps_xx, eps_yy, eps_xy (tensor
   // component, not the engineering shear).
   virtual std::array<double, 3> strain() const = 0;
+  // One line on what it did so far (steps, contacts, broken bonds), for run.log.
+  virtual std::string report() const = 0;
   // Present particle positions and radii [um], in the tissue's order (snapshots).
   virtual const std::vector<Particle>& particles() const = 0;
 };

@@ -264,7 +264,7 @@ struct Simulation::Impl : StepObserver {
     } catch (const std::invalid_argument& e) {
       throw ManifestError("mechanics", e.what());
     }
-    mechanics_step_ms = scene.mechanics.dt_ms > 0 ? scene.mechanics.dt_ms : mechanics->stable_step_ms();
+    mechanics_step_ms = mechanics->step_ms();
     length_ratio.assign(tissue.cell_count(), 1.0);
   }
 
@@ -457,12 +457,13 @@ struct Simulation::Impl : StepObserver {
   void advance_mechanics(double t) {
     if (!mechanics) return;
     const auto start = std::chrono::steady_clock::now();
-    while (mechanics_time_ms + mechanics_step_ms <= t + kTimeEpsilon_ms) {
+    for (double h = mechanics->step_ms(); mechanics_time_ms + h <= t + kTimeEpsilon_ms; h = mechanics->step_ms()) {
       for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
         length_ratio[cell] = system.stretch(system.where[cell].first, system.where[cell].second);
       mechanics->set_cell_length_ratios(length_ratio);
-      mechanics->step(mechanics_step_ms);
-      mechanics_time_ms += mechanics_step_ms;
+      mechanics->step(h);
+      mechanics_time_ms += h;
+      mechanics_step_ms = std::min(mechanics_step_ms, h);
       const auto strain = mechanics->strain();
       for (int k = 0; k < 3; ++k)
         if (std::abs(strain[k]) > std::abs(peak_strain[k])) peak_strain[k] = strain[k];
@@ -613,6 +614,7 @@ struct Simulation::Impl : StepObserver {
                   "(rates clamped to the table's ends)",
                   cell_type_name(pop.type), pop.info().name, pop.table->v_min(), pop.table->v_max(),
                   pop.table->clamp_count());
+    if (mechanics) log->info("mechanics: {}", mechanics->report());
     if (status == "failed") log->error("run failed: {}", error);
     else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
     if (!out.empty()) {
@@ -700,7 +702,7 @@ struct Simulation::Impl : StepObserver {
     s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
     s["peak_strain"] = mechanics ? json{{"xx", peak_strain[0]}, {"yy", peak_strain[1]}, {"xy", peak_strain[2]}}
                                  : json(nullptr);
-    if (mechanics) s["mechanics_step_ms"] = mechanics_step_ms;
+    if (mechanics) s["mechanics_step_ms"] = mechanics_step_ms;  // the smallest step taken
     // Where the wall time went (s): the parts of the cell system, mechanics, the rest.
     s["wall_time_by_process_s"] = {{"ionic_models", system.seconds[CellSystem::kIonic]},
                                    {"coupling", system.seconds[CellSystem::kCoupling]},

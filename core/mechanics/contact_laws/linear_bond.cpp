@@ -5,7 +5,7 @@
 //   incremental in the contact frame, F_s -= ks ds, no Coulomb cap;
 // - breaks when the tension -F_n >= tensile strength (forces zeroed) or |F_s| >=
 //   shear strength (F_s kept up to mu F_n if compressive, else zeroed);
-// - broken (a plain linear contact): active while g <= g_ref, F_n = max(0, .),
+// - broken, or a contact found by detection (PFC's linear model): active while g <= g_ref, F_n = max(0, .),
 //   |F_s| <= mu F_n; inactive: forces zero, shear history reset;
 // - dashpots c = 2 beta sqrt(m_eff k), F_d = -c (increment / dt), added to the
 //   springs' forces (normal dashpot only while the contact is active).
@@ -33,9 +33,6 @@ class LinearBond final : public ContactLaw {
     for (std::size_t i = 0; i < b.size(); ++i) {
       b.cn[i] = 2 * beta_n_ * std::sqrt(b.m_eff[i] * b.kn[i]);
       b.cs[i] = 2 * beta_s_ * std::sqrt(b.m_eff[i] * b.ks[i]);
-      b.fn[i] = 0;
-      b.fs[i] = 0;
-      b.intact[i] = 1;
     }
   }
 
