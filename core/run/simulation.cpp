@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "coupling/gap_junction.hpp"
@@ -21,36 +20,13 @@
 #include "integrate/stability.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "io/csv_writer.hpp"
-#include "io/tissue_picture.hpp"
-#include "io/vtk_writer.hpp"
-#include "measure/conduction_velocity.hpp"
 #include "run/population_setup.hpp"
+#include "run/run_summary.hpp"
+#include "run/tissue_snapshots.hpp"
+#include "run/trace_recorder.hpp"
 
 namespace fibrodem {
 namespace fs = std::filesystem;
-
-namespace {
-
-// A traced quantity: a state or an output of one cell.
-struct TraceColumn {
-  std::string variable;
-  int cell = 0;
-  int population = 0;
-  std::size_t local = 0;
-  bool is_output = false;
-  bool myofilament = false;  // population indexes CellSystem::myofilaments
-  int index = 0;
-  int strain = -1;           // >= 0: the tissue strain component (no cell)
-  std::string name() const { return strain >= 0 ? variable : variable + "_" + std::to_string(cell); }
-};
-
-std::string list_names(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
-}  // namespace
 
 struct Simulation::Impl : StepObserver {
   Scene scene;
@@ -62,16 +38,12 @@ struct Simulation::Impl : StepObserver {
   std::unique_ptr<Integrator> integrator;
   std::shared_ptr<spdlog::logger> log;
 
-  std::vector<TraceColumn> columns;
-  bool traces_need_outputs = false;
-  std::vector<double> times;
-  std::vector<std::vector<double>> samples;  // per column
-  long long next_sample_index = 0;
+  TraceRecorder traces;
   std::vector<BeatBiomarkers> beats;
   std::unique_ptr<BiomarkerTracker> tracker;
 
   fs::path out;
-  CsvWriter traces_csv, biomarkers_csv;
+  CsvWriter biomarkers_csv;
   std::vector<std::string> warnings;  // found at set-up, logged when the run starts
   StabilityEstimate stability;
   std::string status = "set up";
@@ -83,7 +55,6 @@ struct Simulation::Impl : StepObserver {
   double mechanics_step_ms = 0, mechanics_time_ms = 0, mechanics_seconds = 0;
   std::vector<double> length_ratio;
   std::array<double, 3> peak_strain{0, 0, 0};
-  static constexpr const char* kStrainNames[3] = {"eps_xx", "eps_yy", "eps_xy"};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
@@ -101,7 +72,7 @@ struct Simulation::Impl : StepObserver {
     build_coupling();
     build_mechanics();
     system.stimulus = Stimulus(scene.stimuli, tissue);
-    resolve_traces();
+    traces = TraceRecorder(scene, system, mechanics != nullptr, plan.has("contraction"));
     build_lookup_tables();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
@@ -268,68 +239,6 @@ struct Simulation::Impl : StepObserver {
     length_ratio.assign(tissue.cell_count(), 1.0);
   }
 
-  void resolve_traces() {
-    const TraceSpec& spec = scene.output.traces;
-    if (mechanics)  // the tissue strain is always traced with mechanics
-      for (int k = 0; k < 3; ++k) columns.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k});
-    for (std::size_t i = 0; i < spec.cells.size(); ++i) {
-      const int cell = spec.cells[i];
-      if (cell >= static_cast<int>(tissue.cell_count()))
-        throw ManifestError(index_path("output.traces.cells", i),
-                            "cell " + std::to_string(cell) + " does not exist (the tissue has " +
-                                std::to_string(tissue.cell_count()) + " cells)");
-      for (std::size_t j = 0; j < spec.variables.size(); ++j) {
-        const std::string& var = spec.variables[j];
-        if (is_strain_variable(var)) {
-          if (!mechanics)
-            throw ManifestError(index_path("output.traces.variables", j),
-                                "\"" + var + "\" is the tissue strain, which needs the effect mechanics");
-          continue;
-        }
-        const auto [p, local] = system.where[cell];
-        TraceColumn col{var, cell, p, local, false, false, -1};
-        if (!find_column(system.populations[p], col))
-          for (std::size_t m = 0; m < system.myofilaments.size(); ++m)
-            if (system.myofilaments[m].host == p && find_column(system.myofilaments[m].pop, col)) {
-              col.myofilament = true;
-              col.population = static_cast<int>(m);
-            }
-        if (col.index < 0) {
-          std::vector<std::string> names;
-          system.for_each_part(cell, [&](const Population& pop, std::size_t) {
-            for (const auto& s : pop.info().states) names.push_back(s.name);
-            for (const auto& o : pop.info().outputs) names.push_back(o.name);
-          });
-          throw ManifestError(index_path("output.traces.variables", j),
-                              "\"" + var + "\" is neither a state nor an output of the models of cell " +
-                                  std::to_string(cell) + " (" + system.populations[p].info().name +
-                                  (plan.has("contraction") ? "" : "; myofilament models are loaded only with contraction") +
-                                  "); they have: " + list_names(names));
-        }
-        traces_need_outputs = traces_need_outputs || col.is_output;
-        columns.push_back(col);
-      }
-    }
-    samples.assign(columns.size(), {});
-    if (scene.solver.method != "cvode") {
-      for (const auto& [value, path] : {std::pair{spec.every_ms, "output.traces.every_ms"},
-                                        std::pair{spec.from_ms, "output.traces.from_ms"}}) {
-        const double steps_per = value / scene.solver.dt_ms;
-        if (std::abs(steps_per - std::round(steps_per)) > 1e-6 * std::max(1.0, steps_per))
-          throw ManifestError(path, "expected a multiple of solver.dt_ms (" +
-                                        format_number(scene.solver.dt_ms) + " ms) for a fixed-step "
-                                        "method, got " + format_number(value));
-      }
-    }
-  }
-
-  static bool find_column(const Population& pop, TraceColumn& col) {
-    col.index = find_state(pop.info(), col.variable);
-    col.is_output = col.index < 0;
-    if (col.is_output) col.index = find_output(pop.info(), col.variable);
-    return col.index >= 0;
-  }
-
   void check_explicit_stability() {
     if (scene.solver.method == "cvode") return;
     stability = estimate_explicit_stability(system, scene.solver.method == "euler",
@@ -356,20 +265,12 @@ struct Simulation::Impl : StepObserver {
     auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), true);
     file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
     log->sinks().push_back(file_sink);
-    std::vector<std::string> header = {"t_ms"};
-    for (const auto& c : columns) header.push_back(c.name());
-    traces_csv = CsvWriter(out / "traces.csv", header);
+    traces.open_csv(out / "traces.csv");
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
                                 "dvdt_max_mV_per_ms"});
-    if (scene.output.tissue_picture) {
-      PictureOptions picture;
-      picture.title = scene.name + ": " + std::to_string(tissue.count(CellType::myocyte)) + " myocytes, " +
-                      std::to_string(tissue.count(CellType::fibroblast)) + " fibroblasts";
-      write_tissue_png(tissue, out / "tissue.png", nullptr, picture);
-      write_tissue_vtk(tissue, out / "tissue.vtk");
-    }
-    write_summary();
+    if (scene.output.tissue_picture) write_tissue_overview(out, scene.name, tissue);
+    write_summary(out, summary());
   }
 
   void log_setup() {
@@ -397,31 +298,9 @@ struct Simulation::Impl : StepObserver {
     for (const auto& w : warnings) log->warn("{}", w);
   }
 
-  double next_sample_ms() const override {
-    if (columns.empty()) return std::numeric_limits<double>::infinity();
-    const double t = scene.output.traces.from_ms +
-                     static_cast<double>(next_sample_index) * scene.output.traces.every_ms;
-    return t <= scene.duration_ms + kTimeEpsilon_ms ? t : std::numeric_limits<double>::infinity();
-  }
+  double next_sample_ms() const override { return traces.next_sample_ms(); }
 
-  void on_sample(double t) override {
-    if (traces_need_outputs) {
-      system.evaluate(t, t);
-    }
-    times.push_back(t);
-    if (traces_csv.is_open()) traces_csv.cell(t);
-    for (std::size_t i = 0; i < columns.size(); ++i) {
-      const TraceColumn& c = columns[i];
-      const Population& pop = c.myofilament ? system.myofilaments[c.population].pop : system.populations[c.population];
-      const double value = c.strain >= 0 ? mechanics->strain()[c.strain]
-                           : c.is_output ? pop.outputs[c.index * pop.size() + c.local]
-                                         : pop.y[c.index * pop.size() + c.local];
-      samples[i].push_back(value);
-      if (traces_csv.is_open()) traces_csv.cell(value);
-    }
-    if (traces_csv.is_open()) traces_csv.end_row();
-    ++next_sample_index;
-  }
+  void on_sample(double t) override { traces.sample(t, system, mechanics.get()); }
 
   void on_step(double t_old, double t_new, const double* dVdt) override {
     ++steps;
@@ -429,19 +308,27 @@ struct Simulation::Impl : StepObserver {
     system.gather_voltage();
     tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
     advance_mechanics(t_new);
-    const SnapshotSpec& snap = scene.output.snapshots;
-    if (!out.empty() && snap.every_ms > 0) {
-      const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
-      if (t_new >= next - kTimeEpsilon_ms) {
-        write_snapshot(t_new);
-        ++snapshots_taken;
-      }
-    }
+    snapshot_if_due(t_new);
     const auto now = std::chrono::steady_clock::now();
     if (now - last_flush > std::chrono::seconds(1)) {
-      if (traces_csv.is_open()) traces_csv.flush();
+      traces.flush_csv();
       last_flush = now;
     }
+    report_progress(now, t_new);
+  }
+
+  void snapshot_if_due(double t) {
+    const SnapshotSpec& snap = scene.output.snapshots;
+    if (out.empty() || snap.every_ms <= 0) return;
+    const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
+    if (t >= next - kTimeEpsilon_ms) {
+      write_snapshot(out, t, snap, scene.name, tissue, mechanics.get(), system.V_mV);
+      ++snapshots_taken;
+    }
+  }
+
+  // The progress line (RunOptions::progress), every output.progress_every_s of wall time.
+  void report_progress(std::chrono::steady_clock::time_point now, double t_new) {
     if (options.progress && scene.output.progress_every_s > 0 &&
         std::chrono::duration<double>(now - last_progress).count() >= scene.output.progress_every_s) {
       const double elapsed = std::chrono::duration<double>(now - started).count();
@@ -469,60 +356,6 @@ struct Simulation::Impl : StepObserver {
         if (std::abs(strain[k]) > std::abs(peak_strain[k])) peak_strain[k] = strain[k];
     }
     mechanics_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-
-  // The tissue as it is now: deformed particles when mechanics runs.
-  Tissue present_tissue(std::vector<std::array<double, 2>>* displacement) const {
-    Tissue now = tissue;
-    if (!mechanics) return now;
-    now.particles = mechanics->particles();
-    if (displacement)
-      for (std::size_t p = 0; p < now.particles.size(); ++p)
-        displacement->push_back({now.particles[p].x_um - tissue.particles[p].x_um,
-                                 now.particles[p].y_um - tissue.particles[p].y_um});
-    return now;
-  }
-
-  // The tissue coloured by membrane potential at time t (the step's end).
-  void write_snapshot(double t) const {
-    char stem[64];
-    std::snprintf(stem, sizeof stem, "snapshot_%09.3f_ms", t);
-    if (scene.output.snapshots.png) {
-      PictureOptions picture;
-      picture.value_label = "V (mV)";
-      picture.value_min = -90;
-      picture.value_max = 40;
-      picture.title = fmt::format("{}   t = {:.1f} ms", scene.name, t);
-      // The scale of the undeformed tissue, so that every snapshot shows the
-      // deformation at the same magnification.
-      const auto box = tissue.bounds_um();
-      picture.pixels_per_um = picture.height_px / std::max(box[3] - box[2], 1.0);
-      write_tissue_png(present_tissue(nullptr), out / (std::string(stem) + ".png"), &system.V_mV, picture);
-    }
-    if (scene.output.snapshots.vtk) {
-      std::vector<std::array<double, 2>> displacement;
-      const Tissue now = present_tissue(&displacement);
-      write_tissue_vtk(now, out / (std::string(stem) + ".vtk"), {{"V_mV", system.V_mV}}, false,
-                       mechanics ? &displacement : nullptr);
-    }
-  }
-
-  // Per-cell maps of the last recorded beat: activation time picture and VTK.
-  void write_maps() const {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> activation(tissue.cell_count(), nan), apd90 = activation, rmp = activation, apo = activation;
-    for (const auto& b : beats) {
-      activation[b.cell] = b.activation_ms;
-      apd90[b.cell] = b.apd90_ms;
-      rmp[b.cell] = b.rmp_mV;
-      apo[b.cell] = b.apo_mV;
-    }
-    PictureOptions picture;
-    picture.value_label = "activation (ms)";
-    picture.title = scene.name + ": activation map, last beat";
-    write_tissue_png(tissue, out / "activation_map.png", &activation, picture);
-    write_tissue_vtk(tissue, out / "maps.vtk",
-                     {{"activation_ms", activation}, {"apd90_ms", apd90}, {"rmp_mV", rmp}, {"apo_mV", apo}}, false);
   }
 
   // A state outside its physical range (or NaN/Inf) stops the run. The range
@@ -599,7 +432,7 @@ struct Simulation::Impl : StepObserver {
       tracker->start(0.0, system.V_mV.data());
       integrator->advance(system, 0.0, scene.duration_ms, *this);
       tracker->finish();
-      if (!out.empty() && scene.output.maps) write_maps();
+      if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats);
       status = "completed";
     } catch (const std::exception& e) {
       status = "failed";
@@ -607,7 +440,18 @@ struct Simulation::Impl : StepObserver {
     }
     if (options.progress) std::fprintf(stderr, "\n");
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    if (traces_csv.is_open()) traces_csv.flush();
+    traces.flush_csv();
+    log_run_end();
+    if (!out.empty()) {
+      write_summary(out, summary());
+      log->info("outputs in {}", fs::absolute(out).string());
+    }
+    log->flush();
+    if (status == "failed") throw std::runtime_error(error);
+  }
+
+  // Clamped lookup tables, mechanics' report, and how the run ended.
+  void log_run_end() {
     for (const auto& pop : system.populations)
       if (pop.table && pop.table->clamp_count() > 0)
         log->warn("lookup tables: {} model {}: V left the table [{:g}, {:g}] mV in {} cell evaluations "
@@ -617,107 +461,28 @@ struct Simulation::Impl : StepObserver {
     if (mechanics) log->info("mechanics: {}", mechanics->report());
     if (status == "failed") log->error("run failed: {}", error);
     else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
-    if (!out.empty()) {
-      write_summary();
-      log->info("outputs in {}", fs::absolute(out).string());
-    }
-    log->flush();
-    if (status == "failed") throw std::runtime_error(error);
   }
 
   // ---- summary ----------------------------------------------------------------
 
-  json mean_biomarkers() const {
-    json means = json::object();
-    for (CellType type : {CellType::myocyte, CellType::fibroblast}) {
-      const char* fields[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
-      double sum[4] = {0, 0, 0, 0};
-      int count[4] = {0, 0, 0, 0};
-      for (const auto& b : beats) {
-        if (b.type != type) continue;
-        const double values[4] = {b.rmp_mV, b.apo_mV, b.apd90_ms, b.dvdt_max_mV_per_ms};
-        for (int i = 0; i < 4; ++i)
-          if (std::isfinite(values[i])) {
-            sum[i] += values[i];
-            ++count[i];
-          }
-      }
-      if (count[0] == 0) continue;
-      json m;
-      for (int i = 0; i < 4; ++i) m[fields[i]] = count[i] ? json(sum[i] / count[i]) : json(nullptr);
-      m["beats_measured"] = count[0];
-      means[cell_type_name(type)] = m;
-    }
-    return means;
-  }
-
-  // Conduction velocity of each beat along the fibre (y). A cell counts as
-  // activated when its action potential amplitude reaches 20 mV.
-  json conduction() const {
-    json per_beat = json::array();
-    if (tissue.cell_count() < 2) return per_beat;
-    std::vector<bool> stimulated(tissue.cell_count(), false);
-    for (const auto& train : system.stimulus.trains())
-      for (int c : train.cells) stimulated[c] = true;
-    std::map<int, std::vector<ConductionSample>> beats_by_index;
-    for (const auto& b : beats)
-      beats_by_index[b.beat].push_back(
-          {tissue.y_um[b.cell], b.activation_ms, stimulated[b.cell], b.apo_mV - b.rmp_mV >= 20.0});
-    for (const auto& [beat, beat_cells] : beats_by_index)
-      if (const auto fit = fit_conduction_velocity(beat_cells))
-        per_beat.push_back({{"beat", beat}, {"cv_cm_per_s", fit->cv_cm_per_s}, {"r_squared", fit->r_squared},
-                            {"cells_used", fit->cells_used}, {"window_um", {fit->from_um, fit->to_um}}});
-    return per_beat;
-  }
-
   json summary() const {
-    json s;
-    s["fibrodem_version"] = FIBRODEM_VERSION;
-    s["name"] = scene.name;
-    s["status"] = status;
-    if (!error.empty()) s["error"] = error;
-    s["manifest"] = scene.manifest;
-    s["plugins"] = json::array();
-    for (const auto& r : registry->loaded())
-      s["plugins"].push_back({{"name", r.name}, {"version", r.version}, {"file", r.file.string()},
-                              {"sha256", r.sha256}});
-    s["effects"] = json::array();
-    s["processes"] = json::array();
-    for (const auto& p : plan.built) {
-      s["effects"].push_back(p.name);
-      s["processes"].push_back({{"name", p.name}, {"reason", p.reason}});
-    }
-    s["notes"] = plan.notes;
-    s["warnings"] = warnings;
-    s["integrator"] = integrator->describe();
-    s["wall_time_s"] = wall_s;
-    s["steps"] = steps;
-    s["simulated_ms"] = times.empty() ? 0.0 : times.back();
-    const auto myocytes = tissue.count(CellType::myocyte), fibroblasts = tissue.count(CellType::fibroblast);
-    s["cells"] = {{"myocyte", myocytes}, {"fibroblast", fibroblasts}};
-    s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))
-                             : json(nullptr);
-    s["mean_biomarkers"] = mean_biomarkers();
-    s["conduction"] = conduction();
-    s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
-    s["peak_strain"] = mechanics ? json{{"xx", peak_strain[0]}, {"yy", peak_strain[1]}, {"xy", peak_strain[2]}}
-                                 : json(nullptr);
-    if (mechanics) s["mechanics_step_ms"] = mechanics_step_ms;  // the smallest step taken
-    // Where the wall time went (s): the parts of the cell system, mechanics, the rest.
-    s["wall_time_by_process_s"] = {{"ionic_models", system.seconds[CellSystem::kIonic]},
-                                   {"coupling", system.seconds[CellSystem::kCoupling]},
-                                   {"myofilament_models", system.seconds[CellSystem::kMyofilament]},
-                                   {"mechanics", mechanics_seconds}};
-    return s;
-  }
-
-  void write_summary() const {
-    const fs::path tmp = out / "summary.json.tmp";
-    {
-      std::ofstream f(tmp, std::ios::trunc);
-      f << summary().dump(2) << '\n';
-    }
-    fs::rename(tmp, out / "summary.json");  // atomic: never a half-written summary
+    return run_summary({.scene = scene,
+                        .registry = *registry,
+                        .plan = plan,
+                        .warnings = warnings,
+                        .integrator = integrator->describe(),
+                        .status = status,
+                        .error = error,
+                        .wall_s = wall_s,
+                        .steps = steps,
+                        .trace_times = traces.times(),
+                        .tissue = tissue,
+                        .system = system,
+                        .beats = beats,
+                        .mechanics = mechanics != nullptr,
+                        .peak_strain = peak_strain,
+                        .mechanics_step_ms = mechanics_step_ms,
+                        .mechanics_seconds = mechanics_seconds});
   }
 };
 
@@ -729,22 +494,15 @@ void Simulation::run() { impl_->run(); }
 const Tissue& Simulation::tissue() const { return impl_->tissue; }
 const ProcessPlan& Simulation::processes() const { return impl_->plan; }
 const std::vector<BeatBiomarkers>& Simulation::biomarkers() const { return impl_->beats; }
-const std::vector<double>& Simulation::trace_times() const { return impl_->times; }
+const std::vector<double>& Simulation::trace_times() const { return impl_->traces.times(); }
 json Simulation::summary() const { return impl_->summary(); }
 std::string Simulation::integrator_description() const { return impl_->integrator->describe(); }
 
-std::vector<std::string> Simulation::trace_column_names() const {
-  std::vector<std::string> names;
-  for (const auto& c : impl_->columns) names.push_back(c.name());
-  return names;
-}
-const std::vector<std::vector<double>>& Simulation::trace_samples() const { return impl_->samples; }
+std::vector<std::string> Simulation::trace_column_names() const { return impl_->traces.column_names(); }
+const std::vector<std::vector<double>>& Simulation::trace_samples() const { return impl_->traces.samples(); }
 
 const std::vector<double>& Simulation::trace(const std::string& variable, int cell) const {
-  for (std::size_t i = 0; i < impl_->columns.size(); ++i)
-    if (impl_->columns[i].variable == variable && impl_->columns[i].cell == cell) return impl_->samples[i];
-  throw std::out_of_range("no trace of '" + variable + "' for cell " + std::to_string(cell) +
-                          " (add it to output.traces)");
+  return impl_->traces.trace(variable, cell);
 }
 
 }  // namespace fibrodem

@@ -1,0 +1,102 @@
+#include "run/run_summary.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include "measure/conduction_velocity.hpp"
+
+namespace fibrodem {
+
+json mean_biomarkers(const std::vector<BeatBiomarkers>& beats) {
+  json means = json::object();
+  for (CellType type : {CellType::myocyte, CellType::fibroblast}) {
+    const char* fields[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
+    double sum[4] = {0, 0, 0, 0};
+    int count[4] = {0, 0, 0, 0};
+    for (const auto& b : beats) {
+      if (b.type != type) continue;
+      const double values[4] = {b.rmp_mV, b.apo_mV, b.apd90_ms, b.dvdt_max_mV_per_ms};
+      for (int i = 0; i < 4; ++i)
+        if (std::isfinite(values[i])) {
+          sum[i] += values[i];
+          ++count[i];
+        }
+    }
+    if (count[0] == 0) continue;
+    json m;
+    for (int i = 0; i < 4; ++i) m[fields[i]] = count[i] ? json(sum[i] / count[i]) : json(nullptr);
+    m["beats_measured"] = count[0];
+    means[cell_type_name(type)] = m;
+  }
+  return means;
+}
+
+json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats) {
+  json per_beat = json::array();
+  if (tissue.cell_count() < 2) return per_beat;
+  std::vector<bool> stimulated(tissue.cell_count(), false);
+  for (const auto& train : stimulus.trains())
+    for (int c : train.cells) stimulated[c] = true;
+  std::map<int, std::vector<ConductionSample>> beats_by_index;
+  for (const auto& b : beats)
+    beats_by_index[b.beat].push_back(
+        {tissue.y_um[b.cell], b.activation_ms, stimulated[b.cell], b.apo_mV - b.rmp_mV >= 20.0});
+  for (const auto& [beat, beat_cells] : beats_by_index)
+    if (const auto fit = fit_conduction_velocity(beat_cells))
+      per_beat.push_back({{"beat", beat}, {"cv_cm_per_s", fit->cv_cm_per_s}, {"r_squared", fit->r_squared},
+                          {"cells_used", fit->cells_used}, {"window_um", {fit->from_um, fit->to_um}}});
+  return per_beat;
+}
+
+json run_summary(const RunFacts& f) {
+  json s;
+  s["fibrodem_version"] = FIBRODEM_VERSION;
+  s["name"] = f.scene.name;
+  s["status"] = f.status;
+  if (!f.error.empty()) s["error"] = f.error;
+  s["manifest"] = f.scene.manifest;
+  s["plugins"] = json::array();
+  for (const auto& r : f.registry.loaded())
+    s["plugins"].push_back({{"name", r.name}, {"version", r.version}, {"file", r.file.string()},
+                            {"sha256", r.sha256}});
+  s["effects"] = json::array();
+  s["processes"] = json::array();
+  for (const auto& p : f.plan.built) {
+    s["effects"].push_back(p.name);
+    s["processes"].push_back({{"name", p.name}, {"reason", p.reason}});
+  }
+  s["notes"] = f.plan.notes;
+  s["warnings"] = f.warnings;
+  s["integrator"] = f.integrator;
+  s["wall_time_s"] = f.wall_s;
+  s["steps"] = f.steps;
+  s["simulated_ms"] = f.trace_times.empty() ? 0.0 : f.trace_times.back();
+  const auto myocytes = f.tissue.count(CellType::myocyte), fibroblasts = f.tissue.count(CellType::fibroblast);
+  s["cells"] = {{"myocyte", myocytes}, {"fibroblast", fibroblasts}};
+  s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))
+                           : json(nullptr);
+  s["mean_biomarkers"] = mean_biomarkers(f.beats);
+  s["conduction"] = conduction(f.tissue, f.system.stimulus, f.beats);
+  s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
+  s["peak_strain"] = f.mechanics ? json{{"xx", f.peak_strain[0]}, {"yy", f.peak_strain[1]}, {"xy", f.peak_strain[2]}}
+                                 : json(nullptr);
+  if (f.mechanics) s["mechanics_step_ms"] = f.mechanics_step_ms;  // the smallest step taken
+  // Where the wall time went (s): the parts of the cell system, mechanics, the rest.
+  s["wall_time_by_process_s"] = {{"ionic_models", f.system.seconds[CellSystem::kIonic]},
+                                 {"coupling", f.system.seconds[CellSystem::kCoupling]},
+                                 {"myofilament_models", f.system.seconds[CellSystem::kMyofilament]},
+                                 {"mechanics", f.mechanics_seconds}};
+  return s;
+}
+
+void write_summary(const std::filesystem::path& dir, const json& summary) {
+  const std::filesystem::path tmp = dir / "summary.json.tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << summary.dump(2) << '\n';
+  }
+  std::filesystem::rename(tmp, dir / "summary.json");  // atomic: never a half-written summary
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,56 @@
+// summary.json: what a run was (manifest, plugins, processes, integrator), how
+// it went (status, steps, wall time) and what it measured (mean biomarkers,
+// conduction velocity, peak strain). Written whole or not at all.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "integrate/cell_system.hpp"
+#include "measure/biomarkers.hpp"
+#include "model/plugin_registry.hpp"
+#include "scene/effects.hpp"
+#include "scene/json_reader.hpp"
+#include "scene/scene.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+// Per cell type with measured beats, the mean of each biomarker over the beats
+// where it is finite (null where it never is) and the number of beats measured.
+json mean_biomarkers(const std::vector<BeatBiomarkers>& beats);
+
+// Conduction velocity of each beat along the fibre (y), fitted over the
+// unstimulated cells. A cell counts as activated when its action potential
+// amplitude reaches 20 mV.
+json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats);
+
+// What summary.json reports, as the simulation holds it.
+struct RunFacts {
+  const Scene& scene;
+  const PluginRegistry& registry;
+  const ProcessPlan& plan;
+  const std::vector<std::string>& warnings;  // found at set-up
+  std::string integrator;                    // Integrator::describe()
+  const std::string& status;                 // set up | running | completed | failed
+  const std::string& error;                  // empty unless failed
+  double wall_s;
+  long long steps;
+  const std::vector<double>& trace_times;    // the last one is how far the run got
+  const Tissue& tissue;
+  const CellSystem& system;                  // its stimulus and wall time per part
+  const std::vector<BeatBiomarkers>& beats;
+  bool mechanics;                            // the three below only mean something with it
+  std::array<double, 3> peak_strain;
+  double mechanics_step_ms;                  // the smallest step taken
+  double mechanics_seconds;
+};
+
+json run_summary(const RunFacts& facts);
+
+// Writes dir/summary.json through a temporary file and a rename.
+void write_summary(const std::filesystem::path& dir, const json& summary);
+
+}  // namespace fibrodem

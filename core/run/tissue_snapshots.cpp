@@ -1,0 +1,78 @@
+#include "run/tissue_snapshots.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+#include "io/tissue_picture.hpp"
+#include "io/vtk_writer.hpp"
+
+namespace fibrodem {
+
+void write_tissue_overview(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue) {
+  PictureOptions picture;
+  picture.title = scene_name + ": " + std::to_string(tissue.count(CellType::myocyte)) + " myocytes, " +
+                  std::to_string(tissue.count(CellType::fibroblast)) + " fibroblasts";
+  write_tissue_png(tissue, dir / "tissue.png", nullptr, picture);
+  write_tissue_vtk(tissue, dir / "tissue.vtk");
+}
+
+Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
+                      std::vector<std::array<double, 2>>* displacement) {
+  Tissue now = tissue;
+  if (!mechanics) return now;
+  now.particles = mechanics->particles();
+  if (displacement)
+    for (std::size_t p = 0; p < now.particles.size(); ++p)
+      displacement->push_back({now.particles[p].x_um - tissue.particles[p].x_um,
+                               now.particles[p].y_um - tissue.particles[p].y_um});
+  return now;
+}
+
+void write_snapshot(const std::filesystem::path& dir, double t, const SnapshotSpec& spec,
+                    const std::string& scene_name, const Tissue& tissue, const MechanicsSolver* mechanics,
+                    const std::vector<double>& V_mV) {
+  char stem[64];
+  std::snprintf(stem, sizeof stem, "snapshot_%09.3f_ms", t);
+  if (spec.png) {
+    PictureOptions picture;
+    picture.value_label = "V (mV)";
+    picture.value_min = -90;
+    picture.value_max = 40;
+    picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, t);
+    // The scale of the undeformed tissue, so that every snapshot shows the
+    // deformation at the same magnification.
+    const auto box = tissue.bounds_um();
+    picture.pixels_per_um = picture.height_px / std::max(box[3] - box[2], 1.0);
+    write_tissue_png(present_tissue(tissue, mechanics, nullptr), dir / (std::string(stem) + ".png"), &V_mV,
+                     picture);
+  }
+  if (spec.vtk) {
+    std::vector<std::array<double, 2>> displacement;
+    const Tissue now = present_tissue(tissue, mechanics, &displacement);
+    write_tissue_vtk(now, dir / (std::string(stem) + ".vtk"), {{"V_mV", V_mV}}, false,
+                     mechanics ? &displacement : nullptr);
+  }
+}
+
+void write_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
+                const std::vector<BeatBiomarkers>& beats) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> activation(tissue.cell_count(), nan), apd90 = activation, rmp = activation, apo = activation;
+  for (const auto& b : beats) {
+    activation[b.cell] = b.activation_ms;
+    apd90[b.cell] = b.apd90_ms;
+    rmp[b.cell] = b.rmp_mV;
+    apo[b.cell] = b.apo_mV;
+  }
+  PictureOptions picture;
+  picture.value_label = "activation (ms)";
+  picture.title = scene_name + ": activation map, last beat";
+  write_tissue_png(tissue, dir / "activation_map.png", &activation, picture);
+  write_tissue_vtk(tissue, dir / "maps.vtk",
+                   {{"activation_ms", activation}, {"apd90_ms", apd90}, {"rmp_mV", rmp}, {"apo_mV", apo}}, false);
+}
+
+}  // namespace fibrodem

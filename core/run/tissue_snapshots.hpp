@@ -1,0 +1,37 @@
+// Pictures (PNG) and ParaView files (VTK) of the tissue: by cell type at the
+// start (output.tissue_picture), coloured by V during the run
+// (output.snapshots) and as per-cell maps of the last beat at the end
+// (output.maps).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "measure/biomarkers.hpp"
+#include "mechanics/mechanics_solver.hpp"
+#include "scene/scene.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+// tissue.png (by cell type) and tissue.vtk in dir.
+void write_tissue_overview(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue);
+
+// The tissue as it is now: deformed particles when mechanics runs (null: none),
+// and, if asked, each particle's displacement from the undeformed tissue.
+Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
+                      std::vector<std::array<double, 2>>* displacement);
+
+// The tissue coloured by membrane potential at time t (the step's end):
+// snapshot_<t>_ms.png and/or .vtk in dir, as spec asks.
+void write_snapshot(const std::filesystem::path& dir, double t, const SnapshotSpec& spec,
+                    const std::string& scene_name, const Tissue& tissue, const MechanicsSolver* mechanics,
+                    const std::vector<double>& V_mV);
+
+// Per-cell maps of the last recorded beat: activation_map.png and maps.vtk in dir.
+void write_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
+                const std::vector<BeatBiomarkers>& beats);
+
+}  // namespace fibrodem

@@ -1,0 +1,150 @@
+#include "run/trace_recorder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "model/population.hpp"
+#include "scene/effects.hpp"
+#include "scene/json_reader.hpp"
+#include "scene/manifest_error.hpp"
+#include "stimulus/stimulus.hpp"
+
+namespace fibrodem {
+
+namespace {
+
+constexpr const char* kStrainNames[3] = {"eps_xx", "eps_yy", "eps_xy"};
+
+std::string list_names(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// Points col at variable's state, else its output, in pop; false if neither.
+bool find_column(const Population& pop, TraceColumn& col) {
+  col.index = find_state(pop.info(), col.variable);
+  col.is_output = col.index < 0;
+  if (col.is_output) col.index = find_output(pop.info(), col.variable);
+  return col.index >= 0;
+}
+
+}  // namespace
+
+TraceRecorder::TraceRecorder(const Scene& scene, CellSystem& system, bool with_mechanics, bool contraction)
+    : from_ms_(scene.output.traces.from_ms),
+      every_ms_(scene.output.traces.every_ms),
+      until_ms_(scene.duration_ms) {
+  if (with_mechanics)  // the tissue strain is always traced with mechanics
+    for (int k = 0; k < 3; ++k) columns_.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k});
+  add_cell_columns(scene.output.traces, system, with_mechanics, contraction);
+  samples_.assign(columns_.size(), {});
+  if (scene.solver.method != "cvode") check_sampling_grid(scene.output.traces, scene.solver);
+}
+
+void TraceRecorder::add_cell_columns(const TraceSpec& spec, CellSystem& system, bool with_mechanics,
+                                     bool contraction) {
+  for (std::size_t i = 0; i < spec.cells.size(); ++i) {
+    const int cell = spec.cells[i];
+    if (cell >= static_cast<int>(system.cell_count()))
+      throw ManifestError(index_path("output.traces.cells", i),
+                          "cell " + std::to_string(cell) + " does not exist (the tissue has " +
+                              std::to_string(system.cell_count()) + " cells)");
+    for (std::size_t j = 0; j < spec.variables.size(); ++j) {
+      const std::string& var = spec.variables[j];
+      if (is_strain_variable(var)) {
+        if (!with_mechanics)
+          throw ManifestError(index_path("output.traces.variables", j),
+                              "\"" + var + "\" is the tissue strain, which needs the effect mechanics");
+        continue;
+      }
+      const auto [p, local] = system.where[cell];
+      TraceColumn col{var, cell, p, local, false, false, -1};
+      if (!find_column(system.populations[p], col))
+        for (std::size_t m = 0; m < system.myofilaments.size(); ++m)
+          if (system.myofilaments[m].host == p && find_column(system.myofilaments[m].pop, col)) {
+            col.myofilament = true;
+            col.population = static_cast<int>(m);
+          }
+      if (col.index < 0) {
+        std::vector<std::string> names;
+        system.for_each_part(cell, [&](const Population& pop, std::size_t) {
+          for (const auto& s : pop.info().states) names.push_back(s.name);
+          for (const auto& o : pop.info().outputs) names.push_back(o.name);
+        });
+        throw ManifestError(index_path("output.traces.variables", j),
+                            "\"" + var + "\" is neither a state nor an output of the models of cell " +
+                                std::to_string(cell) + " (" + system.populations[p].info().name +
+                                (contraction ? "" : "; myofilament models are loaded only with contraction") +
+                                "); they have: " + list_names(names));
+      }
+      need_outputs_ = need_outputs_ || col.is_output;
+      columns_.push_back(col);
+    }
+  }
+}
+
+// A fixed-step method samples at step ends only: every_ms and from_ms must lie
+// on the step grid.
+void TraceRecorder::check_sampling_grid(const TraceSpec& spec, const SolverSpec& solver) {
+  for (const auto& [value, path] : {std::pair{spec.every_ms, "output.traces.every_ms"},
+                                    std::pair{spec.from_ms, "output.traces.from_ms"}}) {
+    const double steps_per = value / solver.dt_ms;
+    if (std::abs(steps_per - std::round(steps_per)) > 1e-6 * std::max(1.0, steps_per))
+      throw ManifestError(path, "expected a multiple of solver.dt_ms (" + format_number(solver.dt_ms) +
+                                    " ms) for a fixed-step method, got " + format_number(value));
+  }
+}
+
+void TraceRecorder::open_csv(const std::filesystem::path& file) {
+  std::vector<std::string> header = {"t_ms"};
+  for (const auto& c : columns_) header.push_back(c.name());
+  csv_ = CsvWriter(file, header);
+}
+
+void TraceRecorder::flush_csv() {
+  if (csv_.is_open()) csv_.flush();
+}
+
+double TraceRecorder::next_sample_ms() const {
+  if (columns_.empty()) return std::numeric_limits<double>::infinity();
+  const double t = from_ms_ + static_cast<double>(next_sample_index_) * every_ms_;
+  return t <= until_ms_ + kTimeEpsilon_ms ? t : std::numeric_limits<double>::infinity();
+}
+
+void TraceRecorder::sample(double t, CellSystem& system, const MechanicsSolver* mechanics) {
+  if (need_outputs_) {
+    system.evaluate(t, t);
+  }
+  times_.push_back(t);
+  if (csv_.is_open()) csv_.cell(t);
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    const TraceColumn& c = columns_[i];
+    const Population& pop = c.myofilament ? system.myofilaments[c.population].pop : system.populations[c.population];
+    const double value = c.strain >= 0 ? mechanics->strain()[c.strain]
+                         : c.is_output ? pop.outputs[c.index * pop.size() + c.local]
+                                       : pop.y[c.index * pop.size() + c.local];
+    samples_[i].push_back(value);
+    if (csv_.is_open()) csv_.cell(value);
+  }
+  if (csv_.is_open()) csv_.end_row();
+  ++next_sample_index_;
+}
+
+std::vector<std::string> TraceRecorder::column_names() const {
+  std::vector<std::string> names;
+  for (const auto& c : columns_) names.push_back(c.name());
+  return names;
+}
+
+const std::vector<double>& TraceRecorder::trace(const std::string& variable, int cell) const {
+  for (std::size_t i = 0; i < columns_.size(); ++i)
+    if (columns_[i].variable == variable && columns_[i].cell == cell) return samples_[i];
+  throw std::out_of_range("no trace of '" + variable + "' for cell " + std::to_string(cell) +
+                          " (add it to output.traces)");
+}
+
+}  // namespace fibrodem
