@@ -89,6 +89,8 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
   CHECK(s.density_kg_per_m3 == 1053.0);
   CHECK(s.area_rule == AreaRule::union_area);
   CHECK_FALSE(s.fibroblasts_fixed);
+  CHECK(s.contact_detection);       // PFC detects new contacts
+  CHECK(s.local_damping == 0.0);    // Table 1 lists dashpots only
 
   const json set = {{"kn_N_per_m", 39}, {"area_rule", "rectangle"}, {"fibroblasts_fixed", true},
                     {"fibroblast_stiffness_factor", 1.5}, {"strain_bodies", "bodies"}};
@@ -102,7 +104,9 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
   CHECK(s2.strain_bodies == StrainBodies::bodies);
 
   for (const json& bad : {json{{"kn_N_per_m", -1}}, json{{"area_rule", "square"}},
-                          json{{"contact_law", "hertz"}}, json{{"safety_factor", 2}}}) {
+                          json{{"contact_law", "hertz"}}, json{{"safety_factor", 2}},
+                          json{{"local_damping", 1.5}}, json{{"contact_skin_um", 0}},
+                          json{{"contact_detection", "yes"}}}) {
     JsonReader rb(bad, "mechanics");
     const std::string key = bad.begin().key();
     CHECK_THROWS_WITH_AS(read_dem_spec(rb), doctest::Contains(("mechanics." + key).c_str()), ManifestError);
