@@ -83,7 +83,7 @@ double rule_area(AreaRule rule, int n, double r, double s) {
 }
 
 ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, double s0,
-                            double lambda) {
+                            double lambda, double r_guess) {
   if (!(lambda > 0) || !std::isfinite(lambda))
     throw std::invalid_argument("cell length ratio must be positive, got " + std::to_string(lambda));
   if (n <= 1 || lambda == 1.0) return {r0, s0};
@@ -102,7 +102,7 @@ ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, do
         double hi = std::max(r0, std::sqrt(a0 / M_PI));  // A(hi) >= pi hi^2 >= a0
         auto f = [&](double r) { return union_area(n, r, s) - a0; };
         auto df = [&](double r) { return union_area_dr(n, r, s); };
-        return {bracketed_newton(f, df, 0.0, hi, r0 / std::sqrt(lambda)), s};
+        return {bracketed_newton(f, df, 0.0, hi, r_guess > 0 ? r_guess : r0 / std::sqrt(lambda)), s};
       }
     }
   }
@@ -136,7 +136,7 @@ ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, do
         const double s = spacing(r);
         return union_area_dr(n, r, s) - 2.0 / m * union_area_ds(n, r, s);
       };
-      const double r = bracketed_newton(g, dg, 0.0, hi, r0);
+      const double r = bracketed_newton(g, dg, 0.0, hi, r_guess > 0 ? r_guess : r0);
       return {r, spacing(r)};
     }
   }

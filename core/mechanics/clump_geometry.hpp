@@ -33,7 +33,9 @@ double rule_area(AreaRule rule, int n, double r, double s);
 // spacing mode s = s0 lambda; total mode (N-1)s + 2r = lambda ((N-1)s0 + 2r0);
 // r such that rule_area is that of the rest shape. Throws std::invalid_argument
 // if no such shape exists (e.g. the rectangle rule in total mode below ~0.8).
+// r_guess (> 0) starts the union rule's Newton iteration (e.g. the radius at the
+// previous step: a couple of iterations instead of several); the root is the same.
 ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, double s0,
-                            double lambda);
+                            double lambda, double r_guess = 0);
 
 }  // namespace fibrodem

@@ -270,8 +270,8 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
   for (std::size_t c = 0; c < cells_; ++c) {
     const int b = cell_body_[c];
     if (b < 0 || bn_[b] < 2 || ratio[c] == blambda_[b]) continue;
-    const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b],
-                                              bs0_[b], ratio[c]);
+    const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b],
+                                              ratio[c], btarget_r_[b]);
     blambda_[b] = ratio[c];
     btarget_r_[b] = shape.r;
     btarget_s_[b] = shape.s;
@@ -290,6 +290,7 @@ void DemSolver::update_geometry(double dt_s) {
 
 void DemSolver::place_particles() {
   for (std::size_t b = 0; b < bx_.size(); ++b) {
+    if (bn_[b] < 2) continue;  // a disk has no axis (its particle sits at its centre)
     bux_[b] = -std::sin(bth_[b]);
     buy_[b] = std::cos(bth_[b]);
   }
