@@ -34,12 +34,69 @@ bool ContactDetector::bonded(int p, int q) const {
 
 bool ContactDetector::needs_rebuild(const double* x, const double* y, const double* r) const {
   if (builds_ == 0) return true;
-  double worst = 0;
-  for (std::size_t i = 0; i < body_.size(); ++i) {
-    const double dx = x[i] - x0_[i], dy = y[i] - y0_[i];
-    worst = std::max(worst, std::sqrt(dx * dx + dy * dy) + std::max(0.0, r[i] - r0_[i]));
+  const std::size_t n = body_.size();
+  // Best-fit affine map from the built positions to these: A = M S0^-1,
+  // M = sum (x - c)(x0 - c0)^T.
+  double cx = 0, cy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    cx += x[i];
+    cy += y[i];
   }
-  return 2 * worst > skin_;
+  cx /= static_cast<double>(n);
+  cy /= static_cast<double>(n);
+  double a00 = 1, a01 = 0, a10 = 0, a11 = 1;
+  if (affine_) {
+    double mxx = 0, mxy = 0, myx = 0, myy = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_, dx = x[i] - cx, dy = y[i] - cy;
+      mxx += dx * dx0;
+      mxy += dx * dy0;
+      myx += dy * dx0;
+      myy += dy * dy0;
+    }
+    a00 = mxx * s0inv_[0][0] + mxy * s0inv_[1][0];
+    a01 = mxx * s0inv_[0][1] + mxy * s0inv_[1][1];
+    a10 = myx * s0inv_[0][0] + myy * s0inv_[1][0];
+    a11 = myx * s0inv_[0][1] + myy * s0inv_[1][1];
+  }
+  // The largest departure from the affine motion and the largest radius growth.
+  double u2 = 0, dr = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
+    const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
+    u2 = std::max(u2, ux * ux + uy * uy);
+    dr = std::max(dr, r[i] - r0_[i]);
+  }
+  // Smallest singular value of A (2 x 2): s^2 = (T - sqrt(T^2 - 4 D^2)) / 2.
+  const double t = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11, d = a00 * a11 - a01 * a10;
+  const double s_min = std::sqrt(std::max(0.0, 0.5 * (t - std::sqrt(std::max(0.0, t * t - 4 * d * d)))));
+  const double worst_r = s_min < 1 ? 2 * rmax0_ : 0.0;
+  return s_min * (worst_r + skin_) - worst_r < 2 * (std::sqrt(u2) + std::max(0.0, dr));
+}
+
+// The centroid and inverse second moment of the built positions, for the
+// affine fit in needs_rebuild().
+void ContactDetector::remember_moments() {
+  const std::size_t n = x0_.size();
+  cx0_ = cy0_ = rmax0_ = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    cx0_ += x0_[i] / static_cast<double>(n);
+    cy0_ += y0_[i] / static_cast<double>(n);
+    rmax0_ = std::max(rmax0_, r0_[i]);
+  }
+  double sxx = 0, sxy = 0, syy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = x0_[i] - cx0_, dy = y0_[i] - cy0_;
+    sxx += dx * dx;
+    sxy += dx * dy;
+    syy += dy * dy;
+  }
+  const double det = sxx * syy - sxy * sxy;
+  affine_ = n >= 3 && det > 1e-10 * (sxx + syy) * (sxx + syy);
+  if (!affine_) return;
+  s0inv_[0][0] = syy / det;
+  s0inv_[0][1] = s0inv_[1][0] = -sxy / det;
+  s0inv_[1][1] = sxx / det;
 }
 
 void ContactDetector::build(const double* x, const double* y, const double* r,
@@ -50,6 +107,7 @@ void ContactDetector::build(const double* x, const double* y, const double* r,
   y0_.assign(y, y + n);
   r0_.assign(r, r + n);
   ++builds_;
+  remember_moments();
   if (n < 2) return;
   double xmin = x[0], xmax = x[0], ymin = y[0], ymax = y[0], rmax = r[0];
   for (std::size_t i = 1; i < n; ++i) {
