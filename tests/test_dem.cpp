@@ -235,6 +235,45 @@ TEST_CASE("dem: two bonded disks oscillate at the analytic period and decay by t
   }
 }
 
+TEST_CASE("dem: a parallel bond resists bending at kb = kn R^2/3; the contact bond is a hinge") {
+  // Two bonded disks counter-spinning (+w, -w): their surfaces move together
+  // at the contact, so no force acts. With linear_parallel_bond the bond's
+  // moment M = -kb (theta_q - theta_p) gives each disk I theta'' = -2 kb theta:
+  // a period 2 pi sqrt(I / (2 kb)), kb = kn R^2 / 3, R = 12.5 um; with
+  // linear_bond the spins never change.
+  const Tissue t = bonded_pair();
+  for (const std::string law : {"linear_bond", "linear_parallel_bond"}) {
+    CAPTURE(law);
+    DemSpec spec;
+    spec.contact_law = law;
+    spec.damping_ratio_normal = spec.damping_ratio_shear = 0;
+    DemSolver dem(t, spec);
+    const double I = dem.body(0).inertia_kg_m2, R = 12.5e-6;
+    const double kb = 26 * R * R / 3;
+    const double period_ms = 2 * M_PI * std::sqrt(I / (2 * kb)) * 1e3;
+    const double dt = std::min(dem.stable_step_ms(), period_ms / 500);
+    dem.set_body_velocity(0, 0, 0, 1.0);
+    dem.set_body_velocity(1, 0, 0, -1.0);
+    std::vector<double> crossings;
+    double prev = 1.0, w_min = 1.0;
+    for (int k = 1; k <= 3000; ++k) {
+      dem.step(dt);
+      const double w = dem.body(0).omega_rad_per_s;
+      if ((prev > 0) != (w > 0)) crossings.push_back((k - 1 + prev / (prev - w)) * dt);
+      prev = w;
+      w_min = std::min(w_min, w);
+    }
+    if (law == "linear_bond") {
+      CHECK(w_min == doctest::Approx(1.0).epsilon(1e-9));
+    } else {
+      REQUIRE(crossings.size() >= 4);
+      const double measured = 2 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+      CHECK(measured == doctest::Approx(period_ms).epsilon(1e-3));
+      CHECK(dem.bonds().kb[0] == doctest::Approx(kb).epsilon(1e-12));
+    }
+  }
+}
+
 TEST_CASE("dem: unbonded disks collide as a linear spring-dashpot, and pass through without detection") {
   // Two free round fibroblasts 5 um apart (no bond), closing at 2 mm/s: the
   // contact found by detection is PFC's linear model. Analytic (a damped

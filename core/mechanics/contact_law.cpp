@@ -13,14 +13,17 @@ void BondSet::resize(std::size_t n) {
   ref_gap.resize(n);
   cn.resize(n);
   cs.resize(n);
+  kb.resize(n);
   fn.resize(n);
   fs.resize(n);
+  mb.resize(n);
   intact.resize(n);
 }
 
 const std::map<std::string, ContactLawFactory>& contact_laws() {
   static const std::map<std::string, ContactLawFactory> laws = {
       {"linear_bond", make_linear_bond_law},
+      {"linear_parallel_bond", make_linear_parallel_bond_law},
   };
   return laws;
 }

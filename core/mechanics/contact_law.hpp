@@ -37,7 +37,9 @@ struct BondSet {
   std::vector<double> m_eff;          // kg, m_p m_q / (m_p + m_q) of the bodies (clump masses for pebbles)
   std::vector<double> ref_gap;        // m, the gap at formation (bonds are not pre-loaded)
   std::vector<double> cn, cs;         // N s/m, dashpot coefficients (law's prepare())
+  std::vector<double> kb;             // N m/rad, bending stiffness (laws with bending; 0 for contacts)
   std::vector<double> fn, fs;         // N, spring forces (state; shear in the contact frame)
+  std::vector<double> mb;             // N m, bending moment on q (state; laws with bending)
   std::vector<std::uint8_t> intact;   // 1 while the bond holds (a broken bond is a plain contact)
   std::size_t size() const { return p.size(); }
   void resize(std::size_t n);
@@ -50,8 +52,10 @@ struct BondBlock {
   const double* gap = nullptr;   // m
   const double* dn = nullptr;    // m, normal increment over the step (opening > 0)
   const double* ds = nullptr;    // m, shear increment over the step
+  const double* dtheta = nullptr;  // rad, rotation of q relative to p over the step
   double* fn_total = nullptr;    // N, normal force on q (compression > 0), springs + dashpots
   double* fs_total = nullptr;    // N, shear force on q along t
+  double* m_total = nullptr;     // N m, moment on q (minus on p); zeroed by the solver, set by laws with bending
 };
 
 class ContactLaw {
@@ -66,6 +70,9 @@ class ContactLaw {
   // The stiffness [N/m] that sets the stable step for a contact of stiffness k
   // (normal: shear = false), including the law's dashpot correction.
   virtual double stable_step_stiffness(double k, bool shear) const = 0;
+  // The bending stiffness [N m/rad] of a bond of normal stiffness kn between
+  // particles of radii r_p, r_q [m]; 0 for laws that transmit no moment.
+  virtual double bending_stiffness(double /*kn*/, double /*r_p*/, double /*r_q*/) const { return 0; }
 };
 
 using ContactLawFactory = std::unique_ptr<ContactLaw> (*)(const DemSpec&);
@@ -75,5 +82,6 @@ std::unique_ptr<ContactLaw> make_contact_law(const DemSpec& spec);
 
 // Each law's factory, defined in contact_laws/<name>.cpp.
 std::unique_ptr<ContactLaw> make_linear_bond_law(const DemSpec& spec);
+std::unique_ptr<ContactLaw> make_linear_parallel_bond_law(const DemSpec& spec);
 
 }  // namespace fibrodem

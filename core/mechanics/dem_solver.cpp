@@ -164,6 +164,7 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
       throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
     set_contact_constants(bonds_, k, p, q);
     bonds_.ref_gap[k] = std::hypot(px_[q] - px_[p], py_[q] - py_[p]) - br_[pbody_[p]] - br_[pbody_[q]];
+    bonds_.kb[k] = law_->bending_stiffness(bonds_.kn[k], br_[pbody_[p]], br_[pbody_[q]]);
     bonds_.intact[k] = 1;
     bonded[k] = {p, q};
   }
@@ -180,7 +181,8 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
 }
 
 // Stiffness by inheritance and cell types, effective mass of the two bodies (a
-// fixed body's partner alone); state zeroed, reference gap 0 (a contact).
+// fixed body's partner alone); state zeroed, reference gap 0 and no bending
+// (a contact).
 void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q) const {
   const double series = spec_.stiffness_inheritance == StiffnessInheritance::series ? 0.5 : 1.0;
   const int bp = pbody_[p], bq = pbody_[q];
@@ -195,8 +197,10 @@ void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q)
                  : bfixed_[bq] && !bfixed_[bp] ? mp
                                                : mp * mq / (mp + mq);
   set.ref_gap[k] = 0;
+  set.kb[k] = 0;
   set.fn[k] = 0;
   set.fs[k] = 0;
+  set.mb[k] = 0;
   set.intact[k] = 0;
 }
 
@@ -244,7 +248,7 @@ void DemSolver::compute_stable_step() {
       const double rn = rx * ny - ry * nx;    // rho x n
       const double rt = rx * nx + ry * ny;    // rho x t, t = (-ny, nx)
       kt[b] += kn + ks;
-      kr[b] += kn * rn * rn + ks * rt * rt;
+      kr[b] += kn * rn * rn + ks * rt * rt + set->kb[k];
     }
   }
   double tmin = std::numeric_limits<double>::infinity();
@@ -354,8 +358,11 @@ void DemSolver::add_contact_forces(BondSet& set, double dt_s) {
       ny_[j] = ny;
       dn_[j] = (dvx * nx + dvy * ny) * dt_s;
       ds_[j] = (-dvx * ny + dvy * nx) * dt_s;
+      dth_[j] = (wq - wp) * dt_s;
+      mt_[j] = 0;
     }
-    const BondBlock block{begin, count, gap_.data(), dn_.data(), ds_.data(), fnt_.data(), fst_.data()};
+    const BondBlock block{begin,        count,       gap_.data(), dn_.data(), ds_.data(),
+                          dth_.data(), fnt_.data(), fst_.data(), mt_.data()};
     law_->update(set, block, dt_s);
     // Forces on q (minus on p); the shear force's moment about each centre.
     for (std::size_t j = 0; j < count; ++j) {
@@ -369,8 +376,8 @@ void DemSolver::add_contact_forces(BondSet& set, double dt_s) {
       pfy_[p] -= fy;
       const double half_gap = 0.5 * gap_[j];
       // (c - x_q) x f = (-lq n) x (fs t) = -lq fs; (c - x_p) x (-f) = -lp fs.
-      ptq_[q] -= (pr_[q] + half_gap) * fs;
-      ptq_[p] -= (pr_[p] + half_gap) * fs;
+      ptq_[q] += mt_[j] - (pr_[q] + half_gap) * fs;
+      ptq_[p] += -mt_[j] - (pr_[p] + half_gap) * fs;
     }
   }
 }
@@ -534,6 +541,7 @@ double DemSolver::elastic_energy_J() const {
     for (std::size_t k = 0; k < set->size(); ++k) {
       e += 0.5 * set->fn[k] * set->fn[k] / set->kn[k];
       if (set->ks[k] > 0) e += 0.5 * set->fs[k] * set->fs[k] / set->ks[k];
+      if (set->kb[k] > 0) e += 0.5 * set->mb[k] * set->mb[k] / set->kb[k];
     }
   return e;
 }

@@ -129,7 +129,7 @@ class DemSolver final : public MechanicsSolver {
   BondSet bonds_, contacts_, next_contacts_;
   std::unique_ptr<ContactDetector> detector_;
   std::vector<std::pair<int, int>> candidate_pairs_;
-  std::array<double, kBlock> gap_{}, dn_{}, ds_{}, nx_{}, ny_{}, fnt_{}, fst_{};
+  std::array<double, kBlock> gap_{}, dn_{}, ds_{}, dth_{}, nx_{}, ny_{}, fnt_{}, fst_{}, mt_{};
 
   double stable_step_ms_ = 0;
   double time_s_ = 0;

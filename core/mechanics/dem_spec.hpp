@@ -46,6 +46,9 @@ struct DemSpec {
   // 0.7 in PFC 4; the seed lists only the dashpots).
   double local_damping = 0.0;
   double fibroblast_stiffness_factor = 1.0;  // kn, ks x this if either end is a fibroblast (seed: 1.5)
+  // `linear_parallel_bond` only: the bond's half-width R = this x min(r_p, r_q)
+  // (PFC's pb_rmul), which sets its bending stiffness kn R^2 / 3.
+  double bond_radius_multiplier = 1.0;
   StiffnessInheritance stiffness_inheritance = StiffnessInheritance::contact;
   double density_kg_per_m3 = 1053.0;      // Table 1: 1.053 g/ml; 2D disks of unit thickness (1 m)
   double safety_factor = 0.8;             // stable step = safety x min t_crit
@@ -63,7 +66,7 @@ struct DemSpec {
 // Reads the keys of a `mechanics` object (all optional; defaults as above):
 // solver, contact_law, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
 // damping_ratio_shear, tensile_strength_N, shear_strength_N, friction, local_damping,
-// fibroblast_stiffness_factor, stiffness_inheritance (contact|series),
+// fibroblast_stiffness_factor, bond_radius_multiplier, stiffness_inheritance (contact|series),
 // density_kg_per_m3, safety_factor, dt_ms, area_rule (union|capsule|rectangle),
 // length_mode (spacing|total), fibroblasts_fixed, strain_bodies
 // (particles|bodies), contact_detection, contact_skin_um. Errors name the JSON path. Does not call finish(): the
