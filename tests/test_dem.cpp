@@ -91,6 +91,7 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
   CHECK_FALSE(s.fibroblasts_fixed);
   CHECK(s.contact_detection);       // PFC detects new contacts
   CHECK(s.local_damping == 0.0);    // Table 1 lists dashpots only
+  CHECK(s.bond_radius_multiplier == 1.0);  // PFC's pb_rmul default
 
   const json set = {{"kn_N_per_m", 39}, {"area_rule", "rectangle"}, {"fibroblasts_fixed", true},
                     {"fibroblast_stiffness_factor", 1.5}, {"strain_bodies", "bodies"}};
@@ -106,7 +107,7 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
   for (const json& bad : {json{{"kn_N_per_m", -1}}, json{{"area_rule", "square"}},
                           json{{"contact_law", "hertz"}}, json{{"safety_factor", 2}},
                           json{{"local_damping", 1.5}}, json{{"contact_skin_um", 0}},
-                          json{{"contact_detection", "yes"}}}) {
+                          json{{"contact_detection", "yes"}}, json{{"bond_radius_multiplier", -1}}}) {
     JsonReader rb(bad, "mechanics");
     const std::string key = bad.begin().key();
     CHECK_THROWS_WITH_AS(read_dem_spec(rb), doctest::Contains(("mechanics." + key).c_str()), ManifestError);
