@@ -231,7 +231,10 @@ void DemSolver::rebuild_contacts() {
 
 void DemSolver::compute_stable_step() {
   const std::size_t nb = bx_.size();
-  std::vector<double> kt(nb, 0.0), kr(nb, 0.0);
+  std::vector<double>& kt = body_kt_;
+  std::vector<double>& kr = body_kr_;
+  kt.assign(nb, 0.0);
+  kr.assign(nb, 0.0);
   for (const BondSet* set : {&bonds_, &contacts_})
   for (std::size_t k = 0; k < set->size(); ++k) {
     const int p = set->p[k], q = set->q[k];
@@ -386,7 +389,9 @@ void DemSolver::add_contact_forces(BondSet& set, double dt_s) {
 // local damping; alpha 0: plain Newton).
 void DemSolver::kick(double h_s) {
   const double alpha = spec_.local_damping;
-  auto damped = [alpha](double f, double v) { return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f; };
+  auto damped = [alpha](double f, double v) {
+    return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f;
+  };
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
     bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;

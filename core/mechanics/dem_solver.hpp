@@ -132,6 +132,7 @@ class DemSolver final : public MechanicsSolver {
   std::array<double, kBlock> gap_{}, dn_{}, ds_{}, dth_{}, nx_{}, ny_{}, fnt_{}, fst_{}, mt_{};
 
   double stable_step_ms_ = 0;
+  std::vector<double> body_kt_, body_kr_;  // stable-step scratch: summed stiffness per body
   double time_s_ = 0;
   std::size_t steps_ = 0;
   std::array<double, 3> strain_{0, 0, 0};
