@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "mechanics/clump_geometry.hpp"
@@ -498,6 +499,17 @@ TEST_CASE("dem: a uniform contraction gives the imposed strain along the fibre")
     CHECK(dem.strain()[1] == doctest::Approx(std::log(myocyte_pitch_um(spec, 0.9) / 125)).epsilon(5e-3));
     CHECK(dem.strain()[0] == doctest::Approx(std::log((p + 2 * (c.r - kParticleRadius_um)) / p)).epsilon(5e-3));
     CHECK(std::abs(dem.strain()[2]) < 1e-4);
+  }
+}
+
+TEST_CASE("dem: a body gone non-finite stops the step with an error, never a silent NaN") {
+  for (bool detect : {true, false}) {
+    CAPTURE(detect);
+    DemSpec spec;
+    spec.contact_detection = detect;
+    DemSolver dem(bonded_pair(), spec);
+    dem.set_body_velocity(0, std::numeric_limits<double>::quiet_NaN(), 0, 0);
+    CHECK_THROWS_WITH_AS(dem.step(dem.step_ms()), doctest::Contains("went unstable"), std::runtime_error);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace fibrodem {
 
@@ -64,14 +65,15 @@ bool ContactDetector::needs_rebuild(const double* x, const double* y, const doub
   for (std::size_t i = 0; i < n; ++i) {
     const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
     const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
-    u2 = std::max(u2, ux * ux + uy * uy);
-    dr = std::max(dr, r[i] - r0_[i]);
+    const double v2 = ux * ux + uy * uy, g = r[i] - r0_[i];
+    if (!(v2 <= u2)) u2 = v2;  // a NaN wins: the build then names it
+    if (!(g <= dr)) dr = g;
   }
   // Smallest singular value of A (2 x 2): s^2 = (T - sqrt(T^2 - 4 D^2)) / 2.
   const double t = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11, d = a00 * a11 - a01 * a10;
   const double s_min = std::sqrt(std::max(0.0, 0.5 * (t - std::sqrt(std::max(0.0, t * t - 4 * d * d)))));
   const double worst_r = s_min < 1 ? 2 * rmax0_ : 0.0;
-  return s_min * (worst_r + skin_) - worst_r < 2 * (std::sqrt(u2) + std::max(0.0, dr));
+  return !(s_min * (worst_r + skin_) - worst_r >= 2 * (std::sqrt(u2) + std::max(0.0, dr)));
 }
 
 // The centroid and inverse second moment of the built positions, for the
@@ -102,6 +104,10 @@ void ContactDetector::remember_moments() {
 void ContactDetector::build(const double* x, const double* y, const double* r,
                             std::vector<std::pair<int, int>>& pairs) {
   const std::size_t n = body_.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(x[i] + y[i] + r[i]))
+      throw std::runtime_error("contact detection: particle " + std::to_string(i) +
+                               " has a non-finite position or radius (the mechanics went unstable)");
   pairs.clear();
   x0_.assign(x, x + n);
   y0_.assign(y, y + n);

@@ -35,7 +35,8 @@ class ContactDetector {
   // True if some unlisted pair may have come into contact since the last build
   // (always before the first build).
   bool needs_rebuild(const double* x, const double* y, const double* r) const;
-  // Lists the candidate pairs (p < q, ascending) at these positions and radii [m].
+  // Lists the candidate pairs (p < q, ascending) at these positions and radii
+  // [m]; throws std::runtime_error naming a particle whose position is not finite.
   void build(const double* x, const double* y, const double* r, std::vector<std::pair<int, int>>& pairs);
 
   std::size_t builds() const { return builds_; }

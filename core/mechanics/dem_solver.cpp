@@ -453,6 +453,10 @@ void DemSolver::step(double dt_ms) {
       vyx += vy * x;
       vyy += vy * y;
     }
+    // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
+    if (!std::isfinite(sx + sy + svx + svy))
+      throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +
+                               fmt(time_ms() + dt_ms) + " ms (the mechanics went unstable)");
     if (n >= 2) {
       const double inv_n = 1.0 / static_cast<double>(n);
       const double mx = sx * inv_n, my = sy * inv_n, mvx = svx * inv_n, mvy = svy * inv_n;
