@@ -137,3 +137,23 @@ TEST_CASE("mechanics: the tissue contracts, strain is traced, and V is bit for b
   CHECK(std::find(names.begin(), names.end(), "eps_yy") != names.end());
   CHECK(without.summary()["peak_strain"].is_null());
 }
+
+TEST_CASE("mechanics: a lone myocyte has no contacts, yet DEM steps and its particles close up") {
+  // No contact, no stiffness limit: the step is capped at 1 ms (before the
+  // cap, the step was infinite and DEM never moved: strain 0).
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "lone_em", "duration_ms": 300,
+    "effects": ["electrophysiology", "mechanics"],
+    "tissue": {"builder": "single_cell", "type": "myocyte"},
+    "cells": {"myocyte": {"model": "colman", "myofilament": "rice"}},
+    "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 2000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const json s = sim.summary();
+  CHECK(s["mechanics_step_ms"].get<double>() == doctest::Approx(1.0));
+  // Its 7 particles close up along the fibre (y) as it shortens by ~10 %.
+  CHECK(s["peak_strain"]["yy"].get<double>() < -0.02);
+}

@@ -513,6 +513,41 @@ TEST_CASE("dem: a body gone non-finite stops the step with an error, never a sil
   }
 }
 
+TEST_CASE("dem: contacts that form lower the stable step; a fixed step above it stops with both numbers") {
+  // Two free disks 5 um apart, no bond: no stiffness limit at first (the step
+  // is capped at 1 ms); once they are listed as a contact the stable step is
+  // that of one contact, 0.8 sqrt(m / k') ~ 0.10 ms, so a fixed 0.2 ms is
+  // refused then, while the automatic step follows.
+  Tissue t;
+  add_round_fibroblast(t, 0, 0);
+  add_round_fibroblast(t, 2 * kParticleRadius_um + 5, 0);
+  t.finalise();
+  DemSpec spec;
+  DemSolver automatic(t, spec);
+  CHECK(automatic.stable_step_ms() == 1.0);
+  spec.dt_ms = 0.2;
+  DemSolver fixed(t, spec);
+  for (DemSolver* dem : {&automatic, &fixed}) {
+    dem->set_body_velocity(0, 1e-3, 0, 0);
+    dem->set_body_velocity(1, -1e-3, 0, 0);
+  }
+  bool refused = false;
+  for (int k = 0; k < 100 && !refused; ++k) {
+    try {
+      fixed.step(fixed.step_ms());
+    } catch (const std::invalid_argument& e) {
+      refused = true;
+      CHECK(std::string(e.what()).find("new contacts lower the stable DEM step") != std::string::npos);
+      CHECK(std::string(e.what()).find("mechanics.dt_ms 0.2") != std::string::npos);
+    }
+  }
+  CHECK(refused);
+  for (int k = 0; k < 100 && automatic.contacts().size() == 0; ++k) automatic.step(automatic.step_ms());
+  REQUIRE(automatic.contacts().size() == 1);
+  CHECK(automatic.stable_step_ms() < 0.2);
+  CHECK(automatic.stable_step_ms() > 0.05);
+}
+
 TEST_CASE("dem: a step above the stable one is refused") {
   const Tissue t = small_in_series(0.4);
   DemSpec spec;

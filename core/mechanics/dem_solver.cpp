@@ -12,6 +12,9 @@ namespace fibrodem {
 namespace {
 
 constexpr double kUm = 1e-6;  // m per um
+// The longest DEM step [ms]: cells' lengths change over ms, and at the ~um/ms
+// speeds of contracting tissue a body moves less than the contact skin in it.
+constexpr double kLongestStep_ms = 1.0;
 
 std::string fmt(double v) {
   std::ostringstream o;
@@ -260,7 +263,10 @@ void DemSolver::compute_stable_step() {
     if (kt[b] > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt[b]));
     if (kr[b] > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr[b]));
   }
-  stable_step_ms_ = spec_.safety_factor * tmin * 1e3;
+  // Bodies without contacts have no stiffness limit: cap the step (PFC also
+  // bounds it kinematically), so that a lone contracting clump still moves and
+  // free bodies cannot cross a contact skin between two checks of the list.
+  stable_step_ms_ = std::min(spec_.safety_factor * tmin * 1e3, kLongestStep_ms);
 }
 
 void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
