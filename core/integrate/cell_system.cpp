@@ -56,14 +56,19 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 }  // namespace
 
-void CellSystem::evaluate(double t_stim_ms, double t_ms) {
+void CellSystem::evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after) {
+  if (!after) return pop.evaluate(t_ms);
+  pop.evaluate(t_ms, [&](std::size_t begin, std::size_t end) { after(pop, begin, end); });
+}
+
+void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after) {
   auto clock = Clock::now();
   // 1. Myofilaments read their host's cytosolic Ca (a state of the host).
   for (auto& m : myofilaments) {
     const Population& host = populations[m.host];
     const std::size_t n = host.size();
     std::copy_n(host.y.begin() + m.host_ca_state * n, n, m.pop.inputs.begin());
-    m.pop.evaluate(t_ms);
+    evaluate_population(m.pop, t_ms, after);
   }
   if (!myofilaments.empty()) seconds[kMyofilament] += since(clock);
   // 2. Currents into each cell.
@@ -93,7 +98,7 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms) {
   seconds[kCoupling] += since(clock);
   // 4. The ionic models.
   clock = Clock::now();
-  for (auto& pop : populations) pop.evaluate(t_ms);
+  for (auto& pop : populations) evaluate_population(pop, t_ms, after);
   seconds[kIonic] += since(clock);
 }
 

@@ -5,48 +5,68 @@
 #include <cmath>
 #include <sstream>
 
+#include "model/simd.hpp"
+
 namespace fibrodem {
+
+namespace {
+
+// One state's row over cells [begin, end), in SIMD lanes: a gate exactly from
+// its linear form (y_inf + (y0 - y_inf) exp(b dt); Euler where b = 0), any
+// other state by Euler with the slope taken at ys.
+void update_row(double* y, const double* y0, const double* ys, const double* a, const double* b,
+                std::size_t begin, std::size_t end, double dt, bool exponential) {
+  using simd::Real;
+  for (std::size_t c = begin; c < end; c += simd::kLanes) {
+    const std::size_t n = std::min(simd::kLanes, end - c);
+    const Real A = simd::load(a + c, n), B = simd::load(b + c, n), Y0 = simd::load(y0 + c, n);
+    Real next;
+    if (exponential) {
+      const auto moving = B != 0.0;
+      const Real y_inf = -A / simd::select(moving, B, 1.0);
+      next = simd::select(moving, y_inf + (Y0 - y_inf) * simd::exp(B * dt), Y0 + dt * A);
+    } else {
+      next = Y0 + dt * (A + B * simd::load(ys + c, n));
+    }
+    simd::store(y + c, next, n);
+  }
+}
+
+}  // namespace
+
+void FixedStepIntegrator::update_block(Population& pop, const std::vector<double>& from,
+                                       const std::vector<double>& slope_at, std::size_t begin, std::size_t end,
+                                       double dt) const {
+  const std::size_t n = pop.size();
+  const auto& states = pop.info().states;
+  const bool exponential_gates = rule_ != Rule::euler;
+  for (std::size_t k = 0; k < states.size(); ++k)
+    update_row(pop.y.data() + k * n, from.data() + k * n, slope_at.data() + k * n, pop.a.data() + k * n,
+               pop.b.data() + k * n, begin, end, dt, exponential_gates && states[k].gate);
+}
 
 void FixedStepIntegrator::update_from(Population& pop, const std::vector<double>& from,
                                       const std::vector<double>& slope_at, double dt) const {
   const std::size_t n = pop.size();
-  const auto& states = pop.info().states;
-  const bool exponential_gates = rule_ != Rule::euler;
   const auto blocks = static_cast<long>((n + kCellsPerBlock - 1) / kCellsPerBlock);
 #pragma omp parallel for schedule(static) if (blocks > 1)
   for (long block = 0; block < blocks; ++block) {
     const std::size_t begin = static_cast<std::size_t>(block) * kCellsPerBlock;
-    const std::size_t end = std::min(n, begin + kCellsPerBlock);
-    for (std::size_t k = 0; k < states.size(); ++k) {
-      double* y = pop.y.data() + k * n;
-      const double* y0 = from.data() + k * n;
-      const double* ys = slope_at.data() + k * n;
-      const double* a = pop.a.data() + k * n;
-      const double* b = pop.b.data() + k * n;
-      if (exponential_gates && states[k].gate) {
-        for (std::size_t c = begin; c < end; ++c) {
-          if (b[c] != 0.0) {
-            const double y_inf = -a[c] / b[c];
-            y[c] = y_inf + (y0[c] - y_inf) * std::exp(b[c] * dt);
-          } else {
-            y[c] = y0[c] + dt * a[c];
-          }
-        }
-      } else {
-        for (std::size_t c = begin; c < end; ++c) y[c] = y0[c] + dt * (a[c] + b[c] * ys[c]);
-      }
-    }
+    update_block(pop, from, slope_at, begin, std::min(n, begin + kCellsPerBlock), dt);
   }
 }
 
 void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
-  system.evaluate(t, t);
   if (rule_ != Rule::rush_larsen2) {
-    system.for_each_population([&](Population& pop) { update_states(pop, h); });
+    // Each block is updated as soon as it is evaluated (one pass over memory).
+    system.evaluate(t, t, [&](Population& pop, std::size_t begin, std::size_t end) {
+      update_block(pop, pop.y, pop.y, begin, end, h);
+    });
     return;
   }
   // Second order: half step, midpoint slopes, full step from the start.
   // (Buffers keep their capacity: no allocation after the first step.)
+  system.evaluate(t, t);
   std::size_t p = 0;
   start_.resize(system.populations.size() + system.myofilaments.size());
   midpoint_.resize(start_.size());

@@ -1,44 +1,96 @@
-// Small inline accessors that let a model's per-cell code read like its paper
-// while it runs over a structure-of-arrays block (see cell_model.hpp).
+// How a model's equations reach its block of cells (see cell_model.hpp).
+//
+// A model writes its equations once, as a generic function of a Cells<R>
+// accessor, and hands them to for_each_lane_group:
+//
+//     void evaluate(const BlockView& block, double t) const override {
+//       fibrodem::for_each_lane_group(block, [&](const auto& cell) {
+//         using R = typename std::decay_t<decltype(cell)>::Real;
+//         const R V = cell.state(k_V);
+//         ...
+//         cell.gate_inf_tau(k_m, m_inf, tau_m);
+//       });
+//     }
+//
+// The equations then run on kLanes cells at a time in SIMD registers
+// (R = simd::Real), or, when the block asks for the scalar reference path,
+// one cell at a time in double (R = double). Both read like the paper.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "model/cell_model.hpp"
+#include "model/simd.hpp"
 
 namespace fibrodem {
 
-class CellAccess {
+// The cells [first, first + count) of a block, as lanes of R (count <= lanes;
+// a last, narrower group is padded as simd::load describes).
+template <class R>
+class Cells {
  public:
-  CellAccess(const BlockView& block, std::size_t cell) : v_(block), c_(cell) {}
+  using Real = R;
 
-  double state(int k) const { return v_.y[k * v_.stride + c_]; }
-  double input(int k) const { return v_.inputs[k * v_.stride + c_]; }
+  Cells(const BlockView& block, std::size_t first, std::size_t count) : v_(block), c_(first), n_(count) {}
+
+  R state(int k) const { return load(v_.y + k * v_.stride); }
+  R input(int k) const { return load(v_.inputs + k * v_.stride); }
   double param(int k) const { return v_.params[k]; }
 
   // A state that is not a gate: dy/dt given directly.
-  void rate(int k, double dydt) const {
-    v_.a[k * v_.stride + c_] = dydt;
-    v_.b[k * v_.stride + c_] = 0.0;
+  void rate(int k, const R& dydt) const {
+    store(v_.a + k * v_.stride, dydt);
+    store(v_.b + k * v_.stride, R(0.0));
   }
   // A gate from its steady state and time constant: dy/dt = (y_inf - y)/tau.
-  void gate_inf_tau(int k, double y_inf, double tau) const {
-    v_.a[k * v_.stride + c_] = y_inf / tau;
-    v_.b[k * v_.stride + c_] = -1.0 / tau;
+  void gate_inf_tau(int k, const R& y_inf, const R& tau) const {
+    const R rate = 1.0 / tau;
+    store(v_.a + k * v_.stride, y_inf * rate);
+    store(v_.b + k * v_.stride, -rate);
   }
   // A gate from its opening and closing rates: dy/dt = alpha (1 - y) - beta y.
-  void gate_alpha_beta(int k, double alpha, double beta) const {
-    v_.a[k * v_.stride + c_] = alpha;
-    v_.b[k * v_.stride + c_] = -(alpha + beta);
+  void gate_alpha_beta(int k, const R& alpha, const R& beta) const {
+    store(v_.a + k * v_.stride, alpha);
+    store(v_.b + k * v_.stride, -(alpha + beta));
   }
-  void output(int k, double value) const {
-    if (v_.outputs != nullptr) v_.outputs[k * v_.stride + c_] = value;
+  void output(int k, const R& value) const {
+    if (v_.outputs != nullptr) store(v_.outputs + k * v_.stride, value);
   }
 
  private:
+  R load(const double* row) const {
+    if constexpr (std::is_same_v<R, double>) return row[c_];
+    else return simd::load(row + c_, n_);
+  }
+  void store(double* row, const R& value) const {
+    if constexpr (std::is_same_v<R, double>) row[c_] = value;
+    else simd::store(row + c_, value, n_);
+  }
+
   const BlockView& v_;
-  std::size_t c_;
+  std::size_t c_, n_;
 };
+
+// One cell at a time, for a model that loops over its block itself (the
+// scalar style of plugin ABI 2; it gets no SIMD speed-up).
+class CellAccess : public Cells<double> {
+ public:
+  CellAccess(const BlockView& block, std::size_t cell) : Cells<double>(block, cell, 1) {}
+};
+
+// Runs equations(cells) over the block: lanes of simd::kLanes cells, or one
+// cell at a time in double when block.scalar_reference is set.
+template <class Equations>
+void for_each_lane_group(const BlockView& block, Equations&& equations) {
+  if (block.scalar_reference) {
+    for (std::size_t c = block.begin; c < block.end; ++c) equations(Cells<double>(block, c, 1));
+    return;
+  }
+  for (std::size_t c = block.begin; c < block.end; c += simd::kLanes)
+    equations(Cells<simd::Real>(block, c, std::min(simd::kLanes, block.end - c)));
+}
 
 }  // namespace fibrodem

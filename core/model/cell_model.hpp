@@ -11,7 +11,11 @@
 // b = -(alpha + beta)), so Rush-Larsen can integrate it exactly over a step;
 // for any other state b = 0 and a is the derivative itself.
 //
-// This header is all a plugin needs: it is header-only and does not link the core.
+// A model writes its equations once over a number type (block_access.hpp): the
+// block is then evaluated in SIMD lanes of cells.
+//
+// These headers are all a plugin needs: header-only, they link nothing of the
+// core (simd.hpp uses the header-only xsimd).
 #pragma once
 
 #include <cstddef>
@@ -23,7 +27,7 @@
 namespace fibrodem {
 
 // Bumped whenever anything in this header changes layout or meaning.
-inline constexpr int kPluginAbiVersion = 2;
+inline constexpr int kPluginAbiVersion = 3;
 
 enum class ModelKind { ionic, myofilament };
 
@@ -99,6 +103,10 @@ struct BlockView {
   // core fills them from its lookup table (it never sets this for a model
   // without voltage_only gates). Everything else must still be written.
   bool skip_voltage_only_gates = false;
+  // The scalar reference path (solver.simd false): evaluate one cell at a time
+  // in double instead of in SIMD lanes (block_access.hpp does this for a model
+  // written over its number type). The two differ by round-off only.
+  bool scalar_reference = false;
 };
 
 class CellModel {

@@ -26,10 +26,11 @@ BlockView Population::view() {
   v.a = a.data();
   v.b = b.data();
   v.outputs = outputs.empty() ? nullptr : outputs.data();
+  v.scalar_reference = scalar_reference;
   return v;
 }
 
-void Population::evaluate(double t_ms) {
+void Population::evaluate(double t_ms, const AfterBlock& after) {
   // Blocks of cells in parallel: each cell's derivatives depend only on its own
   // state and inputs, so the result does not depend on the thread count.
   const BlockView whole = view();
@@ -46,6 +47,7 @@ void Population::evaluate(double t_ms) {
     } else {
       model->evaluate(block, t_ms);
     }
+    if (after) after(block.begin, block.end);
   }
 }
 

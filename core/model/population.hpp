@@ -3,6 +3,7 @@
 // layout, and one parameter vector for the block.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,8 +14,14 @@
 
 namespace fibrodem {
 
-// Cells per block handed to one thread at a time.
+// Cells per block handed to one thread at a time: small enough that a
+// block's states and derivatives stay in the core's L2 cache between its
+// evaluation and its update (27 states x 3 arrays x 256 cells = 166 kB).
 inline constexpr std::size_t kCellsPerBlock = 256;
+
+// Work on a block [begin, end) right after it was evaluated (an integrator's
+// state update), while its derivatives are still in cache.
+using AfterBlock = std::function<void(std::size_t begin, std::size_t end)>;
 
 struct Population {
   CellType type = CellType::myocyte;
@@ -30,6 +37,8 @@ struct Population {
   // null: evaluate() then calls the model with skip_voltage_only_gates and
   // fills those gates from the table. Built by use_lookup_table().
   std::shared_ptr<const VoltageTable> table;
+  // solver.simd false: the models run one cell at a time in double.
+  bool scalar_reference = false;
 
   const ModelInfo& info() const { return model->info(); }
   std::size_t size() const { return cells.size(); }
@@ -41,8 +50,9 @@ struct Population {
   double state(int k, std::size_t local) const { return y[k * size() + local]; }
   double* voltage() { return y.data() + voltage_state * size(); }
   double* i_ext() { return inputs.data(); }  // input 0 of an ionic model
-  // Evaluates a, b and outputs for the whole block at time t.
-  void evaluate(double t_ms);
+  // Evaluates a, b and outputs for the whole block at time t, block by block
+  // (in parallel), calling after(begin, end) on each block once it is done.
+  void evaluate(double t_ms, const AfterBlock& after = nullptr);
   BlockView view();
   // Builds the table from the current parameters and initial state; false
   // (and no table) when the model has no voltage_only gates.

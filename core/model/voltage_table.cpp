@@ -26,6 +26,7 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
   probe.params = pop.params;
   probe.initial_state = pop.initial_state;
   probe.voltage_state = pop.voltage_state;
+  probe.scalar_reference = pop.scalar_reference;
   const std::size_t n = table->points_;
   probe.cells.resize(n);
   probe.reset();

@@ -28,6 +28,10 @@
 namespace fibrodem {
 namespace fs = std::filesystem;
 
+// solver.threads "auto" shares the work between cores from this many cells on
+// (two blocks of cells; measured in the README's "Threads" section).
+constexpr std::size_t kCellsForThreads = 2 * kCellsPerBlock;
+
 struct Simulation::Impl : StepObserver {
   Scene scene;
   RunOptions options;
@@ -60,15 +64,17 @@ struct Simulation::Impl : StepObserver {
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
     if (!registry) registry = std::make_shared<PluginRegistry>();
-    // One thread unless asked: on a shared machine, OpenMP's spinning threads
-    // can cost more than they bring (set OMP_WAIT_POLICY=PASSIVE there).
-    if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
     make_logger();
     tissue = scene.tissue->build(scene.seed);
     plan = plan_processes(scene, tissue);
+    use_threads();
     build_populations();
     derive_contraction_from_traces();
     build_myofilaments();
+    if (!scene.solver.simd) {
+      system.for_each_population([](Population& pop) { pop.scalar_reference = true; });
+      plan.notes.push_back("solver.simd false: cell models evaluated one cell at a time in double");
+    }
     build_coupling();
     build_mechanics();
     system.stimulus = Stimulus(scene.stimuli, tissue);
@@ -76,6 +82,26 @@ struct Simulation::Impl : StepObserver {
     build_lookup_tables();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
+  }
+
+  // solver.threads: as asked, or ("auto") every core once the tissue has
+  // enough blocks of cells to share; a smaller scene runs on one thread, where
+  // waking a second costs more than it brings.
+  void use_threads() {
+    const int cores = std::max(1, omp_get_num_procs());
+    int threads = scene.solver.threads;
+    std::string why = "solver.threads = " + std::to_string(threads);
+    if (threads == 0) {
+      threads = cores;
+      why = "solver.threads = 0: every core";
+    } else if (threads < 0) {
+      const bool large = tissue.cell_count() >= kCellsForThreads;
+      threads = large ? cores : 1;
+      why = fmt::format("solver.threads auto: {} cells {} {} ({} cores)", tissue.cell_count(), large ? ">=" : "<",
+                        kCellsForThreads, cores);
+    }
+    omp_set_num_threads(threads);
+    plan.notes.push_back(fmt::format("threads: {} ({})", threads, why));
   }
 
   // solver.lookup_tables: a table of the voltage_only gates' rates per ionic

@@ -133,8 +133,12 @@ SolverSpec read_solver(JsonReader r) {
   s.atol = r.number("atol", s.atol, 1e-16, 1.0);
   s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
   s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band", "krylov"});
-  s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
+  if (r.has("threads") && r.raw("threads").is_string())
+    r.text("threads", "auto", {"auto"});  // "auto" is the default; anything else is an error
+  else
+    s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
   s.lookup_tables = r.boolean("lookup_tables", s.lookup_tables);
+  s.simd = r.boolean("simd", s.simd);
   r.finish();
   return s;
 }

@@ -76,8 +76,12 @@ struct SolverSpec {
   double rtol = 1e-6, atol = 1e-8;     // cvode
   double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
   std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
-  int threads = 1;                     // 0: OpenMP's default (every core); results do not depend on it
+  // Threads over blocks of cells: -1 (the default, "auto"): every core when
+  // the scene is large enough to gain, else 1; 0: every core; results do not
+  // depend on it.
+  int threads = -1;
   bool lookup_tables = false;          // voltage_only gate rates from tables in V (linear, 0.05 mV)
+  bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 
 struct TraceSpec {

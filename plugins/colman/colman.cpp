@@ -32,13 +32,13 @@
 // use their analytic limit near 0 (exprel below).
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "model/block_access.hpp"
 #include "model/cell_model.hpp"
 
 namespace {
 
-using fibrodem::CellAccess;
 
 // ---------------------------------------------------------------------------
 // States: name, unit, initial value (colman2013), lower, upper, gate.
@@ -217,12 +217,7 @@ enum Output {
   kNumOutputs
 };
 
-// x / (1 - exp(-x)), with its limit 1 + x/2 near x = 0 (removable singularity of
-// the CRN rate expressions). expm1 keeps full relative accuracy for small |x|.
-inline double exprel(double x) {
-  if (std::fabs(x) < 1e-6) return 1.0 + 0.5 * x;
-  return x / -std::expm1(-x);
-}
+FIBRODEM_USE_LANE_MATH;
 
 // Per-call view of the parameters, so the equations read like the paper.
 struct Par {
@@ -230,104 +225,126 @@ struct Par {
   double operator[](int k) const { return p[k]; }
 };
 
+// Gate rates are generic in R: lanes of cells (simd::Real) or one cell (double).
+template <class R>
 struct Gate {
-  double inf;
-  double tau;
+  R inf;
+  R tau;
+};
+template <class R>
+struct AlphaBeta {
+  R alpha;
+  R beta;
 };
 
 // ---- I_Na (CRN 1998 eqs. as in ni-2017.mmt [ina]) -------------------------
-struct AlphaBeta {
-  double alpha;
-  double beta;
-};
-inline AlphaBeta ina_m(double V, double shift) {
-  const double x = V - shift + 47.13;
+template <class R>
+AlphaBeta<R> ina_m(const R& V, double shift) {
+  const R x = V - shift + 47.13;
   // 0.32 x / (1 - exp(-0.1 x)) = 3.2 * exprel(0.1 x); limit 3.2 /ms at x = 0
-  return {3.2 * exprel(0.1 * x), 0.08 * std::exp(-(V - shift) / 11.0)};
+  return {3.2 * exprel(R(0.1 * x)), 0.08 * exp(-(V - shift) / 11.0)};
 }
-inline AlphaBeta ina_h(double V) {
-  if (V >= -40.0) return {0.0, 1.0 / (0.13 * (1.0 + std::exp((V + 10.66) / -11.1)))};
-  return {0.135 * std::exp((V + 80.0) / -6.8), 3.56 * std::exp(0.079 * V) + 3.1e5 * std::exp(0.35 * V)};
+// h and j switch form at V = -40 mV (both forms are evaluated, one kept).
+template <class R>
+AlphaBeta<R> ina_h(const R& V) {
+  const auto above = V >= -40.0;
+  return {select(above, 0.0, 0.135 * exp((V + 80.0) / -6.8)),
+          select(above, 1.0 / (0.13 * (1.0 + exp((V + 10.66) / -11.1))),
+                 3.56 * exp(0.079 * V) + 3.1e5 * exp(0.35 * V))};
 }
-inline AlphaBeta ina_j(double V) {
-  if (V >= -40.0)
-    return {0.0, 0.3 * std::exp(-2.535e-7 * V) / (1.0 + std::exp(-0.1 * (V + 32.0)))};
-  return {(-1.2714e5 * std::exp(0.2444 * V) - 3.474e-5 * std::exp(-0.04391 * V)) * (V + 37.78) /
-              (1.0 + std::exp(0.311 * (V + 79.23))),
-          0.1212 * std::exp(-0.01052 * V) / (1.0 + std::exp(-0.1378 * (V + 40.14)))};
+template <class R>
+AlphaBeta<R> ina_j(const R& V) {
+  const auto above = V >= -40.0;
+  return {select(above, 0.0,
+                 (-1.2714e5 * exp(0.2444 * V) - 3.474e-5 * exp(-0.04391 * V)) * (V + 37.78) /
+                     (1.0 + exp(0.311 * (V + 79.23)))),
+          select(above, 0.3 * exp(-2.535e-7 * V) / (1.0 + exp(-0.1 * (V + 32.0))),
+                 0.1212 * exp(-0.01052 * V) / (1.0 + exp(-0.1378 * (V + 40.14))))};
 }
 
 // ---- I_Kr, I_Ks (CRN) -----------------------------------------------------
-inline Gate ikr_xr(double V) {
+template <class R>
+Gate<R> ikr_xr(const R& V) {
   // a = 0.0003 (V+14.1)/(1 - exp((V+14.1)/-5))        -> 0.0015 exprel((V+14.1)/5)
   // b = 7.3898e-5 (V-3.3328)/(exp((V-3.3328)/5.1237)-1) -> 7.3898e-5*5.1237 exprel(-(V-3.3328)/5.1237)
-  const double a = 0.0015 * exprel((V + 14.1) / 5.0);
-  const double b = 0.000073898 * 5.1237 * exprel(-(V - 3.3328) / 5.1237);
-  return {1.0 / (1.0 + std::exp((V + 14.1) / -6.5)), 1.0 / (a + b)};
+  const R a = 0.0015 * exprel(R((V + 14.1) / 5.0));
+  const R b = 0.000073898 * 5.1237 * exprel(R(-(V - 3.3328) / 5.1237));
+  return {1.0 / (1.0 + exp((V + 14.1) / -6.5)), 1.0 / (a + b)};
 }
-inline Gate iks_xs(double V, double shift, double slope_scale) {
+template <class R>
+Gate<R> iks_xs(const R& V, double shift, double slope_scale) {
   // a = 4e-5 (V-19.9)/(1 - exp((V-19.9)/-17)) -> 0.00068 exprel((V-19.9)/17)
   // b = 3.5e-5 (V-19.9)/(exp((V-19.9)/9) - 1) -> 0.000315 exprel(-(V-19.9)/9)
-  const double a = 0.00068 * exprel((V - 19.9) / 17.0);
-  const double b = 0.000315 * exprel(-(V - 19.9) / 9.0);
-  return {std::sqrt(1.0 / (1.0 + std::exp((V - 19.9 - shift) / (-12.7 * slope_scale)))), 0.5 / (a + b)};
+  const R a = 0.00068 * exprel(R((V - 19.9) / 17.0));
+  const R b = 0.000315 * exprel(R(-(V - 19.9) / 9.0));
+  return {sqrt(1.0 / (1.0 + exp((V - 19.9 - shift) / (-12.7 * slope_scale)))), 0.5 / (a + b)};
 }
 
 // ---- I_CaL (CRN; f_Ca on Ca_ss) -------------------------------------------
-inline Gate ical_d(double V) {
+template <class R>
+Gate<R> ical_d(const R& V) {
   // tau = a (1 - exp(-(V+10)/6.24)) / (0.035 (V+10)) = a / (0.035*6.24 exprel((V+10)/6.24));
   // limit a * 4.5788 ms at V = -10 (the code uses 4.579).
-  const double a = 1.0 / (1.0 + std::exp((V + 10.0) / -6.24));
-  return {1.0 / (1.0 + std::exp((V + 10.0) / -8.0)), a / (0.035 * 6.24 * exprel((V + 10.0) / 6.24))};
+  const R a = 1.0 / (1.0 + exp((V + 10.0) / -6.24));
+  return {1.0 / (1.0 + exp((V + 10.0) / -8.0)), a / (0.035 * 6.24 * exprel(R((V + 10.0) / 6.24)))};
 }
-inline Gate ical_f(double V, double tau_scale) {
-  const double e = std::exp(-(V + 28.0) / 6.9);
-  const double tau =
-      1.5 * 2.0 * 3.0 / (0.0197 * std::exp(-(0.0337 * 0.0337) * (V + 10.0) * (V + 10.0)) + 0.02);
+template <class R>
+Gate<R> ical_f(const R& V, double tau_scale) {
+  const R e = exp(-(V + 28.0) / 6.9);
+  const R tau = 1.5 * 2.0 * 3.0 / (0.0197 * exp(-(0.0337 * 0.0337) * (V + 10.0) * (V + 10.0)) + 0.02);
   return {e / (1.0 + e), tau * tau_scale};
 }
 
 // ---- I_to (Maleckar 2009 r/s) ---------------------------------------------
 // The code writes exp(-(V/30)*2) where Maleckar has exp(-(V/30)^2) (quirk G1).
-inline double ito_shape(double x, bool squared) { return squared ? x * x : 2.0 * x; }
-inline Gate ito_r(double V, double shift, bool squared) {
-  return {1.0 / (1.0 + std::exp((V - shift - 1.0) / -11.0)),
-          3.5 * std::exp(-ito_shape((V - shift) / 30.0, squared)) + 1.5};
+template <class R>
+R ito_shape(const R& x, bool squared) {
+  return squared ? R(x * x) : R(2.0 * x);
 }
-inline Gate ito_s(double V, bool squared) {
-  return {1.0 / (1.0 + std::exp((V + 40.5) / 11.5)),
-          25.635 * std::exp(-ito_shape((V + 52.45) / 15.8827, squared)) + 14.14};
+template <class R>
+Gate<R> ito_r(const R& V, double shift, bool squared) {
+  return {1.0 / (1.0 + exp((V - shift - 1.0) / -11.0)),
+          3.5 * exp(-ito_shape(R((V - shift) / 30.0), squared)) + 1.5};
+}
+template <class R>
+Gate<R> ito_s(const R& V, bool squared) {
+  return {1.0 / (1.0 + exp((V + 40.5) / 11.5)),
+          25.635 * exp(-ito_shape(R((V + 52.45) / 15.8827), squared)) + 14.14};
 }
 
 // ---- I_Kur ----------------------------------------------------------------
 // Maleckar 2009 (Colman 2013; A1 IKur_type_CNZ == 0), taus given in s there.
-inline Gate ikur_r_maleckar(double V, double shift, double slope) {
-  return {1.0 / (1.0 + std::exp(-(V + shift + 6.0) / (8.6 * slope))),
-          9.0 / (1.0 + std::exp((V + 5.0) / 12.0)) + 0.5};
+template <class R>
+Gate<R> ikur_r_maleckar(const R& V, double shift, double slope) {
+  return {1.0 / (1.0 + exp(-(V + shift + 6.0) / (8.6 * slope))), 9.0 / (1.0 + exp((V + 5.0) / 12.0)) + 0.5};
 }
-inline Gate ikur_s_maleckar(double V, double shift, double slope) {
-  return {1.0 / (1.0 + std::exp((V + shift + 7.5) / (10.0 * slope))),
-          590.0 / (1.0 + std::exp((V + 60.0) / 10.0)) + 3050.0};
+template <class R>
+Gate<R> ikur_s_maleckar(const R& V, double shift, double slope) {
+  return {1.0 / (1.0 + exp((V + shift + 7.5) / (10.0 * slope))), 590.0 / (1.0 + exp((V + 60.0) / 10.0)) + 3050.0};
 }
 // Ni 2017 (ni-2017.mmt [ikur]).
-inline Gate ikur_a_ni(double V, double shift, double slope, double KQ10) {
-  const double tau = (45.6666746826 / (1.0 + std::exp((V + 11.2306497073) / 11.5254705962)) + 4.26753514993) *
-                     (0.262186042981 / (1.0 + std::exp((V + 35.8658312707) / -3.87510627762)) + 0.291755017928);
-  return {1.0 / (1.0 + std::exp(-(V + shift + 5.52) / (8.6 * slope))), tau / KQ10};
+template <class R>
+Gate<R> ikur_a_ni(const R& V, double shift, double slope, double KQ10) {
+  const R tau = (45.6666746826 / (1.0 + exp((V + 11.2306497073) / 11.5254705962)) + 4.26753514993) *
+                (0.262186042981 / (1.0 + exp((V + 35.8658312707) / -3.87510627762)) + 0.291755017928);
+  return {1.0 / (1.0 + exp(-(V + shift + 5.52) / (8.6 * slope))), tau / KQ10};
 }
-inline Gate ikur_i_ni(double V, double shift, double slope, double KQ10) {
-  return {0.52424 / (1.0 + std::exp((V + shift + 15.1142) / (7.567021 * slope))) + 0.4580778,
-          (2328.0 / (1.0 + std::exp((V - 9.435) / 3.5827)) + 1739.139) / KQ10};
+template <class R>
+Gate<R> ikur_i_ni(const R& V, double shift, double slope, double KQ10) {
+  return {0.52424 / (1.0 + exp((V + shift + 15.1142) / (7.567021 * slope))) + 0.4580778,
+          (2328.0 / (1.0 + exp((V - 9.435) / 3.5827)) + 1739.139) / KQ10};
 }
 
 // ---- RyR gates (Koivumaki 2011), Ca in mM times sensitivity (1/mM -> uM) ---
+template <class R>
 struct RyRGates {
-  Gate o, c, a;
+  Gate<R> o, c, a;
 };
-inline RyRGates ryr_gates(double ca_uM, double a_state, double tau_o, double tau_c, double tau_a) {
-  return {{1.0 - 1.0 / (1.0 + std::exp((ca_uM - (a_state + 0.22)) / 0.03)), tau_o},
-          {1.0 / (1.0 + std::exp((ca_uM - (a_state + 0.02)) / 0.01)), tau_c},
-          {0.505 - 0.427 / (1.0 + std::exp((ca_uM - 0.29) / 0.082)), tau_a}};
+template <class R>
+RyRGates<R> ryr_gates(const R& ca_uM, const R& a_state, double tau_o, double tau_c, double tau_a) {
+  return {{1.0 - 1.0 / (1.0 + exp((ca_uM - (a_state + 0.22)) / 0.03)), R(tau_o)},
+          {1.0 / (1.0 + exp((ca_uM - (a_state + 0.02)) / 0.01)), R(tau_c)},
+          {0.505 - 0.427 / (1.0 + exp((ca_uM - 0.29) / 0.082)), R(tau_a)}};
 }
 
 class Colman final : public fibrodem::CellModel {
@@ -364,127 +381,127 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
   const double gam = P[k_gamma_NaCa];
   const double nak_scale = P[k_k_NaK] * Cm * P[k_INaK_max_pA_per_pF] * Ko / (Ko + P[k_Km_K_NaK_mM]);
 
-  for (std::size_t c = block.begin; c < block.end; ++c) {
-    const CellAccess cell(block, c);
-    const double V = cell.state(k_V);
-    const double Nai = cell.state(k_Na_i), Ki = cell.state(k_K_i);
-    const double Cai = cell.state(k_Ca_i), Cass = cell.state(k_Ca_ss);
-    const double CaSRi = cell.state(k_Ca_SRi), CaSRss = cell.state(k_Ca_SRss);
-    const double SERCACa = cell.state(k_SERCACa), SERCACass = cell.state(k_SERCACass);
+  fibrodem::for_each_lane_group(block, [&](const auto& cell) {
+    using R = typename std::decay_t<decltype(cell)>::Real;
+    const R V = cell.state(k_V);
+    const R Nai = cell.state(k_Na_i), Ki = cell.state(k_K_i);
+    const R Cai = cell.state(k_Ca_i), Cass = cell.state(k_Ca_ss);
+    const R CaSRi = cell.state(k_Ca_SRi), CaSRss = cell.state(k_Ca_SRss);
+    const R SERCACa = cell.state(k_SERCACa), SERCACass = cell.state(k_SERCACass);
 
     // Reversal potentials ([nernst]; E_Ca on bulk Ca_i).
-    const double ENa = P[k_nernst_mono_mV] * std::log(Nao / Nai);
-    const double EK = P[k_nernst_mono_mV] * std::log(Ko / Ki);
-    const double ECa = P[k_nernst_Ca_mV] * std::log(Cao / Cai);
+    const R ENa = P[k_nernst_mono_mV] * log(Nao / Nai);
+    const R EK = P[k_nernst_mono_mV] * log(Ko / Ki);
+    const R ECa = P[k_nernst_Ca_mV] * log(Cao / Cai);
 
     // I_Na
-    const double m = cell.state(k_m), h = cell.state(k_h), j = cell.state(k_j);
-    const double INa = Cm * P[k_g_Na_nS_per_pF] * P[k_g_Na_scale] * m * m * m * h * j * (V - ENa);
+    const R m = cell.state(k_m), h = cell.state(k_h), j = cell.state(k_j);
+    const R INa = Cm * P[k_g_Na_nS_per_pF] * P[k_g_Na_scale] * m * m * m * h * j * (V - ENa);
     if (!skip_v) {
-      const AlphaBeta am = ina_m(V, P[k_INa_m_shift_mV]);
-      const AlphaBeta ah = ina_h(V);
-      const AlphaBeta aj = ina_j(V);
+      const auto am = ina_m(V, P[k_INa_m_shift_mV]);
+      const auto ah = ina_h(V);
+      const auto aj = ina_j(V);
       cell.gate_alpha_beta(k_m, am.alpha, am.beta);
       cell.gate_alpha_beta(k_h, ah.alpha, ah.beta);
       cell.gate_alpha_beta(k_j, aj.alpha, aj.beta);
     }
 
     // I_to
-    const double Ito = P[k_k_to] * Cm * P[k_g_to_nS_per_pF] * P[k_g_to_scale] * cell.state(k_ito_r) *
+    const R Ito = P[k_k_to] * Cm * P[k_g_to_nS_per_pF] * P[k_g_to_scale] * cell.state(k_ito_r) *
                        cell.state(k_ito_s) * (V - EK);
     if (!skip_v) {
-      const Gate gr = ito_r(V, P[k_Ito_r_shift_mV], ito_sq);
-      const Gate gs = ito_s(V, ito_sq);
+      const auto gr = ito_r(V, P[k_Ito_r_shift_mV], ito_sq);
+      const auto gs = ito_s(V, ito_sq);
       cell.gate_inf_tau(k_ito_r, gr.inf, gr.tau);
       cell.gate_inf_tau(k_ito_s, gs.inf, gs.tau);
     }
 
     // I_Kur: the two formulations share the states ikur_a (activation) and ikur_i (inactivation).
-    const double ka = cell.state(k_ikur_a), ki = cell.state(k_ikur_i);
-    double IKur;
+    const R ka = cell.state(k_ikur_a), ki = cell.state(k_ikur_i);
+    R IKur;
     if (ikur_ni) {
       IKur = Cm * P[k_g_Kur_Ni_nS_per_pF] * P[k_g_Kur_scale] *
-             (4.5128 + 1.899769 / (1.0 + std::exp((V - 20.5232) / -8.26597))) * ka * ki * (V - EK);
+             (4.5128 + 1.899769 / (1.0 + exp((V - 20.5232) / -8.26597))) * ka * ki * (V - EK);
       if (!skip_v) {
-        const Gate ga = ikur_a_ni(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale], P[k_IKur_KQ10]);
-        const Gate gi = ikur_i_ni(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale], P[k_IKur_KQ10]);
+        const auto ga = ikur_a_ni(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale], P[k_IKur_KQ10]);
+        const auto gi = ikur_i_ni(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale], P[k_IKur_KQ10]);
         cell.gate_inf_tau(k_ikur_a, ga.inf, ga.tau);
         cell.gate_inf_tau(k_ikur_i, gi.inf, gi.tau);
       }
     } else {
       IKur = Cm * P[k_g_Kur_Maleckar_nS_per_pF] * P[k_g_Kur_scale] * ka * ki * (V - EK);
       if (!skip_v) {
-        const Gate ga = ikur_r_maleckar(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale]);
-        const Gate gi = ikur_s_maleckar(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale]);
+        const auto ga = ikur_r_maleckar(V, P[k_IKur_act_shift_mV], P[k_IKur_act_slope_scale]);
+        const auto gi = ikur_s_maleckar(V, P[k_IKur_inact_shift_mV], P[k_IKur_inact_slope_scale]);
         cell.gate_inf_tau(k_ikur_a, ga.inf, ga.tau);
         cell.gate_inf_tau(k_ikur_i, gi.inf, gi.tau);
       }
     }
 
     // I_Kr
-    const double IKr = Cm * P[k_g_Kr_nS_per_pF] * P[k_g_Kr_scale] * cell.state(k_xr) * (V - EK) /
-                       (1.0 + std::exp((V + 15.0) / 22.4));
+    const R IKr = Cm * P[k_g_Kr_nS_per_pF] * P[k_g_Kr_scale] * cell.state(k_xr) * (V - EK) /
+                       (1.0 + exp((V + 15.0) / 22.4));
     if (!skip_v) {
-      const Gate gxr = ikr_xr(V);
+      const auto gxr = ikr_xr(V);
       cell.gate_inf_tau(k_xr, gxr.inf, gxr.tau);
     }
 
     // I_Ks
-    const double xs = cell.state(k_xs);
-    const double IKs = Cm * P[k_g_Ks_nS_per_pF] * P[k_g_Ks_scale] * xs * xs * (V - EK);
+    const R xs = cell.state(k_xs);
+    const R IKs = Cm * P[k_g_Ks_nS_per_pF] * P[k_g_Ks_scale] * xs * xs * (V - EK);
     if (!skip_v) {
-      const Gate gxs = iks_xs(V, P[k_IKs_shift_mV], P[k_IKs_slope_scale]);
+      const auto gxs = iks_xs(V, P[k_IKs_shift_mV], P[k_IKs_slope_scale]);
       cell.gate_inf_tau(k_xs, gxs.inf, gxs.tau);
     }
 
     // I_CaL
-    const double ICaL = P[k_k_CaL] * Cm * P[k_g_CaL_nS_per_pF] * P[k_g_CaL_scale] * cell.state(k_d) *
+    const R ICaL = P[k_k_CaL] * Cm * P[k_g_CaL_nS_per_pF] * P[k_g_CaL_scale] * cell.state(k_d) *
                         cell.state(k_f) * cell.state(k_fca) * (V - P[k_E_CaL_mV]);
     if (!skip_v) {
-      const Gate gd = ical_d(V);
-      const Gate gf = ical_f(V, P[k_ICaL_f_tau_scale]);
+      const auto gd = ical_d(V);
+      const auto gf = ical_f(V, P[k_ICaL_f_tau_scale]);
       cell.gate_inf_tau(k_d, gd.inf, gd.tau);
       cell.gate_inf_tau(k_f, gf.inf, gf.tau);
     }
     cell.gate_inf_tau(k_fca, 1.0 / (1.0 + Cass / 0.00035), 2.0);
 
     // I_K1
-    const double IK1 =
-        Cm * P[k_g_K1_nS_per_pF] * P[k_g_K1_scale] * (V - EK) / (1.0 + std::exp(0.07 * (V + 80.0)));
+    const R IK1 =
+        Cm * P[k_g_K1_nS_per_pF] * P[k_g_K1_scale] * (V - EK) / (1.0 + exp(0.07 * (V + 80.0)));
 
     // Background currents. I_ab: Cm*0.0003879*(V+69.6)/(1 - 0.8377 exp((V+49.06)/1056))
     // (A1 Updated_CNZ.cpp; it is the I_ab column of the original Colman trace).
-    const double IbCa = P[k_k_bCa] * Cm * P[k_g_bCa_nS_per_pF] * (V - ECa);
-    const double IbNa = P[k_k_bNa] * Cm * P[k_g_bNa_nS_per_pF] * (V - ENa);
-    const double Iab = P[k_k_ab] * Cm * P[k_g_ab_nS_per_pF] * (V + 69.6) /
-                       (1.0 - 0.8377 * std::exp((V + 49.06) / 1056.0));
+    const R IbCa = P[k_k_bCa] * Cm * P[k_g_bCa_nS_per_pF] * (V - ECa);
+    const R IbNa = P[k_k_bNa] * Cm * P[k_g_bNa_nS_per_pF] * (V - ENa);
+    const R Iab = P[k_k_ab] * Cm * P[k_g_ab_nS_per_pF] * (V + 69.6) /
+                       (1.0 - 0.8377 * exp((V + 49.06) / 1056.0));
 
     // I_CaP, I_NaCa (on Ca_ss), I_NaK
-    const double ICap = P[k_k_Cap] * Cm * P[k_ICap_max_pA_per_pF] * Cass / (Cass + P[k_Km_Cap_mM]);
-    const double INaCa = naca_scale / (1.0 + P[k_k_sat_NaCa] * std::exp((gam - 1.0) * V * FRT)) *
-                         (Nai * Nai * Nai * Cao * std::exp(V * gam * FRT) -
-                          Nao * Nao * Nao * Cass * std::exp(V * (gam - 1.0) * FRT));
-    const double fnak = 1.0 / (1.0 + 0.1245 * std::exp(-0.1 * V * FRT) + 0.0365 * sigma * std::exp(-V * FRT));
-    const double INaK = nak_scale * fnak / (1.0 + std::pow(P[k_Km_Na_NaK_mM] / Nai, P[k_hill_Na_NaK]));
+    const R ICap = P[k_k_Cap] * Cm * P[k_ICap_max_pA_per_pF] * Cass / (Cass + P[k_Km_Cap_mM]);
+    const R INaCa = naca_scale / (1.0 + P[k_k_sat_NaCa] * exp((gam - 1.0) * V * FRT)) *
+                         (Nai * Nai * Nai * Cao * exp(V * gam * FRT) -
+                          Nao * Nao * Nao * Cass * exp(V * (gam - 1.0) * FRT));
+    const R fnak = 1.0 / (1.0 + 0.1245 * exp(-0.1 * V * FRT) + 0.0365 * sigma * exp(-V * FRT));
+    const R INaK = nak_scale * fnak / (1.0 + pow(P[k_Km_Na_NaK_mM] / Nai, P[k_hill_Na_NaK]));
 
-    const double I_ion =
+    const R I_ion =
         INa + Ito + IKur + IKr + IKs + ICaL + IK1 + IbNa + IbCa + Iab + INaCa + INaK + ICap;
     cell.rate(k_V, (cell.input(kI_ext) - I_ion) / Cm);
 
     // Na_i (CRN, no stimulus term), K_i constant in both codes.
-    cell.rate(k_Na_i, nai_clamped ? 0.0 : (-3.0 * INaK - 3.0 * INaCa - IbNa - INa) / (F * Vi));
+    cell.rate(k_Na_i, nai_clamped ? R(0.0) : R((-3.0 * INaK - 3.0 * INaCa - IbNa - INa) / (F * Vi)));
     cell.rate(k_K_i, 0.0);
 
     // ---- Ca handling ([ryr], [serca], [calcium]); fluxes in um^3*mM/ms ----
     // RyR gates
     const double ts = P[k_RyR_tau_scale];
-    const double sens_i = P[k_RyR_Ca_sens_i_per_mM] * Cai * (1.0 + P[k_fRyR]);
-    const double sens_ss = P[k_RyR_Ca_sens_ss_per_mM] * Cass * (1.0 + P[k_fRyR]);
-    const double o_i = cell.state(k_ryr_o_i), c_i = cell.state(k_ryr_c_i);
-    const double o_ss = cell.state(k_ryr_o_ss), c_ss = cell.state(k_ryr_c_ss);
-    const RyRGates gi = ryr_gates(sens_i, cell.state(k_ryr_a_i), P[k_tau_RyR_o_i_ms],
+    const R sens_i = P[k_RyR_Ca_sens_i_per_mM] * Cai * (1.0 + P[k_fRyR]);
+    const R sens_ss = P[k_RyR_Ca_sens_ss_per_mM] * Cass * (1.0 + P[k_fRyR]);
+    const R o_i = cell.state(k_ryr_o_i), c_i = cell.state(k_ryr_c_i);
+    const R o_ss = cell.state(k_ryr_o_ss), c_ss = cell.state(k_ryr_c_ss);
+    const auto gi = ryr_gates(sens_i, cell.state(k_ryr_a_i), P[k_tau_RyR_o_i_ms],
                                   P[k_tau_RyR_c_i_ms] * ts, P[k_tau_RyR_a_i_ms] * ts);
-    const RyRGates gss = ryr_gates(sens_ss, cell.state(k_ryr_a_ss), P[k_tau_RyR_o_ss_ms],
+    const auto gss = ryr_gates(sens_ss, cell.state(k_ryr_a_ss), P[k_tau_RyR_o_ss_ms],
                                    P[k_tau_RyR_c_ss_ms] * ts, P[k_tau_RyR_a_ss_ms] * ts);
     cell.gate_inf_tau(k_ryr_o_i, gi.o.inf, gi.o.tau);
     cell.gate_inf_tau(k_ryr_c_i, gi.c.inf, gi.c.tau);
@@ -494,11 +511,11 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     cell.gate_inf_tau(k_ryr_a_ss, gss.a.inf, gss.a.tau);
 
     // Release
-    const double RyRSRCai = 1.0 - 1.0 / (1.0 + std::exp((CaSRi - 0.3) / 0.1));
-    const double RyRSRCass = 1.0 - 1.0 / (1.0 + std::exp((CaSRss - 0.3) / 0.1));
-    const double Jreli =
+    const R RyRSRCai = 1.0 - 1.0 / (1.0 + exp((CaSRi - 0.3) / 0.1));
+    const R RyRSRCass = 1.0 - 1.0 / (1.0 + exp((CaSRss - 0.3) / 0.1));
+    const R Jreli =
         P[k_g_rel_scale] * P[k_RyR_nu_i_per_ms] * Vnj * o_i * c_i * RyRSRCai * (CaSRi - Cai);
-    const double Jrelss =
+    const R Jrelss =
         P[k_g_rel_scale] * P[k_RyR_nu_ss_per_ms] * Vss * o_ss * c_ss * RyRSRCass * (CaSRss - Cass);
 
     // SERCA (2-state pump); the "* 2" and the lineage factor are the code's.
@@ -506,28 +523,28 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     const double k1 = P[k_SERCA_k1_per_ms_mM2], k2 = P[k_SERCA_k2_per_ms];
     const double k3 = P[k_SERCA_k3_per_ms_mM2], k4 = P[k_SERCA_k4_per_ms];
     const double cp = P[k_SERCA_pumps_mM];
-    const double J_SERCASR = serca * (-k3 * CaSRi * CaSRi * (cp - SERCACa) + k4 * SERCACa) * Vnj;
-    const double J_SERCASRss = serca * (-k3 * CaSRss * CaSRss * (cp - SERCACass) + k4 * SERCACass) * Vss;
-    const double J_bulkSERCA = serca * (k1 * Cai * Cai * (cp - SERCACa) - k2 * SERCACa) * Vnj;
-    const double J_bulkSERCAss = serca * (k1 * Cass * Cass * (cp - SERCACass) - k2 * SERCACass) * Vss;
+    const R J_SERCASR = serca * (-k3 * CaSRi * CaSRi * (cp - SERCACa) + k4 * SERCACa) * Vnj;
+    const R J_SERCASRss = serca * (-k3 * CaSRss * CaSRss * (cp - SERCACass) + k4 * SERCACass) * Vss;
+    const R J_bulkSERCA = serca * (k1 * Cai * Cai * (cp - SERCACa) - k2 * SERCACa) * Vnj;
+    const R J_bulkSERCAss = serca * (k1 * Cass * Cass * (cp - SERCACass) - k2 * SERCACass) * Vss;
     cell.rate(k_SERCACa, P[k_SERCA_state_factor] * (-J_SERCASR + J_bulkSERCA) / Vnj);
     cell.rate(k_SERCACass, P[k_SERCA_state_factor] * (-J_SERCASRss + J_bulkSERCAss) / Vss);
 
     // Diffusion junctional -> bulk, SR leak
-    const double Jj_nj = P[k_k_j_nj] * P[k_D_Ca_um2_per_ms] * P[k_Aj_nj_um2] / P[k_xj_nj_um] * (Cass - Cai);
+    const R Jj_nj = P[k_k_j_nj] * P[k_D_Ca_um2_per_ms] * P[k_Aj_nj_um2] / P[k_xj_nj_um] * (Cass - Cai);
     const double leak = P[k_k_leak] * P[k_SR_leak_scale] * P[k_k_SR_leak_per_ms];
-    const double JSRCaleaki = leak * (CaSRi - Cai) * Vnj;
-    const double JSRCaleakss = leak * (CaSRss - Cass) * Vss;
+    const R JSRCaleaki = leak * (CaSRi - Cai) * Vnj;
+    const R JSRCaleakss = leak * (CaSRss - Cass) * Vss;
 
     const double bulk = P[k_SERCA_bulk_const];
-    const double JCa = -bulk * J_bulkSERCA + JSRCaleaki + Jreli + Jj_nj;
-    const double JCass = -Jj_nj + JSRCaleakss - bulk * J_bulkSERCAss + Jrelss;
-    const double JSRCai = J_SERCASR - JSRCaleaki - Jreli;
-    const double JSRCass = J_SERCASRss - JSRCaleakss - Jrelss;
+    const R JCa = -bulk * J_bulkSERCA + JSRCaleaki + Jreli + Jj_nj;
+    const R JCass = -Jj_nj + JSRCaleakss - bulk * J_bulkSERCAss + Jrelss;
+    const R JSRCai = J_SERCASR - JSRCaleaki - Jreli;
+    const R JSRCass = J_SERCASRss - JSRCaleakss - Jrelss;
 
     // Bulk cytosol
     const double BCa = P[k_B_Ca_mM], KdBCa = P[k_Kd_BCa_mM];
-    const double beta_i = 1.0 / (1.0 + BCa * KdBCa / ((Cai + KdBCa) * (Cai + KdBCa)));
+    const R beta_i = 1.0 / (1.0 + BCa * KdBCa / ((Cai + KdBCa) * (Cai + KdBCa)));
     // J_TRPN: Ca binding to a myofilament model's troponin (fibrodem's
     // calcium_feedback; 0 otherwise). Colman has no troponin of its own: BCa
     // lumps the cytosolic buffers (Koivumaki 2011), so nothing is switched off.
@@ -536,8 +553,8 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     // SR: the diffusion terms are the code's, verbatim (the bulk term simplifies).
     const double DCaSR = P[k_D_CaSR_um2_per_ms];
     const double CSQN = P[k_CSQN_mM], KdCSQN = P[k_Kd_CSQN_mM];
-    const double beta_SRi = 1.0 / (1.0 + CSQN * KdCSQN / ((CaSRi + KdCSQN) * (CaSRi + KdCSQN)));
-    const double beta_SRss = 1.0 / (1.0 + CSQN * KdCSQN / ((CaSRss + KdCSQN) * (CaSRss + KdCSQN)));
+    const R beta_SRi = 1.0 / (1.0 + CSQN * KdCSQN / ((CaSRi + KdCSQN) * (CaSRi + KdCSQN)));
+    const R beta_SRss = 1.0 / (1.0 + CSQN * KdCSQN / ((CaSRss + KdCSQN) * (CaSRss + KdCSQN)));
     cell.rate(k_Ca_SRi, P[k_SR_rate_factor] * beta_SRi *
                             (DCaSR * ((CaSRss - 2.0 * CaSRi + CaSRi) / dx2 + (CaSRi - CaSRss) / (2.0 * 3.0 * dx2)) +
                              JSRCai / VSRi));
@@ -548,10 +565,10 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     // Junctional subspace (sarcolemmal currents in pA: pA/(um^3 C/mmol) = mM/ms)
     const double SLlow = P[k_SL_low_mM], KdSLlow = P[k_Kd_SLlow_mM];
     const double SLhigh = P[k_SL_high_mM], KdSLhigh = P[k_Kd_SLhigh_mM];
-    const double beta_ss = 1.0 / (1.0 + SLlow * KdSLlow / ((Cass + KdSLlow) * (Cass + KdSLlow)) +
+    const R beta_ss = 1.0 / (1.0 + SLlow * KdSLlow / ((Cass + KdSLlow) * (Cass + KdSLlow)) +
                                   SLhigh * KdSLhigh / ((Cass + KdSLhigh) * (Cass + KdSLhigh)) +
                                   BCa * KdBCa / ((Cass + KdBCa) * (Cass + KdBCa)));
-    const double I_tot = -ICaL - IbCa - ICap + 2.0 * INaCa;
+    const R I_tot = -ICaL - IbCa - ICap + 2.0 * INaCa;
     cell.rate(k_Ca_ss, beta_ss * (JCass / Vss + I_tot / (2.0 * Vss * F)));
 
     cell.output(kOut_I_ion, I_ion);
@@ -566,7 +583,7 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     cell.output(kOut_IK1, IK1);
     cell.output(kOut_INaCa, INaCa);
     cell.output(kOut_INaK, INaK);
-  }
+  });
 }
 
 // ---------------------------------------------------------------------------

@@ -4,12 +4,13 @@
 // ELECTRA's passive fibroblast (lino202/ELECTRA src/.../passive.cpp):
 // C = 6.3 pF, R = 10.7 GOhm, E_rev = -49.6 mV (tau_m = RC = 67.4 ms).
 // Units: mV / GOhm = pA, pA / pF = mV/ms.
+#include <type_traits>
+
 #include "model/block_access.hpp"
 #include "model/cell_model.hpp"
 
 namespace {
 
-using fibrodem::CellAccess;
 
 enum State { kV };
 enum Param { kC_pF, kR_GOhm, kE_rev_mV };
@@ -43,13 +44,13 @@ class PassiveFibroblast final : public fibrodem::CellModel {
     const double C = block.params[kC_pF];
     const double R = block.params[kR_GOhm];
     const double E = block.params[kE_rev_mV];
-    for (std::size_t c = block.begin; c < block.end; ++c) {
-      const CellAccess cell(block, c);
-      const double V = cell.state(kV);
-      const double I_leak_pA = (V - E) / R;
+    fibrodem::for_each_lane_group(block, [&](const auto& cell) {
+      using Real = typename std::decay_t<decltype(cell)>::Real;
+      const Real V = cell.state(kV);
+      const Real I_leak_pA = (V - E) / R;
       cell.rate(kV, (cell.input(kI_ext_pA) - I_leak_pA) / C);
       cell.output(kI_ion_pA, I_leak_pA);
-    }
+    });
   }
 
  private:
