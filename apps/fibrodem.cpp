@@ -7,7 +7,24 @@
 
 #include "apps/commands.hpp"
 
+namespace {
+
+// OpenMP's threads wait for the next parallel loop by spinning: GCC's libgomp
+// spins ~300,000 times (milliseconds) before it sleeps, which on a shared
+// machine takes a core from other jobs. A run's parallel loops come microseconds
+// apart, so a short spin (~0.1 ms) keeps them fast and lets idle threads sleep.
+// libgomp reads this only when it loads, before main(): so the program starts
+// itself again once with the setting, unless the user chose a policy.
+void bound_openmp_spinning(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
+  setenv("GOMP_SPINCOUNT", "10000", 1);
+  execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  bound_openmp_spinning(argv);
   CLI::App app{"fibrodem: cardiac tissue cell by cell (electrophysiology, coupling, mechanics)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("fibrodem ") + FIBRODEM_VERSION);

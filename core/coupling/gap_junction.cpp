@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "model/work_split.hpp"
+
 namespace fibrodem {
 
 GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, double D_f_nS,
@@ -30,7 +32,7 @@ GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, doub
 void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
   // i_ext -= L V, row by row: each row sums in a fixed order, whatever the threads.
   const Eigen::Index rows = laplacian_.outerSize();
-#pragma omp parallel for schedule(static) if (rows > 4096)
+#pragma omp parallel for schedule(static) if (rows > kParallelCells)
   for (Eigen::Index row = 0; row < rows; ++row) {
     double current = 0.0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)

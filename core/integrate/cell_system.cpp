@@ -8,7 +8,9 @@ namespace fibrodem {
 void CellSystem::gather_voltage() {
   for (auto& pop : populations) {
     const double* v = pop.voltage();
-    for (std::size_t c = 0; c < pop.size(); ++c) V_mV[pop.cells[c]] = v[c];
+    const auto n = static_cast<long>(pop.size());
+#pragma omp parallel for schedule(static) if (n > kParallelCells)
+    for (long c = 0; c < n; ++c) V_mV[pop.cells[c]] = v[c];
   }
 }
 
@@ -61,6 +63,22 @@ void CellSystem::evaluate_population(Population& pop, double t_ms, const AfterPo
   pop.evaluate(t_ms, [&](std::size_t begin, std::size_t end) { after(pop, begin, end); });
 }
 
+// Every block of every ionic population in one parallel loop (one fork and
+// join per step); blocks are taken dynamically, as models differ in cost.
+// Each block depends only on its own cells: the thread count changes nothing.
+void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) {
+  blocks_.clear();
+  for (std::size_t p = 0; p < populations.size(); ++p)
+    for (std::size_t k = 0; k < populations[p].block_count(); ++k) blocks_.push_back({p, k});
+  const auto count = static_cast<long>(blocks_.size());
+#pragma omp parallel for schedule(dynamic, 1) if (count > 1)
+  for (long i = 0; i < count; ++i) {
+    Population& pop = populations[blocks_[i].first];
+    if (!after) pop.evaluate_block(blocks_[i].second, t_ms);
+    else pop.evaluate_block(blocks_[i].second, t_ms, [&](std::size_t b, std::size_t e) { after(pop, b, e); });
+  }
+}
+
 void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after) {
   auto clock = Clock::now();
   // 1. Myofilaments read their host's cytosolic Ca (a state of the host).
@@ -98,7 +116,7 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   seconds[kCoupling] += since(clock);
   // 4. The ionic models.
   clock = Clock::now();
-  for (auto& pop : populations) evaluate_population(pop, t_ms, after);
+  evaluate_ionic(t_ms, after);
   seconds[kIonic] += since(clock);
 }
 

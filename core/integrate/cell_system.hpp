@@ -50,6 +50,10 @@ struct CellSystem {
   StretchActivatedCurrent sac;
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
   std::vector<double> V_mV, i_ext_pA;              // per global cell
+  // Set by an integrator that checked every state against its population's
+  // limits while updating it: the observer then need not scan them again
+  // unless one was out (to find and name it).
+  bool states_checked = false, states_in_limits = true;
   // Wall time spent [s]: myofilament models, coupling currents, ionic models.
   std::array<double, 3> seconds{0, 0, 0};
   enum Timer { kMyofilament, kCoupling, kIonic };
@@ -90,6 +94,8 @@ struct CellSystem {
  private:
   void add_stretch_activated_current();
   static void evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after);
+  void evaluate_ionic(double t_ms, const AfterPopulationBlock& after);
+  std::vector<std::pair<std::size_t, std::size_t>> blocks_;  // (population, block) of one step
 };
 
 }  // namespace fibrodem

@@ -1,6 +1,8 @@
 #include "integrate/fixed_step.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -13,10 +15,12 @@ namespace {
 
 // One state's row over cells [begin, end), in SIMD lanes: a gate exactly from
 // its linear form (y_inf + (y0 - y_inf) exp(b dt); Euler where b = 0), any
-// other state by Euler with the slope taken at ys.
-void update_row(double* y, const double* y0, const double* ys, const double* a, const double* b,
-                std::size_t begin, std::size_t end, double dt, bool exponential) {
+// other state by Euler with the slope taken at ys. False if a new value left
+// [lo, hi] or is NaN.
+bool update_row(double* y, const double* y0, const double* ys, const double* a, const double* b,
+                std::size_t begin, std::size_t end, double dt, bool exponential, double lo, double hi) {
   using simd::Real;
+  Real::batch_bool_type in_limits(true);
   for (std::size_t c = begin; c < end; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, end - c);
     const Real A = simd::load(a + c, n), B = simd::load(b + c, n), Y0 = simd::load(y0 + c, n);
@@ -29,20 +33,32 @@ void update_row(double* y, const double* y0, const double* ys, const double* a, 
       next = Y0 + dt * (A + B * simd::load(ys + c, n));
     }
     simd::store(y + c, next, n);
+    in_limits = in_limits & (next >= lo) & (next <= hi);  // spare lanes repeat a real cell; NaN fails
   }
+  return xsimd::all(in_limits);
 }
 
 }  // namespace
 
-void FixedStepIntegrator::update_block(Population& pop, const std::vector<double>& from,
+bool FixedStepIntegrator::update_block(Population& pop, const std::vector<double>& from,
                                        const std::vector<double>& slope_at, std::size_t begin, std::size_t end,
                                        double dt) const {
   const std::size_t n = pop.size();
   const auto& states = pop.info().states;
   const bool exponential_gates = rule_ != Rule::euler;
+  const bool limits = !pop.lower_limit.empty();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Tabulated gates first, from the potentials at the step's start.
+  const bool by_table = pop.table_advances_gates;
+  if (by_table) pop.table->advance_gates(pop.y.data(), n, pop.voltage(), begin, end);
+  bool in_limits = true;
   for (std::size_t k = 0; k < states.size(); ++k)
-    update_row(pop.y.data() + k * n, from.data() + k * n, slope_at.data() + k * n, pop.a.data() + k * n,
-               pop.b.data() + k * n, begin, end, dt, exponential_gates && states[k].gate);
+    if (!(by_table && states[k].voltage_only))
+      in_limits &= update_row(pop.y.data() + k * n, from.data() + k * n, slope_at.data() + k * n,
+                            pop.a.data() + k * n, pop.b.data() + k * n, begin, end, dt,
+                            exponential_gates && states[k].gate, limits ? pop.lower_limit[k] : -kInf,
+                            limits ? pop.upper_limit[k] : kInf);
+  return in_limits;
 }
 
 void FixedStepIntegrator::update_from(Population& pop, const std::vector<double>& from,
@@ -58,14 +74,26 @@ void FixedStepIntegrator::update_from(Population& pop, const std::vector<double>
 
 void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
   if (rule_ != Rule::rush_larsen2) {
-    // Each block is updated as soon as it is evaluated (one pass over memory).
-    system.evaluate(t, t, [&](Population& pop, std::size_t begin, std::size_t end) {
-      update_block(pop, pop.y, pop.y, begin, end, h);
+    // Each block is updated as soon as it is evaluated (one pass over memory),
+    // and its new states checked against their limits on the way.
+    std::atomic<bool> out_of_limits{false};
+    bool all_checked = true;
+    system.for_each_population([&](Population& pop) {
+      all_checked &= !pop.lower_limit.empty();
+      // (h is t_next - t: the table's step up to round-off, except a short last step)
+      pop.table_advances_gates = pop.table && std::abs(pop.table->rush_larsen_step_ms() - h) <= 1e-9 * h;
     });
+    system.evaluate(t, t, [&](Population& pop, std::size_t begin, std::size_t end) {
+      if (!update_block(pop, pop.y, pop.y, begin, end, h)) out_of_limits.store(true, std::memory_order_relaxed);
+    });
+    system.for_each_population([](Population& pop) { pop.table_advances_gates = false; });
+    system.states_checked = all_checked;
+    system.states_in_limits = !out_of_limits.load();
     return;
   }
   // Second order: half step, midpoint slopes, full step from the start.
   // (Buffers keep their capacity: no allocation after the first step.)
+  system.states_checked = false;
   system.evaluate(t, t);
   std::size_t p = 0;
   start_.resize(system.populations.size() + system.myofilaments.size());
@@ -85,6 +113,7 @@ void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
 
 void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_end,
                                   StepObserver& observer) {
+  if (rule_ == Rule::rush_larsen) add_rush_larsen_tables(system);
   // Times are t_start + n*dt (no accumulated round-off); the last step may be short.
   const auto steps = static_cast<long long>(std::ceil((t_end - t_start) / dt_ms_ - 1e-9));
   double t = t_start;
@@ -111,6 +140,15 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
       observer.on_sample(observer.next_sample_ms());
     t = t_next;
   }
+}
+
+// Lookup tables (solver.lookup_tables) gain the Rush-Larsen columns of this
+// step: the tabulated gates then cost no exp() at all.
+void FixedStepIntegrator::add_rush_larsen_tables(CellSystem& system) const {
+  system.for_each_population([&](Population& pop) {
+    if (!pop.table || pop.table->rush_larsen_step_ms() == dt_ms_) return;
+    if (auto with_step = pop.table->with_rush_larsen_step(dt_ms_)) pop.table = with_step;
+  });
 }
 
 std::string FixedStepIntegrator::describe() const {

@@ -30,8 +30,9 @@ class FixedStepIntegrator final : public Integrator {
   // Advances every state of a population over dt with its present a, b.
   void update_states(Population& pop, double dt_ms) const { update_from(pop, pop.y, pop.y, dt_ms); }
   // The same for the cells [begin, end) only.
-  void update_block(Population& pop, std::size_t begin, std::size_t end, double dt_ms) const {
-    update_block(pop, pop.y, pop.y, begin, end, dt_ms);
+  // False if a new value left the population's limits (lower_limit, upper_limit).
+  bool update_block(Population& pop, std::size_t begin, std::size_t end, double dt_ms) const {
+    return update_block(pop, pop.y, pop.y, begin, end, dt_ms);
   }
 
  private:
@@ -40,10 +41,12 @@ class FixedStepIntegrator final : public Integrator {
   // midpoint, for the second-order rule). Either may be the population's own y.
   void update_from(Population& pop, const std::vector<double>& from, const std::vector<double>& slope_at,
                    double dt_ms) const;
-  // The same for the cells [begin, end) only.
-  void update_block(Population& pop, const std::vector<double>& from, const std::vector<double>& slope_at,
+  // The same for the cells [begin, end) only; false if a new value left the
+  // population's limits.
+  bool update_block(Population& pop, const std::vector<double>& from, const std::vector<double>& slope_at,
                     std::size_t begin, std::size_t end, double dt_ms) const;
   void step(CellSystem& system, double t, double h);
+  void add_rush_larsen_tables(CellSystem& system) const;
 
   Rule rule_;
   double dt_ms_;

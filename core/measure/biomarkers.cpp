@@ -1,5 +1,7 @@
 #include "measure/biomarkers.hpp"
 
+#include "model/work_split.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -37,7 +39,9 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     return;
   }
   const double h = t_new - t_old;
-  for (std::size_t c = 0; c < cells_.size(); ++c) {
+  const auto n = static_cast<long>(cells_.size());
+#pragma omp parallel for schedule(static) if (n > kParallelCells)
+  for (long c = 0; c < n; ++c) {
     Cell& s = cells_[c];
     const double slope = dVdt ? dVdt[c] : (V[c] - s.v_prev) / h;
     const double t_slope = dVdt ? t_new : t_old + 0.5 * h;

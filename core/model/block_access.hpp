@@ -36,36 +36,36 @@ class Cells {
 
   Cells(const BlockView& block, std::size_t first, std::size_t count) : v_(block), c_(first), n_(count) {}
 
-  R state(int k) const { return load(v_.y + k * v_.stride); }
-  R input(int k) const { return load(v_.inputs + k * v_.stride); }
-  double param(int k) const { return v_.params[k]; }
+  FIBRODEM_LANE_INLINE R state(int k) const { return load(v_.y + k * v_.stride); }
+  FIBRODEM_LANE_INLINE R input(int k) const { return load(v_.inputs + k * v_.stride); }
+  FIBRODEM_LANE_INLINE double param(int k) const { return v_.params[k]; }
 
   // A state that is not a gate: dy/dt given directly.
-  void rate(int k, const R& dydt) const {
+  FIBRODEM_LANE_INLINE void rate(int k, const R& dydt) const {
     store(v_.a + k * v_.stride, dydt);
     store(v_.b + k * v_.stride, R(0.0));
   }
   // A gate from its steady state and time constant: dy/dt = (y_inf - y)/tau.
-  void gate_inf_tau(int k, const R& y_inf, const R& tau) const {
+  FIBRODEM_LANE_INLINE void gate_inf_tau(int k, const R& y_inf, const R& tau) const {
     const R rate = 1.0 / tau;
     store(v_.a + k * v_.stride, y_inf * rate);
     store(v_.b + k * v_.stride, -rate);
   }
   // A gate from its opening and closing rates: dy/dt = alpha (1 - y) - beta y.
-  void gate_alpha_beta(int k, const R& alpha, const R& beta) const {
+  FIBRODEM_LANE_INLINE void gate_alpha_beta(int k, const R& alpha, const R& beta) const {
     store(v_.a + k * v_.stride, alpha);
     store(v_.b + k * v_.stride, -(alpha + beta));
   }
-  void output(int k, const R& value) const {
+  FIBRODEM_LANE_INLINE void output(int k, const R& value) const {
     if (v_.outputs != nullptr) store(v_.outputs + k * v_.stride, value);
   }
 
  private:
-  R load(const double* row) const {
+  FIBRODEM_LANE_INLINE R load(const double* row) const {
     if constexpr (std::is_same_v<R, double>) return row[c_];
     else return simd::load(row + c_, n_);
   }
-  void store(double* row, const R& value) const {
+  FIBRODEM_LANE_INLINE void store(double* row, const R& value) const {
     if constexpr (std::is_same_v<R, double>) row[c_] = value;
     else simd::store(row + c_, value, n_);
   }

@@ -33,22 +33,23 @@ BlockView Population::view() {
 void Population::evaluate(double t_ms, const AfterBlock& after) {
   // Blocks of cells in parallel: each cell's derivatives depend only on its own
   // state and inputs, so the result does not depend on the thread count.
-  const BlockView whole = view();
-  const auto blocks = static_cast<long>((size() + kCellsPerBlock - 1) / kCellsPerBlock);
+  const auto blocks = static_cast<long>(block_count());
 #pragma omp parallel for schedule(static) if (blocks > 1)
-  for (long k = 0; k < blocks; ++k) {
-    BlockView block = whole;
-    block.begin = static_cast<std::size_t>(k) * kCellsPerBlock;
-    block.end = std::min(size(), block.begin + kCellsPerBlock);
-    if (table) {
-      block.skip_voltage_only_gates = true;
-      model->evaluate(block, t_ms);
-      table->fill(block, voltage_state);
-    } else {
-      model->evaluate(block, t_ms);
-    }
-    if (after) after(block.begin, block.end);
+  for (long k = 0; k < blocks; ++k) evaluate_block(static_cast<std::size_t>(k), t_ms, after);
+}
+
+void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& after) {
+  BlockView block = view();
+  block.begin = k * kCellsPerBlock;
+  block.end = std::min(size(), block.begin + kCellsPerBlock);
+  if (table) {
+    block.skip_voltage_only_gates = true;
+    model->evaluate(block, t_ms);
+    if (!table_advances_gates) table->fill(block, voltage_state);
+  } else {
+    model->evaluate(block, t_ms);
   }
+  if (after) after(block.begin, block.end);
 }
 
 bool Population::use_lookup_table() {

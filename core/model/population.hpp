@@ -10,14 +10,11 @@
 
 #include "model/cell_model.hpp"
 #include "model/voltage_table.hpp"
+#include "model/work_split.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
 
-// Cells per block handed to one thread at a time: small enough that a
-// block's states and derivatives stay in the core's L2 cache between its
-// evaluation and its update (27 states x 3 arrays x 256 cells = 166 kB).
-inline constexpr std::size_t kCellsPerBlock = 256;
 
 // Work on a block [begin, end) right after it was evaluated (an integrator's
 // state update), while its derivatives are still in cache.
@@ -37,8 +34,16 @@ struct Population {
   // null: evaluate() then calls the model with skip_voltage_only_gates and
   // fills those gates from the table. Built by use_lookup_table().
   std::shared_ptr<const VoltageTable> table;
+  // Set by a Rush-Larsen integrator whose step the table has columns for: it
+  // advances the tabulated gates from the table itself, so evaluate() leaves
+  // their a, b unwritten.
+  bool table_advances_gates = false;
   // solver.simd false: the models run one cell at a time in double.
   bool scalar_reference = false;
+  // Per state, the range a value must stay in (the StateInfo bounds widened by
+  // round-off), for integrators that check states as they update them; empty:
+  // not checked there.
+  std::vector<double> lower_limit, upper_limit;
 
   const ModelInfo& info() const { return model->info(); }
   std::size_t size() const { return cells.size(); }
@@ -53,6 +58,9 @@ struct Population {
   // Evaluates a, b and outputs for the whole block at time t, block by block
   // (in parallel), calling after(begin, end) on each block once it is done.
   void evaluate(double t_ms, const AfterBlock& after = nullptr);
+  // The same for block k alone (cells [k, k+1) x kCellsPerBlock), on the calling thread.
+  void evaluate_block(std::size_t k, double t_ms, const AfterBlock& after = nullptr);
+  std::size_t block_count() const { return (size() + kCellsPerBlock - 1) / kCellsPerBlock; }
   BlockView view();
   // Builds the table from the current parameters and initial state; false
   // (and no table) when the model has no voltage_only gates.

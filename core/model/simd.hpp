@@ -22,6 +22,10 @@
 #include <cstddef>
 #include <xsimd/xsimd.hpp>
 
+// Small lane functions are always inlined: a call per function and lane group
+// costs more than the work in it (GCC otherwise declines in large models).
+#define FIBRODEM_LANE_INLINE inline __attribute__((always_inline))
+
 namespace fibrodem::simd {
 
 using Real = xsimd::batch<double>;
@@ -30,17 +34,17 @@ inline constexpr std::size_t kLanes = Real::size;
 // ---- comparisons give bool for double, a lane mask for Real ----------------
 // select(mask, a, b): a where the mask holds, else b (both are evaluated; the
 // unused one may be inf or NaN).
-inline double select(bool mask, double a, double b) { return mask ? a : b; }
-inline Real select(const Real::batch_bool_type& mask, const Real& a, const Real& b) {
+FIBRODEM_LANE_INLINE double select(bool mask, double a, double b) { return mask ? a : b; }
+FIBRODEM_LANE_INLINE Real select(const Real::batch_bool_type& mask, const Real& a, const Real& b) {
   return xsimd::select(mask, a, b);
 }
-inline Real select(const Real::batch_bool_type& mask, double a, const Real& b) {
+FIBRODEM_LANE_INLINE Real select(const Real::batch_bool_type& mask, double a, const Real& b) {
   return xsimd::select(mask, Real(a), b);
 }
-inline Real select(const Real::batch_bool_type& mask, const Real& a, double b) {
+FIBRODEM_LANE_INLINE Real select(const Real::batch_bool_type& mask, const Real& a, double b) {
   return xsimd::select(mask, a, Real(b));
 }
-inline Real select(const Real::batch_bool_type& mask, double a, double b) {
+FIBRODEM_LANE_INLINE Real select(const Real::batch_bool_type& mask, double a, double b) {
   return xsimd::select(mask, Real(a), Real(b));
 }
 
@@ -48,13 +52,13 @@ inline Real select(const Real::batch_bool_type& mask, double a, double b) {
 // A group narrower than the register repeats its last value in the spare lanes
 // (so they hold valid numbers) and stores only its own values: every cell then
 // goes through the same vector code wherever it sits in its block.
-inline Real load(const double* p, std::size_t n) {
+FIBRODEM_LANE_INLINE Real load(const double* p, std::size_t n) {
   if (n == kLanes) return Real::load_unaligned(p);
   alignas(64) double lanes[kLanes];
   for (std::size_t i = 0; i < kLanes; ++i) lanes[i] = p[i < n ? i : n - 1];
   return Real::load_aligned(lanes);
 }
-inline void store(double* p, const Real& value, std::size_t n) {
+FIBRODEM_LANE_INLINE void store(double* p, const Real& value, std::size_t n) {
   if (n == kLanes) return value.store_unaligned(p);
   alignas(64) double lanes[kLanes];
   value.store_aligned(lanes);
@@ -62,38 +66,38 @@ inline void store(double* p, const Real& value, std::size_t n) {
 }
 
 // ---- elementary functions ---------------------------------------------------
-inline double exp(double x) { return std::exp(x); }
-inline Real exp(const Real& x) { return xsimd::exp(x); }
-inline double expm1(double x) { return std::expm1(x); }
-inline Real expm1(const Real& x) { return xsimd::expm1(x); }
-inline double log(double x) { return std::log(x); }
-inline Real log(const Real& x) { return xsimd::log(x); }
-inline double sqrt(double x) { return std::sqrt(x); }
-inline Real sqrt(const Real& x) { return xsimd::sqrt(x); }
-inline double fabs(double x) { return std::fabs(x); }
-inline Real fabs(const Real& x) { return xsimd::abs(x); }
-inline double pow(double x, double y) { return std::pow(x, y); }
-inline Real pow(const Real& x, double y) { return xsimd::pow(x, Real(y)); }
-inline Real pow(const Real& x, const Real& y) { return xsimd::pow(x, y); }
-inline Real pow(double x, const Real& y) { return xsimd::pow(Real(x), y); }
-inline double fmin(double a, double b) { return std::fmin(a, b); }
-inline Real fmin(const Real& a, const Real& b) { return xsimd::min(a, b); }
-inline double fmax(double a, double b) { return std::fmax(a, b); }
-inline Real fmax(const Real& a, const Real& b) { return xsimd::max(a, b); }
-inline double floor(double x) { return std::floor(x); }
-inline Real floor(const Real& x) { return xsimd::floor(x); }
+FIBRODEM_LANE_INLINE double exp(double x) { return std::exp(x); }
+FIBRODEM_LANE_INLINE Real exp(const Real& x) { return xsimd::exp(x); }
+FIBRODEM_LANE_INLINE double expm1(double x) { return std::expm1(x); }
+FIBRODEM_LANE_INLINE Real expm1(const Real& x) { return xsimd::expm1(x); }
+FIBRODEM_LANE_INLINE double log(double x) { return std::log(x); }
+FIBRODEM_LANE_INLINE Real log(const Real& x) { return xsimd::log(x); }
+FIBRODEM_LANE_INLINE double sqrt(double x) { return std::sqrt(x); }
+FIBRODEM_LANE_INLINE Real sqrt(const Real& x) { return xsimd::sqrt(x); }
+FIBRODEM_LANE_INLINE double fabs(double x) { return std::fabs(x); }
+FIBRODEM_LANE_INLINE Real fabs(const Real& x) { return xsimd::abs(x); }
+FIBRODEM_LANE_INLINE double pow(double x, double y) { return std::pow(x, y); }
+FIBRODEM_LANE_INLINE Real pow(const Real& x, double y) { return xsimd::pow(x, Real(y)); }
+FIBRODEM_LANE_INLINE Real pow(const Real& x, const Real& y) { return xsimd::pow(x, y); }
+FIBRODEM_LANE_INLINE Real pow(double x, const Real& y) { return xsimd::pow(Real(x), y); }
+FIBRODEM_LANE_INLINE double fmin(double a, double b) { return std::fmin(a, b); }
+FIBRODEM_LANE_INLINE Real fmin(const Real& a, const Real& b) { return xsimd::min(a, b); }
+FIBRODEM_LANE_INLINE double fmax(double a, double b) { return std::fmax(a, b); }
+FIBRODEM_LANE_INLINE Real fmax(const Real& a, const Real& b) { return xsimd::max(a, b); }
+FIBRODEM_LANE_INLINE double floor(double x) { return std::floor(x); }
+FIBRODEM_LANE_INLINE Real floor(const Real& x) { return xsimd::floor(x); }
 
 // x / (1 - exp(-x)), with its limit 1 + x/2 near x = 0: the removable
 // singularity of Hodgkin-Huxley rates such as a (V - V0) / (1 - exp(-(V - V0)/k)).
 // expm1 keeps full relative accuracy for small |x|.
 template <class R>
-R exprel(const R& x) {
+FIBRODEM_LANE_INLINE R exprel(const R& x) {
   return select(fabs(x) < 1e-6, 1.0 + 0.5 * x, x / -expm1(-x));
 }
 
 // x^n for a small whole n, by multiplication (pow is costly in lanes).
 template <int n, class R>
-R ipow(const R& x) {
+FIBRODEM_LANE_INLINE R ipow(const R& x) {
   static_assert(n >= 0 && n <= 8);
   if constexpr (n == 0) return R(1.0);
   else return x * ipow<n - 1>(x);

@@ -45,29 +45,71 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
   return table;
 }
 
+VoltageTable::Position VoltageTable::position(double V, long long& clamped) const {
+  const double last = static_cast<double>(points_ - 1);
+  double x = (V - v_min_) * inv_step_;
+  if (!(x >= 0.0)) {  // below the table, or NaN
+    x = 0.0;
+    ++clamped;
+  } else if (x > last) {
+    x = last;
+    ++clamped;
+  }
+  std::size_t i = static_cast<std::size_t>(x);
+  if (i + 1 >= points_) i = points_ - 2;
+  return {i, x - static_cast<double>(i)};
+}
+
 void VoltageTable::fill(const BlockView& block, int voltage_state) const {
   const std::size_t g = gates_.size(), width = 2 * g;
-  const double last = static_cast<double>(points_ - 1);
   const double* V = block.y + static_cast<std::size_t>(voltage_state) * block.stride;
   long long clamped = 0;
   for (std::size_t c = block.begin; c < block.end; ++c) {
-    double x = (V[c] - v_min_) * inv_step_;
-    if (!(x >= 0.0)) {  // below the table, or NaN
-      x = 0.0;
-      ++clamped;
-    } else if (x > last) {
-      x = last;
-      ++clamped;
-    }
-    std::size_t i = static_cast<std::size_t>(x);
-    if (i + 1 >= points_) i = points_ - 2;
-    const double w = x - static_cast<double>(i);
+    const auto [i, w] = position(V[c], clamped);
     const double* r0 = rows_.data() + i * width;
     const double* r1 = r0 + width;
     for (std::size_t q = 0; q < g; ++q) {
       const std::size_t at = static_cast<std::size_t>(gates_[q]) * block.stride + c;
       block.a[at] = r0[2 * q] + w * (r1[2 * q] - r0[2 * q]);
       block.b[at] = r0[2 * q + 1] + w * (r1[2 * q + 1] - r0[2 * q + 1]);
+    }
+  }
+  if (clamped != 0) clamps_.fetch_add(clamped, std::memory_order_relaxed);
+}
+
+std::shared_ptr<VoltageTable> VoltageTable::with_rush_larsen_step(double dt_ms) const {
+  for (std::size_t r = 1; r < rows_.size(); r += 2)
+    if (rows_[r] == 0.0) return nullptr;  // a gate standing still there has no y_inf
+  auto t = std::make_shared<VoltageTable>();
+  t->v_min_ = v_min_;
+  t->step_ = step_;
+  t->inv_step_ = inv_step_;
+  t->points_ = points_;
+  t->gates_ = gates_;
+  t->rows_ = rows_;
+  t->rl_dt_ = dt_ms;
+  t->rl_rows_.resize(rows_.size());
+  for (std::size_t r = 0; r < rows_.size(); r += 2) {
+    const double a = rows_[r], b = rows_[r + 1];
+    t->rl_rows_[r] = -a / b;
+    t->rl_rows_[r + 1] = std::exp(b * dt_ms);
+  }
+  return t;
+}
+
+void VoltageTable::advance_gates(double* y, std::size_t stride, const double* V, std::size_t begin,
+                                 std::size_t end) const {
+  const std::size_t g = gates_.size(), width = 2 * g;
+  long long clamped = 0;
+  for (std::size_t c = begin; c < end; ++c) {
+    const auto [i, w] = position(V[c], clamped);
+    const double* r0 = rl_rows_.data() + i * width;
+    const double* r1 = r0 + width;
+    for (std::size_t q = 0; q < g; ++q) {
+      const double y_inf = r0[2 * q] + w * (r1[2 * q] - r0[2 * q]);
+      const double E = r0[2 * q + 1] + w * (r1[2 * q + 1] - r0[2 * q + 1]);
+      double& gate = y[static_cast<std::size_t>(gates_[q]) * stride + c];
+      gate = y_inf + (gate - y_inf) * E;
     }
   }
   if (clamped != 0) clamps_.fetch_add(clamped, std::memory_order_relaxed);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -34,6 +35,18 @@ class VoltageTable {
   // from the states' V (state voltage_state). Thread-safe on disjoint blocks.
   void fill(const BlockView& block, int voltage_state) const;
 
+  // Rush-Larsen columns for a fixed step dt (openCARP does the same): per gate
+  // y_inf(V) = -a/b and E(V) = exp(b dt), so that the update
+  //     y' = y_inf + (y - y_inf) E
+  // costs no exp() either. Returns a copy of this table with them added, or
+  // null if some tabulated gate has b = 0 somewhere (no y_inf there).
+  std::shared_ptr<VoltageTable> with_rush_larsen_step(double dt_ms) const;
+  // The step the Rush-Larsen columns were built for (0: none).
+  double rush_larsen_step_ms() const { return rl_dt_; }
+  // Advances the tabulated gates of the cells [begin, end) over rush_larsen_step_ms()
+  // from the potentials V (the step's start): gate row k at y + k * stride.
+  void advance_gates(double* y, std::size_t stride, const double* V, std::size_t begin, std::size_t end) const;
+
   const std::vector<int>& gates() const { return gates_; }  // tabulated state indices
   std::size_t points() const { return points_; }
   double v_min() const { return v_min_; }
@@ -48,6 +61,15 @@ class VoltageTable {
   std::vector<int> gates_;
   // Row i (V = v_min + i*step): a, b of each gate in turn, 2 * gates_.size() values.
   std::vector<double> rows_;
+  // The same rows for y_inf, E (with_rush_larsen_step), and their step.
+  std::vector<double> rl_rows_;
+  double rl_dt_ = 0;
+  // Table position of potential V (clamped to the ends, counted): row, weight.
+  struct Position {
+    std::size_t row;
+    double weight;
+  };
+  Position position(double V, long long& clamped) const;
   mutable std::atomic<long long> clamps_{0};
 };
 

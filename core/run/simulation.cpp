@@ -80,6 +80,7 @@ struct Simulation::Impl : StepObserver {
     system.stimulus = Stimulus(scene.stimuli, tissue);
     traces = TraceRecorder(scene, system, mechanics != nullptr, plan.has("contraction"));
     build_lookup_tables();
+    set_state_limits();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
   }
@@ -387,22 +388,33 @@ struct Simulation::Impl : StepObserver {
   // A state outside its physical range (or NaN/Inf) stops the run. The range
   // is widened by round-off (1e-6 relative) and, for CVODE, by its error
   // tolerance: a gate at 1 + 1e-6 after a BDF step at rtol 1e-6 is not a blow-up.
-  void check_states(double t) {
+  // (The fixed-step integrators check them as they update them; the scan
+  // below then runs only to name the state that left its range.)
+  void set_state_limits() {
     const bool cvode = scene.solver.method == "cvode";
     // Ten times CVODE's local error bound rtol |y| + atol at the bound.
     auto slack = [&](double bound) {
       const double scale = std::max(1.0, std::abs(bound));
       return std::max(1e-6 * scale, cvode ? 10 * (scene.solver.rtol * scale + scene.solver.atol) : 0.0);
     };
+    system.for_each_population([&](Population& pop) {
+      pop.lower_limit.clear();
+      pop.upper_limit.clear();
+      for (const StateInfo& state : pop.info().states) {
+        pop.lower_limit.push_back(state.lower - slack(state.lower));
+        pop.upper_limit.push_back(state.upper + slack(state.upper));
+      }
+    });
+  }
+
+  void check_states(double t) {
+    if (system.states_checked && system.states_in_limits) return;
     system.for_each_population([&](const Population& pop) {
       const std::size_t n = pop.size();
-      const auto& states = pop.info().states;
-      for (std::size_t k = 0; k < states.size(); ++k) {
-        const double lo = states[k].lower - slack(states[k].lower);
-        const double hi = states[k].upper + slack(states[k].upper);
+      for (std::size_t k = 0; k < pop.n_states(); ++k) {
         const double* y = pop.y.data() + k * n;
         for (std::size_t c = 0; c < n; ++c)
-          if (!(y[c] >= lo && y[c] <= hi)) blow_up(t, pop, k, c, y[c]);
+          if (!(y[c] >= pop.lower_limit[k] && y[c] <= pop.upper_limit[k])) blow_up(t, pop, k, c, y[c]);
       }
     });
   }

@@ -1,0 +1,18 @@
+// How work over cells is split between threads.
+#pragma once
+
+#include <cstddef>
+
+namespace fibrodem {
+
+// Cells per block handed to one thread at a time: small enough that a
+// block's states and derivatives stay in the core's L2 cache between its
+// evaluation and its update (27 states x 3 arrays x 256 cells = 166 kB).
+inline constexpr std::size_t kCellsPerBlock = 256;
+
+// Simple loops over cells (gathers, coupling currents, biomarker tracking) run
+// in parallel only from this many cells on: below, waking the threads costs
+// more than the loop.
+inline constexpr long kParallelCells = 2048;
+
+}  // namespace fibrodem
