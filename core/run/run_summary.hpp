@@ -46,6 +46,11 @@ struct RunFacts {
   std::array<double, 3> peak_strain;
   double mechanics_step_ms;                  // the smallest step taken
   double mechanics_seconds;
+  // Wall time [s] of the run's own work around the models: biomarkers and
+  // state checks (measurement), traces, pictures and files (output), the
+  // integrator's own arithmetic (CVODE's Newton and linear solves, the loop),
+  // and building the scene before the run (set_up, not part of wall_s).
+  double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
 };
 
 json run_summary(const RunFacts& facts);

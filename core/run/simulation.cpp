@@ -28,6 +28,22 @@
 namespace fibrodem {
 namespace fs = std::filesystem;
 
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Adds the wall time of its scope to a total [s] (summary.json wall_time_by_process_s).
+class ScopeTimer {
+ public:
+  explicit ScopeTimer(double& total) : total_(total), start_(Clock::now()) {}
+  ~ScopeTimer() { total_ += seconds_since(start_); }
+  ScopeTimer(const ScopeTimer&) = delete;
+  ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+
 // solver.threads "auto" shares the work between cores from this many cells on
 // (two blocks of cells; measured in the README's "Threads" section).
 constexpr std::size_t kCellsForThreads = 2 * kCellsPerBlock;
@@ -60,9 +76,11 @@ struct Simulation::Impl : StepObserver {
   std::vector<double> length_ratio;
   std::array<double, 3> peak_strain{0, 0, 0};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
+  double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
+    ScopeTimer timer(set_up_seconds);
     if (!registry) registry = std::make_shared<PluginRegistry>();
     make_logger();
     tissue = scene.tissue->build(scene.seed);
@@ -327,14 +345,21 @@ struct Simulation::Impl : StepObserver {
 
   double next_sample_ms() const override { return traces.next_sample_ms(); }
 
-  void on_sample(double t) override { traces.sample(t, system, mechanics.get()); }
+  void on_sample(double t) override {
+    ScopeTimer timer(output_seconds);
+    traces.sample(t, system, mechanics.get());
+  }
 
   void on_step(double t_old, double t_new, const double* dVdt) override {
     ++steps;
-    check_states(t_new);
-    system.gather_voltage();
-    tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+    {
+      ScopeTimer timer(measurement_seconds);
+      check_states(t_new);
+      system.gather_voltage();
+      tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+    }
     advance_mechanics(t_new);
+    ScopeTimer timer(output_seconds);
     snapshot_if_due(t_new);
     const auto now = std::chrono::steady_clock::now();
     if (now - last_flush > std::chrono::seconds(1)) {
@@ -460,16 +485,20 @@ struct Simulation::Impl : StepObserver {
     started = last_progress = last_flush = std::chrono::steady_clock::now();
     status = "running";
     try {
-      open_outputs();
-      log_setup();
+      {
+        ScopeTimer timer(output_seconds);
+        open_outputs();
+        log_setup();
+      }
       tracker = std::make_unique<BiomarkerTracker>(
           tissue.type, system.stimulus.onsets(scene.duration_ms), scene.output.biomarkers_from_ms,
           [this](const BeatBiomarkers& b) { record_beat(b); });
       system.record_rest_lengths();
       system.gather_voltage();
       tracker->start(0.0, system.V_mV.data());
-      integrator->advance(system, 0.0, scene.duration_ms, *this);
+      advance_and_time_integrator();
       tracker->finish();
+      ScopeTimer timer(output_seconds);
       if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats);
       status = "completed";
     } catch (const std::exception& e) {
@@ -486,6 +515,25 @@ struct Simulation::Impl : StepObserver {
     }
     log->flush();
     if (status == "failed") throw std::runtime_error(error);
+  }
+
+  // The integrator's own time: its wall time less what the models, coupling,
+  // the observer (measurement, output, mechanics) took within it.
+  void advance_and_time_integrator() {
+    auto others = [&] {
+      return system.seconds[0] + system.seconds[1] + system.seconds[2] + measurement_seconds + output_seconds +
+             mechanics_seconds;
+    };
+    const double before = others();
+    const auto start = Clock::now();
+    auto charge = [&] { integrator_seconds += std::max(0.0, seconds_since(start) - (others() - before)); };
+    try {
+      integrator->advance(system, 0.0, scene.duration_ms, *this);
+    } catch (...) {
+      charge();  // a failed run reports its time too
+      throw;
+    }
+    charge();
   }
 
   // Clamped lookup tables, mechanics' report, and how the run ended.
@@ -520,7 +568,11 @@ struct Simulation::Impl : StepObserver {
                         .mechanics = mechanics != nullptr,
                         .peak_strain = peak_strain,
                         .mechanics_step_ms = mechanics_step_ms,
-                        .mechanics_seconds = mechanics_seconds});
+                        .mechanics_seconds = mechanics_seconds,
+                        .measurement_seconds = measurement_seconds,
+                        .output_seconds = output_seconds,
+                        .integrator_seconds = integrator_seconds,
+                        .set_up_seconds = set_up_seconds});
   }
 };
 
