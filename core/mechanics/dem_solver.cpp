@@ -1,5 +1,7 @@
 #include "mechanics/dem_solver.hpp"
 
+#include "mechanics/ordered_sum.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -145,6 +147,8 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
   bsdot_.assign(nb, 0.0);
   bux_.resize(nb);
   buy_.resize(nb);
+  next_r_.resize(nb);
+  next_s_.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     bux_[b] = -std::sin(bth_[b]);
     buy_[b] = std::cos(bth_[b]);
@@ -242,36 +246,43 @@ void DemSolver::rebuild_contacts() {
                                 " ms: lower mechanics.dt_ms, or leave it out (automatic step)");
 }
 
+// Each contact's stiffness on its two bodies (in parallel), summed per body
+// in contact order (body_contacts_), then the smallest critical step.
 void DemSolver::compute_stable_step() {
-  const std::size_t nb = bx_.size();
-  std::vector<double>& kt = body_kt_;
-  std::vector<double>& kr = body_kr_;
-  kt.assign(nb, 0.0);
-  kr.assign(nb, 0.0);
-  for (const BondSet* set : {&bonds_, &contacts_})
-  for (std::size_t k = 0; k < set->size(); ++k) {
-    const int p = set->p[k], q = set->q[k];
-    const double kn = law_->stable_step_stiffness(set->kn[k], false);
-    const double ks = law_->stable_step_stiffness(set->ks[k], true);
+  const std::size_t nbonds = bonds_.size(), n = nbonds + contacts_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t c = 0; c < n; ++c) {
+    const BondSet& set = c < nbonds ? bonds_ : contacts_;
+    const std::size_t k = c < nbonds ? c : c - nbonds;
+    const int p = set.p[k], q = set.q[k];
+    const double kn = law_->stable_step_stiffness(set.kn[k], false);
+    const double ks = law_->stable_step_stiffness(set.ks[k], true);
     const double dx = px_[q] - px_[p], dy = py_[q] - py_[p];
     const double d = std::hypot(dx, dy);
     const double nx = d > 0 ? dx / d : 1.0, ny = d > 0 ? dy / d : 0.0;
     const int bp = pbody_[p], bq = pbody_[q];
     const double gap = d - br_[bp] - br_[bq];
     const double cx = px_[p] + (br_[bp] + 0.5 * gap) * nx, cy = py_[p] + (br_[bp] + 0.5 * gap) * ny;
-    for (int b : {bp, bq}) {
+    contact_kt_[c] = kn + ks;
+    for (int end : {0, 1}) {
+      const int b = end ? bq : bp;
       const double rx = cx - bx_[b], ry = cy - by_[b];
       const double rn = rx * ny - ry * nx;    // rho x n
       const double rt = rx * nx + ry * ny;    // rho x t, t = (-ny, nx)
-      kt[b] += kn + ks;
-      kr[b] += kn * rn * rn + ks * rt * rt + set->kb[k];
+      contact_kr_[2 * c + end] = kn * rn * rn + ks * rt * rt + set.kb[k];
     }
   }
   double tmin = std::numeric_limits<double>::infinity();
-  for (std::size_t b = 0; b < nb; ++b) {
+#pragma omp parallel for schedule(static) reduction(min : tmin)
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
-    if (kt[b] > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt[b]));
-    if (kr[b] > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr[b]));
+    double kt = 0, kr = 0;
+    for (const int* e = body_contacts_.begin(b); e != body_contacts_.end(b); ++e) {
+      kt += contact_kt_[ContactIncidence::contact(*e)];
+      kr += contact_kr_[*e];
+    }
+    if (kt > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt));
+    if (kr > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr));
   }
   // Bodies without contacts have no stiffness limit: cap the step (PFC also
   // bounds it kinematically), so that a lone contracting clump still moves and
@@ -290,18 +301,43 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
       throw std::invalid_argument("cell " + std::to_string(c) + ": length ratio " + fmt(l) +
                                   " outside [0.5, 1.5]");
   }
+  // Each myocyte's new shape (cells are independent: in parallel), kept
+  // only if every one exists; the error of the first cell without one.
+  const std::size_t none = cells_;
+  std::size_t failed = none;
+  std::string error;
+#pragma omp parallel for schedule(static)
   for (std::size_t c = 0; c < cells_; ++c) {
     const int b = cell_body_[c];
-    if (b < 0 || bn_[b] < 2 || ratio[c] == blambda_[b]) continue;
-    const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b],
-                                              ratio[c], btarget_r_[b]);
+    if (b < 0 || bn_[b] < 2) continue;
+    next_r_[b] = btarget_r_[b];
+    next_s_[b] = btarget_s_[b];
+    if (ratio[c] == blambda_[b]) continue;
+    try {
+      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b],
+                                                ratio[c], btarget_r_[b]);
+      next_r_[b] = shape.r;
+      next_s_[b] = shape.s;
+    } catch (const std::invalid_argument& e) {
+#pragma omp critical(dem_shape_error)
+      if (c < failed) {
+        failed = c;
+        error = e.what();
+      }
+    }
+  }
+  if (failed != none) throw std::invalid_argument(error);
+  for (std::size_t c = 0; c < cells_; ++c) {
+    const int b = cell_body_[c];
+    if (b < 0 || bn_[b] < 2) continue;
     blambda_[b] = ratio[c];
-    btarget_r_[b] = shape.r;
-    btarget_s_[b] = shape.s;
+    btarget_r_[b] = next_r_[b];
+    btarget_s_[b] = next_s_[b];
   }
 }
 
 void DemSolver::update_geometry(double dt_s) {
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     bsdot_[b] = 0;
     if (btarget_s_[b] == bs_[b] && btarget_r_[b] == br_[b]) continue;
@@ -312,12 +348,14 @@ void DemSolver::update_geometry(double dt_s) {
 }
 
 void DemSolver::place_particles() {
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bn_[b] < 2) continue;  // a disk has no axis (its particle sits at its centre)
     bux_[b] = -std::sin(bth_[b]);
     buy_[b] = std::cos(bth_[b]);
   }
   const std::size_t np = pbody_.size();
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < np; ++i) {
     const int b = pbody_[i];
     const double off = pa_[i] * bs_[b];
@@ -437,7 +475,10 @@ void DemSolver::index_contacts() {
   contact_fx_.resize(n);
   contact_fy_.resize(n);
   contact_moment_.resize(2 * n);
+  contact_kt_.resize(n);
+  contact_kr_.resize(2 * n);
   particle_contacts_.build(px_.size(), bonds_, contacts_);
+  body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
 }
 
 // v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
@@ -447,6 +488,7 @@ void DemSolver::kick(double h_s) {
   auto damped = [alpha](double f, double v) {
     return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f;
   };
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
     bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;
@@ -464,6 +506,7 @@ void DemSolver::step(double dt_ms) {
   const std::size_t nb = bx_.size();
   // Half kick with the forces of the present state, then drift.
   kick(h);
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < nb; ++b) {
     if (bfixed_[b]) continue;
     bx_[b] += bvx_[b] * dt;
@@ -481,9 +524,8 @@ void DemSolver::step(double dt_ms) {
   {
     const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
     const std::size_t n = by_particle ? px_.size() : nb;
-    double sx = 0, sy = 0, svx = 0, svy = 0, sxx = 0, sxy = 0, syy = 0, vxx = 0, vxy = 0, vyx = 0, vyy = 0;
     const double inv_dt = 1 / dt;
-    for (std::size_t i = 0; i < n; ++i) {
+    const auto sums = ordered_sum<11>(n, [&](std::size_t i, std::array<double, 11>& acc) {
       double x, y, vx, vy;
       if (by_particle) {
         vx = (px_[i] - px_old_[i]) * inv_dt;
@@ -496,18 +538,10 @@ void DemSolver::step(double dt_ms) {
         x = bx_[i] - h * vx - origin_x_;
         y = by_[i] - h * vy - origin_y_;
       }
-      sx += x;
-      sy += y;
-      svx += vx;
-      svy += vy;
-      sxx += x * x;
-      sxy += x * y;
-      syy += y * y;
-      vxx += vx * x;
-      vxy += vx * y;
-      vyx += vy * x;
-      vyy += vy * y;
-    }
+      const double terms[11] = {x, y, vx, vy, x * x, x * y, y * y, vx * x, vx * y, vy * x, vy * y};
+      for (std::size_t k = 0; k < 11; ++k) acc[k] += terms[k];
+    });
+    const auto [sx, sy, svx, svy, sxx, sxy, syy, vxx, vxy, vyx, vyy] = sums;
     // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
     if (!std::isfinite(sx + sy + svx + svy))
       throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +

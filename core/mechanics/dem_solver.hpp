@@ -126,6 +126,7 @@ class DemSolver final : public MechanicsSolver {
   // Clump geometry per body (disks: n 1, s 0).
   std::vector<int> bn_;
   std::vector<double> br0_, bs0_, br_, bs_, bsdot_, blambda_, btarget_r_, btarget_s_, bux_, buy_;
+  std::vector<double> next_r_, next_s_;  // set_cell_length_ratios' scratch
   std::vector<int> cell_body_;  // myocyte cell -> body, else -1
 
   // Particles (SoA, SI).
@@ -144,7 +145,10 @@ class DemSolver final : public MechanicsSolver {
   ContactIncidence particle_contacts_;
 
   double stable_step_ms_ = 0;
-  std::vector<double> body_kt_, body_kr_;  // stable-step scratch: summed stiffness per body
+  // Stable-step scratch: each contact's stiffness on its bodies (kr per end,
+  // as contact_moment_), and each body's contacts.
+  std::vector<double> contact_kt_, contact_kr_;
+  ContactIncidence body_contacts_;
   double time_s_ = 0;
   std::size_t steps_ = 0;
   std::array<double, 3> strain_{0, 0, 0};

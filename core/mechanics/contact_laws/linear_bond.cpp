@@ -36,9 +36,6 @@ class LinearBond final : public ContactLaw {
     }
   }
 
-  // Every contact's springs and dashpots as if in contact, then zeroed if it
-  // is apart: selects, not branches (a contact list mixes touching and apart
-  // pairs, which a branch mispredicts). The values are those of the cases above.
   void update(BondSet& b, const BondBlock& blk, double dt) const override {
     const double inv_dt = 1 / dt;
     double* const fn = b.fn.data() + blk.begin;
@@ -49,31 +46,39 @@ class LinearBond final : public ContactLaw {
     const double* const cs = b.cs.data() + blk.begin;
     const double* const ref = b.ref_gap.data() + blk.begin;
     std::uint8_t* const intact = b.intact.data() + blk.begin;
-    // Local copies: the stores to `intact` (bytes) could alias `blk` and `this`.
-    const std::size_t count = blk.count;
-    const double *const gap = blk.gap, *const dn = blk.dn, *const ds = blk.ds;
-    double *const fn_total = blk.fn_total, *const fs_total = blk.fs_total;
-    const double tensile = tensile_, shear = shear_, mu = mu_;
-    for (std::size_t i = 0; i < count; ++i) {
-      const double overlap = ref[i] - gap[i];
-      const bool bonded = intact[i] != 0;
-      const double n = kn[i] * overlap;
-      const double s = fs[i] - ks[i] * ds[i];
-      const bool tensile_failure = bonded & (-n >= tensile);
-      const bool shear_failure = bonded & !tensile_failure & (std::abs(s) >= shear);
-      // Coulomb cap mu F_n (0 under tension): a contact's, or a bond's failing in shear.
-      const double cap = std::max(mu * n, 0.0);
-      const bool capped = (!bonded | shear_failure) & (std::abs(s) > cap);
-      const double n_spring = tensile_failure ? 0.0 : n;
-      const double s_spring = tensile_failure ? 0.0 : capped ? std::copysign(cap, s) : s;
-      const double n_total = n_spring - cn[i] * dn[i] * inv_dt;
-      const double s_total = s_spring - cs[i] * ds[i] * inv_dt;
-      const bool apart = !bonded & !(overlap >= 0);
-      fn[i] = apart ? 0.0 : n_spring;
-      fs[i] = apart ? 0.0 : s_spring;
-      intact[i] = bonded & !tensile_failure & !shear_failure;
-      fn_total[i] = apart ? 0.0 : n_total;
-      fs_total[i] = apart ? 0.0 : s_total;
+    for (std::size_t i = 0; i < blk.count; ++i) {
+      const double overlap = ref[i] - blk.gap[i];
+      if (intact[i]) {
+        double n = kn[i] * overlap;
+        double s = fs[i] - ks[i] * blk.ds[i];
+        if (-n >= tensile_) {  // tensile failure: forces zeroed
+          intact[i] = 0;
+          n = 0;
+          s = 0;
+        } else if (std::abs(s) >= shear_) {  // shear failure
+          intact[i] = 0;
+          const double cap = n > 0 ? mu_ * n : 0.0;
+          if (std::abs(s) > cap) s = std::copysign(cap, s);
+        }
+        fn[i] = n;
+        fs[i] = s;
+        blk.fn_total[i] = n - cn[i] * blk.dn[i] * inv_dt;
+        blk.fs_total[i] = s - cs[i] * blk.ds[i] * inv_dt;
+      } else if (overlap >= 0) {  // broken bond, particles in contact
+        const double n = kn[i] * overlap;
+        double s = fs[i] - ks[i] * blk.ds[i];
+        const double cap = mu_ * n;
+        if (std::abs(s) > cap) s = std::copysign(cap, s);
+        fn[i] = n;
+        fs[i] = s;
+        blk.fn_total[i] = n - cn[i] * blk.dn[i] * inv_dt;
+        blk.fs_total[i] = s - cs[i] * blk.ds[i] * inv_dt;
+      } else {
+        fn[i] = 0;
+        fs[i] = 0;
+        blk.fn_total[i] = 0;
+        blk.fs_total[i] = 0;
+      }
     }
   }
 
