@@ -2,6 +2,8 @@
 
 #include "mechanics/ordered_sum.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -155,23 +157,37 @@ void ContactDetector::build(const double* x, const double* y, const double* r,
   order_.resize(n);
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) order_[cell_fill_[cell_of_[i]]++] = static_cast<int>(i);
-  for (std::size_t i = 0; i < n; ++i) {
-    const int p = static_cast<int>(i);
-    const long cx = cell_of_[i] % nx, cy = cell_of_[i] / nx;
-    const std::size_t first = pairs.size();
-    for (long gy = std::max(0L, cy - 1); gy <= std::min(ny - 1, cy + 1); ++gy)
-      for (long gx = std::max(0L, cx - 1); gx <= std::min(nx - 1, cx + 1); ++gx) {
-        const long c = gy * nx + gx;
-        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const int q = order_[k];
-          if (q <= p || body_[q] == body_[p]) continue;
-          const double dx = x[q] - x[i], dy = y[q] - y[i], cut = r[i] + r[q] + skin_;
-          if (dx * dx + dy * dy >= cut * cut || bonded(p, q)) continue;
-          pairs.emplace_back(p, q);
-        }
-      }
-    std::sort(pairs.begin() + static_cast<long>(first), pairs.end());
+  // Each particle's pairs on the threads (static schedule: thread t takes the
+  // t-th range of particles), joined in thread order: the serial list.
+  if (thread_pairs_.size() < static_cast<std::size_t>(omp_get_max_threads()))
+    thread_pairs_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+  for (auto& part : thread_pairs_) part.clear();
+#pragma omp parallel
+  {
+    std::vector<std::pair<int, int>>& mine = thread_pairs_[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) add_pairs_of(static_cast<int>(i), x, y, r, nx, ny, mine);
   }
+  for (const auto& part : thread_pairs_) pairs.insert(pairs.end(), part.begin(), part.end());
+}
+
+// The candidates q > p of particle p in its 3 x 3 block of cells, ascending.
+void ContactDetector::add_pairs_of(int p, const double* x, const double* y, const double* r, long nx, long ny,
+                                   std::vector<std::pair<int, int>>& pairs) const {
+  const long cx = cell_of_[p] % nx, cy = cell_of_[p] / nx;
+  const std::size_t first = pairs.size();
+  for (long gy = std::max(0L, cy - 1); gy <= std::min(ny - 1, cy + 1); ++gy)
+    for (long gx = std::max(0L, cx - 1); gx <= std::min(nx - 1, cx + 1); ++gx) {
+      const long c = gy * nx + gx;
+      for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        const int q = order_[k];
+        if (q <= p || body_[q] == body_[p]) continue;
+        const double dx = x[q] - x[p], dy = y[q] - y[p], cut = r[p] + r[q] + skin_;
+        if (dx * dx + dy * dy >= cut * cut || bonded(p, q)) continue;
+        pairs.emplace_back(p, q);
+      }
+    }
+  std::sort(pairs.begin() + static_cast<long>(first), pairs.end());
 }
 
 }  // namespace fibrodem
