@@ -433,15 +433,12 @@ void DemSolver::contact_block(BondSet& set, std::size_t begin, std::size_t count
   law_->update(set, BondBlock{begin, count, s.gap, s.dn, s.ds, s.dth, s.fn, s.fs, s.mt}, dt_s);
   // Force on q (minus on p); moments on each end: the law's, and the shear
   // force's about the centre: (c - x_q) x f = -lq fs, (c - x_p) x (-f) = -lp fs.
-  double* const fx = contact_fx_.data() + number;
-  double* const fy = contact_fy_.data() + number;
-  double* const moment = contact_moment_.data() + 2 * number;
-#pragma omp simd
+  ContactForce* const out = contact_force_.data() + number;
   for (std::size_t j = 0; j < count; ++j) {
-    fx[j] = s.fn[j] * s.nx[j] - s.fs[j] * s.ny[j];
-    fy[j] = s.fn[j] * s.ny[j] + s.fs[j] * s.nx[j];
-    moment[2 * j] = -s.mt[j] - s.lp[j] * s.fs[j];
-    moment[2 * j + 1] = s.mt[j] - s.lq[j] * s.fs[j];
+    out[j].fx = s.fn[j] * s.nx[j] - s.fs[j] * s.ny[j];
+    out[j].fy = s.fn[j] * s.ny[j] + s.fs[j] * s.nx[j];
+    out[j].moment[0] = -s.mt[j] - s.lp[j] * s.fs[j];
+    out[j].moment[1] = s.mt[j] - s.lq[j] * s.fs[j];
   }
 }
 
@@ -453,11 +450,12 @@ void DemSolver::sum_forces_on_body(std::size_t b) {
     const int i = body_particle_[k];
     double pfx = 0, pfy = 0, ptq = 0;
     for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
-      const int c = ContactIncidence::contact(*e);
-      const double sign = ContactIncidence::is_q(*e) ? 1.0 : -1.0;
-      pfx += sign * contact_fx_[c];
-      pfy += sign * contact_fy_[c];
-      ptq += contact_moment_[*e];
+      const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
+      const bool q = ContactIncidence::is_q(*e);
+      const double sign = q ? 1.0 : -1.0;
+      pfx += sign * f.fx;
+      pfy += sign * f.fy;
+      ptq += f.moment[q];
     }
     fx += pfx;
     fy += pfy;
@@ -472,9 +470,7 @@ void DemSolver::sum_forces_on_body(std::size_t b) {
 // the contacts changed.
 void DemSolver::index_contacts() {
   const std::size_t n = bonds_.size() + contacts_.size();
-  contact_fx_.resize(n);
-  contact_fy_.resize(n);
-  contact_moment_.resize(2 * n);
+  contact_force_.resize(n);
   contact_kt_.resize(n);
   contact_kr_.resize(2 * n);
   particle_contacts_.build(px_.size(), bonds_, contacts_);

@@ -139,14 +139,18 @@ class DemSolver final : public MechanicsSolver {
   BondSet bonds_, contacts_, next_contacts_;
   std::unique_ptr<ContactDetector> detector_;
   std::vector<std::pair<int, int>> candidate_pairs_;
-  // Each contact's force on q (minus on p) and moments on its ends, numbered
-  // bonds then contacts; moment_[2c + end] as ContactIncidence's entries.
-  std::vector<double> contact_fx_, contact_fy_, contact_moment_;
+  // Each contact's force on q (minus on p) and moments on its ends (moment[end],
+  // end as in ContactIncidence's entries), numbered bonds then contacts; one
+  // contact's in one cache line's half, as a particle's sum reads them.
+  struct ContactForce {
+    double fx, fy, moment[2];
+  };
+  std::vector<ContactForce> contact_force_;
   ContactIncidence particle_contacts_;
 
   double stable_step_ms_ = 0;
-  // Stable-step scratch: each contact's stiffness on its bodies (kr per end,
-  // as contact_moment_), and each body's contacts.
+  // Stable-step scratch: each contact's stiffness on its bodies (kr[2c + end]),
+  // and each body's contacts.
   std::vector<double> contact_kt_, contact_kr_;
   ContactIncidence body_contacts_;
   double time_s_ = 0;
