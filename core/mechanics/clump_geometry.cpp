@@ -4,26 +4,22 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace fibrodem {
 namespace {
 
-// Half of the union's area over one strip half-width h of a disk of radius r.
-double strip(double r, double h) {
-  return 0.5 * (h * std::sqrt(std::max(0.0, r * r - h * h)) + r * r * std::asin(std::min(1.0, h / r)));
-}
-
 // Solves f(r) = 0 for r in (lo, hi) with f(lo) < 0 < f(hi), f increasing:
 // Newton steps kept inside a shrinking bracket (bisection when they leave it).
-template <class F, class DF>
-double bracketed_newton(F f, DF df, double lo, double hi, double guess) {
+// f_df(r) returns {f(r), f'(r)} (one evaluation of the shared asin and sqrt).
+template <class FDF>
+double bracketed_newton(FDF f_df, double lo, double hi, double guess) {
   double r = std::clamp(guess, lo, hi);
   for (int it = 0; it < 200; ++it) {
-    const double v = f(r);
+    const auto [v, d] = f_df(r);
     if (v == 0) return r;
     if (v < 0) lo = r;
     else hi = r;
-    const double d = df(r);
     double next = d > 0 ? r - v / d : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     if (std::abs(next - r) <= 1e-15 * std::abs(r) || hi - lo <= 1e-15 * hi) return next;
@@ -32,22 +28,23 @@ double bracketed_newton(F f, DF df, double lo, double hi, double guess) {
   return r;
 }
 
+// The union's area and its slopes in r and s (one asin, one sqrt).
+struct UnionArea {
+  double area, d_dr, d_ds;
+};
+UnionArea union_area_and_slopes(int n, double r, double s) {
+  const double h = std::min(0.5 * s, r);
+  const double root = std::sqrt(std::max(0.0, r * r - h * h));
+  const double angle = std::asin(std::min(1.0, h / r));
+  const double strip = 0.5 * (h * root + r * r * angle);  // half the union's area over a strip of half-width h
+  return {M_PI * r * r + 4.0 * (n - 1) * strip, 2 * M_PI * r + 4.0 * (n - 1) * r * angle, 2.0 * (n - 1) * root};
+}
+
 }  // namespace
 
-double union_area(int n, double r, double s) {
-  const double h = std::min(0.5 * s, r);
-  return M_PI * r * r + 4.0 * (n - 1) * strip(r, h);
-}
-
-double union_area_dr(int n, double r, double s) {
-  const double h = std::min(0.5 * s, r);
-  return 2 * M_PI * r + 4.0 * (n - 1) * r * std::asin(std::min(1.0, h / r));
-}
-
-double union_area_ds(int n, double r, double s) {
-  const double h = std::min(0.5 * s, r);
-  return 2.0 * (n - 1) * std::sqrt(std::max(0.0, r * r - h * h));
-}
+double union_area(int n, double r, double s) { return union_area_and_slopes(n, r, s).area; }
+double union_area_dr(int n, double r, double s) { return union_area_and_slopes(n, r, s).d_dr; }
+double union_area_ds(int n, double r, double s) { return union_area_and_slopes(n, r, s).d_ds; }
 
 double union_polar_moment(int n, double r, double s) {
   // Disk k owns [a_k - hl, a_k + hr] of the axis; there the union's half-height
@@ -100,9 +97,11 @@ ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, do
       case AreaRule::union_area: {
         // A(r) increases from 0 (r = 0) without bound; bracket [0, hi].
         double hi = std::max(r0, std::sqrt(a0 / M_PI));  // A(hi) >= pi hi^2 >= a0
-        auto f = [&](double r) { return union_area(n, r, s) - a0; };
-        auto df = [&](double r) { return union_area_dr(n, r, s); };
-        return {bracketed_newton(f, df, 0.0, hi, r_guess > 0 ? r_guess : r0 / std::sqrt(lambda)), s};
+        auto f_df = [&](double r) {
+          const UnionArea u = union_area_and_slopes(n, r, s);
+          return std::pair{u.area - a0, u.d_dr};
+        };
+        return {bracketed_newton(f_df, 0.0, hi, r_guess > 0 ? r_guess : r0 / std::sqrt(lambda)), s};
       }
     }
   }
@@ -131,12 +130,11 @@ ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, do
       // g(r) = A(r, s(r)) - a0 on (0, L/2): g(0) < 0; g(L/2) = pi L^2/4 - a0.
       const double hi = 0.5 * length;
       if (M_PI * hi * hi <= a0) return fail();
-      auto g = [&](double r) { return union_area(n, r, spacing(r)) - a0; };
-      auto dg = [&](double r) {
-        const double s = spacing(r);
-        return union_area_dr(n, r, s) - 2.0 / m * union_area_ds(n, r, s);
+      auto g_dg = [&](double r) {
+        const UnionArea u = union_area_and_slopes(n, r, spacing(r));
+        return std::pair{u.area - a0, u.d_dr - 2.0 / m * u.d_ds};
       };
-      const double r = bracketed_newton(g, dg, 0.0, hi, r_guess > 0 ? r_guess : r0);
+      const double r = bracketed_newton(g_dg, 0.0, hi, r_guess > 0 ? r_guess : r0);
       return {r, spacing(r)};
     }
   }

@@ -1,5 +1,9 @@
 #include "mechanics/contact_detector.hpp"
 
+#include "mechanics/ordered_sum.hpp"
+
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -37,37 +41,48 @@ bool ContactDetector::needs_rebuild(const double* x, const double* y, const doub
   if (builds_ == 0) return true;
   const std::size_t n = body_.size();
   // Best-fit affine map from the built positions to these: A = M S0^-1,
-  // M = sum (x - c)(x0 - c0)^T.
-  double cx = 0, cy = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    cx += x[i];
-    cy += y[i];
-  }
-  cx /= static_cast<double>(n);
-  cy /= static_cast<double>(n);
+  // M = sum (x - c)(x0 - c0)^T. Sums in a fixed order (any thread count).
+  const auto centre = ordered_sum<2>(n, [&](std::size_t i, std::array<double, 2>& acc) {
+    acc[0] += x[i];
+    acc[1] += y[i];
+  });
+  const double cx = centre[0] / static_cast<double>(n), cy = centre[1] / static_cast<double>(n);
   double a00 = 1, a01 = 0, a10 = 0, a11 = 1;
   if (affine_) {
-    double mxx = 0, mxy = 0, myx = 0, myy = 0;
-    for (std::size_t i = 0; i < n; ++i) {
+    const auto m = ordered_sum<4>(n, [&](std::size_t i, std::array<double, 4>& acc) {
       const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_, dx = x[i] - cx, dy = y[i] - cy;
-      mxx += dx * dx0;
-      mxy += dx * dy0;
-      myx += dy * dx0;
-      myy += dy * dy0;
-    }
+      acc[0] += dx * dx0;
+      acc[1] += dx * dy0;
+      acc[2] += dy * dx0;
+      acc[3] += dy * dy0;
+    });
+    const double mxx = m[0], mxy = m[1], myx = m[2], myy = m[3];
     a00 = mxx * s0inv_[0][0] + mxy * s0inv_[1][0];
     a01 = mxx * s0inv_[0][1] + mxy * s0inv_[1][1];
     a10 = myx * s0inv_[0][0] + myy * s0inv_[1][0];
     a11 = myx * s0inv_[0][1] + myy * s0inv_[1][1];
   }
-  // The largest departure from the affine motion and the largest radius growth.
+  // The largest departure from the affine motion and the largest radius
+  // growth; a NaN wins (the build then names it). Maxima: any order gives them.
   double u2 = 0, dr = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
-    const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
-    const double v2 = ux * ux + uy * uy, g = r[i] - r0_[i];
-    if (!(v2 <= u2)) u2 = v2;  // a NaN wins: the build then names it
-    if (!(g <= dr)) dr = g;
+  auto keep_max = [](double& m, double v) {
+    if (v > m || std::isnan(v)) m = std::isnan(m) ? m : v;
+  };
+#pragma omp parallel
+  {
+    double u2_mine = 0, dr_mine = 0;
+#pragma omp for schedule(static) nowait
+    for (std::size_t i = 0; i < n; ++i) {
+      const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
+      const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
+      keep_max(u2_mine, ux * ux + uy * uy);
+      keep_max(dr_mine, r[i] - r0_[i]);
+    }
+#pragma omp critical(detector_max)
+    {
+      keep_max(u2, u2_mine);
+      keep_max(dr, dr_mine);
+    }
   }
   // Smallest singular value of A (2 x 2): s^2 = (T - sqrt(T^2 - 4 D^2)) / 2.
   const double t = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11, d = a00 * a11 - a01 * a10;
@@ -142,23 +157,37 @@ void ContactDetector::build(const double* x, const double* y, const double* r,
   order_.resize(n);
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) order_[cell_fill_[cell_of_[i]]++] = static_cast<int>(i);
-  for (std::size_t i = 0; i < n; ++i) {
-    const int p = static_cast<int>(i);
-    const long cx = cell_of_[i] % nx, cy = cell_of_[i] / nx;
-    const std::size_t first = pairs.size();
-    for (long gy = std::max(0L, cy - 1); gy <= std::min(ny - 1, cy + 1); ++gy)
-      for (long gx = std::max(0L, cx - 1); gx <= std::min(nx - 1, cx + 1); ++gx) {
-        const long c = gy * nx + gx;
-        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const int q = order_[k];
-          if (q <= p || body_[q] == body_[p]) continue;
-          const double dx = x[q] - x[i], dy = y[q] - y[i], cut = r[i] + r[q] + skin_;
-          if (dx * dx + dy * dy >= cut * cut || bonded(p, q)) continue;
-          pairs.emplace_back(p, q);
-        }
-      }
-    std::sort(pairs.begin() + static_cast<long>(first), pairs.end());
+  // Each particle's pairs on the threads (static schedule: thread t takes the
+  // t-th range of particles), joined in thread order: the serial list.
+  if (thread_pairs_.size() < static_cast<std::size_t>(omp_get_max_threads()))
+    thread_pairs_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+  for (auto& part : thread_pairs_) part.clear();
+#pragma omp parallel
+  {
+    std::vector<std::pair<int, int>>& mine = thread_pairs_[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) add_pairs_of(static_cast<int>(i), x, y, r, nx, ny, mine);
   }
+  for (const auto& part : thread_pairs_) pairs.insert(pairs.end(), part.begin(), part.end());
+}
+
+// The candidates q > p of particle p in its 3 x 3 block of cells, ascending.
+void ContactDetector::add_pairs_of(int p, const double* x, const double* y, const double* r, long nx, long ny,
+                                   std::vector<std::pair<int, int>>& pairs) const {
+  const long cx = cell_of_[p] % nx, cy = cell_of_[p] / nx;
+  const std::size_t first = pairs.size();
+  for (long gy = std::max(0L, cy - 1); gy <= std::min(ny - 1, cy + 1); ++gy)
+    for (long gx = std::max(0L, cx - 1); gx <= std::min(nx - 1, cx + 1); ++gx) {
+      const long c = gy * nx + gx;
+      for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        const int q = order_[k];
+        if (q <= p || body_[q] == body_[p]) continue;
+        const double dx = x[q] - x[p], dy = y[q] - y[p], cut = r[p] + r[q] + skin_;
+        if (dx * dx + dy * dy >= cut * cut || bonded(p, q)) continue;
+        pairs.emplace_back(p, q);
+      }
+    }
+  std::sort(pairs.begin() + static_cast<long>(first), pairs.end());
 }
 
 }  // namespace fibrodem

@@ -17,7 +17,8 @@
 // |x_q - x_p| < R + 2 dr_max (radius growth): the list is complete while
 // s_min (R + skin) - R >= 2 (u_max + dr_max) for the worst R (2 r_max if A
 // compresses, else 0). Without a fit (particles on a line) A = identity.
-// Deterministic: pairs (p < q) in ascending order, whatever the grid.
+// Deterministic: pairs (p < q) in ascending order, whatever the grid and the
+// number of threads.
 #pragma once
 
 #include <cstdint>
@@ -44,6 +45,8 @@ class ContactDetector {
 
  private:
   bool bonded(int p, int q) const;
+  void add_pairs_of(int p, const double* x, const double* y, const double* r, long nx, long ny,
+                    std::vector<std::pair<int, int>>& pairs) const;
   void remember_moments();
 
   std::vector<int> body_;
@@ -59,6 +62,7 @@ class ContactDetector {
   bool affine_ = false;
   // Grid scratch, kept between builds (no allocation once sized).
   std::vector<int> cell_of_, cell_start_, cell_fill_, order_;
+  std::vector<std::vector<std::pair<int, int>>> thread_pairs_;  // each thread's pairs
 };
 
 }  // namespace fibrodem

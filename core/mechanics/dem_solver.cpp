@@ -1,5 +1,7 @@
 #include "mechanics/dem_solver.hpp"
 
+#include "mechanics/ordered_sum.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -145,12 +147,22 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
   bsdot_.assign(nb, 0.0);
   bux_.resize(nb);
   buy_.resize(nb);
+  next_r_.resize(nb);
+  next_s_.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     bux_[b] = -std::sin(bth_[b]);
     buy_[b] = std::cos(bth_[b]);
   }
-  for (auto* v : {&px_, &py_, &px_old_, &py_old_, &pvx_, &pvy_, &pr_, &pw_, &pfx_, &pfy_, &ptq_}) v->assign(np, 0.0);
+  for (auto* v : {&px_, &py_, &px_old_, &py_old_, &pvx_, &pvy_, &pr_, &pw_}) v->assign(np, 0.0);
   place_particles();
+  body_particle_start_.assign(nb + 1, 0);
+  for (std::size_t i = 0; i < np; ++i) ++body_particle_start_[pbody_[i] + 1];
+  for (std::size_t b = 0; b < nb; ++b) body_particle_start_[b + 1] += body_particle_start_[b];
+  body_particle_.resize(np);
+  {
+    std::vector<int> fill(body_particle_start_.begin(), body_particle_start_.end() - 1);
+    for (std::size_t i = 0; i < np; ++i) body_particle_[fill[pbody_[i]]++] = static_cast<int>(i);
+  }
   for (std::size_t i = 0; i < np; ++i) {
     origin_x_ += px_[i] / static_cast<double>(np);
     origin_y_ += py_[i] / static_cast<double>(np);
@@ -176,6 +188,7 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     detector_ = std::make_unique<ContactDetector>(pbody_, bonded, spec_.contact_skin_um * kUm);
     rebuild_contacts();
   } else {
+    index_contacts();
     compute_stable_step();
   }
   if (spec_.dt_ms > stable_step_ms_)
@@ -225,6 +238,7 @@ void DemSolver::rebuild_contacts() {
   }
   law_->prepare(next_contacts_);
   std::swap(contacts_, next_contacts_);
+  index_contacts();
   compute_stable_step();
   if (spec_.dt_ms > stable_step_ms_ && steps_ > 0)
     throw std::invalid_argument("at t = " + fmt(time_ms()) + " ms new contacts lower the stable DEM step to " +
@@ -232,36 +246,43 @@ void DemSolver::rebuild_contacts() {
                                 " ms: lower mechanics.dt_ms, or leave it out (automatic step)");
 }
 
+// Each contact's stiffness on its two bodies (in parallel), summed per body
+// in contact order (body_contacts_), then the smallest critical step.
 void DemSolver::compute_stable_step() {
-  const std::size_t nb = bx_.size();
-  std::vector<double>& kt = body_kt_;
-  std::vector<double>& kr = body_kr_;
-  kt.assign(nb, 0.0);
-  kr.assign(nb, 0.0);
-  for (const BondSet* set : {&bonds_, &contacts_})
-  for (std::size_t k = 0; k < set->size(); ++k) {
-    const int p = set->p[k], q = set->q[k];
-    const double kn = law_->stable_step_stiffness(set->kn[k], false);
-    const double ks = law_->stable_step_stiffness(set->ks[k], true);
+  const std::size_t nbonds = bonds_.size(), n = nbonds + contacts_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t c = 0; c < n; ++c) {
+    const BondSet& set = c < nbonds ? bonds_ : contacts_;
+    const std::size_t k = c < nbonds ? c : c - nbonds;
+    const int p = set.p[k], q = set.q[k];
+    const double kn = law_->stable_step_stiffness(set.kn[k], false);
+    const double ks = law_->stable_step_stiffness(set.ks[k], true);
     const double dx = px_[q] - px_[p], dy = py_[q] - py_[p];
     const double d = std::hypot(dx, dy);
     const double nx = d > 0 ? dx / d : 1.0, ny = d > 0 ? dy / d : 0.0;
     const int bp = pbody_[p], bq = pbody_[q];
     const double gap = d - br_[bp] - br_[bq];
     const double cx = px_[p] + (br_[bp] + 0.5 * gap) * nx, cy = py_[p] + (br_[bp] + 0.5 * gap) * ny;
-    for (int b : {bp, bq}) {
+    contact_kt_[c] = kn + ks;
+    for (int end : {0, 1}) {
+      const int b = end ? bq : bp;
       const double rx = cx - bx_[b], ry = cy - by_[b];
       const double rn = rx * ny - ry * nx;    // rho x n
       const double rt = rx * nx + ry * ny;    // rho x t, t = (-ny, nx)
-      kt[b] += kn + ks;
-      kr[b] += kn * rn * rn + ks * rt * rt + set->kb[k];
+      contact_kr_[2 * c + end] = kn * rn * rn + ks * rt * rt + set.kb[k];
     }
   }
   double tmin = std::numeric_limits<double>::infinity();
-  for (std::size_t b = 0; b < nb; ++b) {
+#pragma omp parallel for schedule(static) reduction(min : tmin)
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
-    if (kt[b] > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt[b]));
-    if (kr[b] > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr[b]));
+    double kt = 0, kr = 0;
+    for (const int* e = body_contacts_.begin(b); e != body_contacts_.end(b); ++e) {
+      kt += contact_kt_[ContactIncidence::contact(*e)];
+      kr += contact_kr_[*e];
+    }
+    if (kt > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt));
+    if (kr > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr));
   }
   // Bodies without contacts have no stiffness limit: cap the step (PFC also
   // bounds it kinematically), so that a lone contracting clump still moves and
@@ -280,18 +301,43 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
       throw std::invalid_argument("cell " + std::to_string(c) + ": length ratio " + fmt(l) +
                                   " outside [0.5, 1.5]");
   }
+  // Each myocyte's new shape (cells are independent: in parallel), kept
+  // only if every one exists; the error of the first cell without one.
+  const std::size_t none = cells_;
+  std::size_t failed = none;
+  std::string error;
+#pragma omp parallel for schedule(static)
   for (std::size_t c = 0; c < cells_; ++c) {
     const int b = cell_body_[c];
-    if (b < 0 || bn_[b] < 2 || ratio[c] == blambda_[b]) continue;
-    const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b],
-                                              ratio[c], btarget_r_[b]);
+    if (b < 0 || bn_[b] < 2) continue;
+    next_r_[b] = btarget_r_[b];
+    next_s_[b] = btarget_s_[b];
+    if (ratio[c] == blambda_[b]) continue;
+    try {
+      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b],
+                                                ratio[c], btarget_r_[b]);
+      next_r_[b] = shape.r;
+      next_s_[b] = shape.s;
+    } catch (const std::invalid_argument& e) {
+#pragma omp critical(dem_shape_error)
+      if (c < failed) {
+        failed = c;
+        error = e.what();
+      }
+    }
+  }
+  if (failed != none) throw std::invalid_argument(error);
+  for (std::size_t c = 0; c < cells_; ++c) {
+    const int b = cell_body_[c];
+    if (b < 0 || bn_[b] < 2) continue;
     blambda_[b] = ratio[c];
-    btarget_r_[b] = shape.r;
-    btarget_s_[b] = shape.s;
+    btarget_r_[b] = next_r_[b];
+    btarget_s_[b] = next_s_[b];
   }
 }
 
 void DemSolver::update_geometry(double dt_s) {
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     bsdot_[b] = 0;
     if (btarget_s_[b] == bs_[b] && btarget_r_[b] == br_[b]) continue;
@@ -302,12 +348,14 @@ void DemSolver::update_geometry(double dt_s) {
 }
 
 void DemSolver::place_particles() {
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bn_[b] < 2) continue;  // a disk has no axis (its particle sits at its centre)
     bux_[b] = -std::sin(bth_[b]);
     buy_[b] = std::cos(bth_[b]);
   }
   const std::size_t np = pbody_.size();
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < np; ++i) {
     const int b = pbody_[i];
     const double off = pa_[i] * bs_[b];
@@ -323,72 +371,110 @@ void DemSolver::place_particles() {
   }
 }
 
+// One block of contacts' kinematics, in and out of the law (per thread).
+struct DemSolver::BlockScratch {
+  alignas(64) double gap[kBlock], dn[kBlock], ds[kBlock], dth[kBlock], nx[kBlock], ny[kBlock];
+  alignas(64) double lp[kBlock], lq[kBlock], fn[kBlock], fs[kBlock], mt[kBlock];
+};
+
+// Forces per contact in parallel (blocks of bonds, then of contacts), then
+// their sums per body, each from its own contacts in a fixed order.
 void DemSolver::compute_forces(double dt_s) {
-  std::fill(pfx_.begin(), pfx_.end(), 0.0);
-  std::fill(pfy_.begin(), pfy_.end(), 0.0);
-  std::fill(ptq_.begin(), ptq_.end(), 0.0);
-  add_contact_forces(bonds_, dt_s);
-  add_contact_forces(contacts_, dt_s);
-  // Reduce to bodies: F = sum f, T = sum (t_p + (x_p - x_G) x f_p).
-  std::fill(bfx_.begin(), bfx_.end(), 0.0);
-  std::fill(bfy_.begin(), bfy_.end(), 0.0);
-  std::fill(btq_.begin(), btq_.end(), 0.0);
-  for (std::size_t i = 0; i < pbody_.size(); ++i) {
-    const int b = pbody_[i];
-    bfx_[b] += pfx_[i];
-    bfy_[b] += pfy_[i];
-    btq_[b] += ptq_[i] + (px_[i] - bx_[b]) * pfy_[i] - (py_[i] - by_[b]) * pfx_[i];
+  const std::size_t bond_blocks = (bonds_.size() + kBlock - 1) / kBlock;
+  const std::size_t blocks = bond_blocks + (contacts_.size() + kBlock - 1) / kBlock;
+  const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>(bx_.size());
+#pragma omp parallel
+  {
+    BlockScratch scratch;
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < blocks; ++k) {
+      const bool bond = k < bond_blocks;
+      BondSet& set = bond ? bonds_ : contacts_;
+      const std::size_t begin = (bond ? k : k - bond_blocks) * kBlock;
+      const std::size_t number = bond ? begin : bonds_.size() + begin;
+      contact_block(set, begin, std::min(kBlock, set.size() - begin), number, dt_s, scratch);
+    }
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t b = 0; b < nb; ++b) sum_forces_on_body(static_cast<std::size_t>(b));
   }
 }
 
-// The forces of one contact set on its particles, block by block.
-void DemSolver::add_contact_forces(BondSet& set, double dt_s) {
-  const std::size_t nbonds = set.size();
-  const int* const P = set.p.data();
-  const int* const Q = set.q.data();
-  for (std::size_t begin = 0; begin < nbonds; begin += kBlock) {
-    const std::size_t count = std::min(kBlock, nbonds - begin);
-    // Kinematics of the block.
-    for (std::size_t j = 0; j < count; ++j) {
-      const int p = P[begin + j], q = Q[begin + j];
-      const double rp = pr_[p], rq = pr_[q];
-      const double dx = px_[q] - px_[p], dy = py_[q] - py_[p];
-      const double d = std::sqrt(dx * dx + dy * dy);
-      const double nx = d > 0 ? dx / d : 1.0, ny = d > 0 ? dy / d : 0.0;
-      const double gap = d - rp - rq;
-      // Contact point relative to each centre: lp n and -lq n.
-      const double lp = rp + 0.5 * gap, lq = rq + 0.5 * gap;
-      const double wp = pw_[p], wq = pw_[q];
-      // v_c = v_centre + w x (c - centre); w x (l n) = l w (-ny, nx) = l w t.
-      const double dvx = (pvx_[q] - pvx_[p]) - (lq * wq + lp * wp) * (-ny);
-      const double dvy = (pvy_[q] - pvy_[p]) - (lq * wq + lp * wp) * nx;
-      gap_[j] = gap;
-      nx_[j] = nx;
-      ny_[j] = ny;
-      dn_[j] = (dvx * nx + dvy * ny) * dt_s;
-      ds_[j] = (-dvx * ny + dvy * nx) * dt_s;
-      dth_[j] = (wq - wp) * dt_s;
-      mt_[j] = 0;
-    }
-    const BondBlock block{begin,        count,       gap_.data(), dn_.data(), ds_.data(),
-                          dth_.data(), fnt_.data(), fst_.data(), mt_.data()};
-    law_->update(set, block, dt_s);
-    // Forces on q (minus on p); the shear force's moment about each centre.
-    for (std::size_t j = 0; j < count; ++j) {
-      const int p = P[begin + j], q = Q[begin + j];
-      const double fn = fnt_[j], fs = fst_[j];
-      const double nx = nx_[j], ny = ny_[j];
-      const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
-      pfx_[q] += fx;
-      pfy_[q] += fy;
-      pfx_[p] -= fx;
-      pfy_[p] -= fy;
-      const double half_gap = 0.5 * gap_[j];
-      // (c - x_q) x f = (-lq n) x (fs t) = -lq fs; (c - x_p) x (-f) = -lp fs.
-      ptq_[q] += mt_[j] - (pr_[q] + half_gap) * fs;
-      ptq_[p] += -mt_[j] - (pr_[p] + half_gap) * fs;
-    }
+// Contacts [begin, begin + count) of a set, numbered from `number` on: their
+// kinematics, the law, and the forces and moments they put on their ends.
+void DemSolver::contact_block(BondSet& set, std::size_t begin, std::size_t count, std::size_t number,
+                              double dt_s, BlockScratch& s) {
+  const int* const P = set.p.data() + begin;
+  const int* const Q = set.q.data() + begin;
+  const double *const x = px_.data(), *const y = py_.data(), *const r = pr_.data();
+  const double *const vx = pvx_.data(), *const vy = pvy_.data(), *const w = pw_.data();
+#pragma omp simd
+  for (std::size_t j = 0; j < count; ++j) {
+    const int p = P[j], q = Q[j];
+    const double dx = x[q] - x[p], dy = y[q] - y[p];
+    const double d = std::sqrt(dx * dx + dy * dy);
+    const double d_or_1 = d > 0 ? d : 1.0;  // divide unconditionally (SIMD lanes), select after
+    const double nx = d > 0 ? dx / d_or_1 : 1.0, ny = d > 0 ? dy / d_or_1 : 0.0;
+    const double gap = d - r[p] - r[q];
+    // Contact point relative to each centre: lp n and -lq n.
+    const double lp = r[p] + 0.5 * gap, lq = r[q] + 0.5 * gap;
+    // v_c = v_centre + w x (c - centre); w x (l n) = l w (-ny, nx) = l w t.
+    const double dvx = (vx[q] - vx[p]) - (lq * w[q] + lp * w[p]) * (-ny);
+    const double dvy = (vy[q] - vy[p]) - (lq * w[q] + lp * w[p]) * nx;
+    s.gap[j] = gap;
+    s.nx[j] = nx;
+    s.ny[j] = ny;
+    s.lp[j] = lp;
+    s.lq[j] = lq;
+    s.dn[j] = (dvx * nx + dvy * ny) * dt_s;
+    s.ds[j] = (-dvx * ny + dvy * nx) * dt_s;
+    s.dth[j] = (w[q] - w[p]) * dt_s;
+    s.mt[j] = 0;
   }
+  law_->update(set, BondBlock{begin, count, s.gap, s.dn, s.ds, s.dth, s.fn, s.fs, s.mt}, dt_s);
+  // Force on q (minus on p); moments on each end: the law's, and the shear
+  // force's about the centre: (c - x_q) x f = -lq fs, (c - x_p) x (-f) = -lp fs.
+  ContactForce* const out = contact_force_.data() + number;
+  for (std::size_t j = 0; j < count; ++j) {
+    out[j].fx = s.fn[j] * s.nx[j] - s.fs[j] * s.ny[j];
+    out[j].fy = s.fn[j] * s.ny[j] + s.fs[j] * s.nx[j];
+    out[j].moment[0] = -s.mt[j] - s.lp[j] * s.fs[j];
+    out[j].moment[1] = s.mt[j] - s.lq[j] * s.fs[j];
+  }
+}
+
+// F = sum f, T = sum (t_p + (x_p - x_G) x f_p) over the body's particles, each
+// particle's f and t summed over its contacts in their order.
+void DemSolver::sum_forces_on_body(std::size_t b) {
+  double fx = 0, fy = 0, tq = 0;
+  for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
+    const int i = body_particle_[k];
+    double pfx = 0, pfy = 0, ptq = 0;
+    for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
+      const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
+      const bool q = ContactIncidence::is_q(*e);
+      const double sign = q ? 1.0 : -1.0;
+      pfx += sign * f.fx;
+      pfy += sign * f.fy;
+      ptq += f.moment[q];
+    }
+    fx += pfx;
+    fy += pfy;
+    tq += ptq + (px_[i] - bx_[b]) * pfy - (py_[i] - by_[b]) * pfx;
+  }
+  bfx_[b] = fx;
+  bfy_[b] = fy;
+  btq_[b] = tq;
+}
+
+// The per-contact force arrays and each particle's list of contacts, after
+// the contacts changed.
+void DemSolver::index_contacts() {
+  const std::size_t n = bonds_.size() + contacts_.size();
+  contact_force_.resize(n);
+  contact_kt_.resize(n);
+  contact_kr_.resize(2 * n);
+  particle_contacts_.build(px_.size(), bonds_, contacts_);
+  body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
 }
 
 // v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
@@ -398,6 +484,7 @@ void DemSolver::kick(double h_s) {
   auto damped = [alpha](double f, double v) {
     return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f;
   };
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
     bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;
@@ -415,6 +502,7 @@ void DemSolver::step(double dt_ms) {
   const std::size_t nb = bx_.size();
   // Half kick with the forces of the present state, then drift.
   kick(h);
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < nb; ++b) {
     if (bfixed_[b]) continue;
     bx_[b] += bvx_[b] * dt;
@@ -432,9 +520,8 @@ void DemSolver::step(double dt_ms) {
   {
     const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
     const std::size_t n = by_particle ? px_.size() : nb;
-    double sx = 0, sy = 0, svx = 0, svy = 0, sxx = 0, sxy = 0, syy = 0, vxx = 0, vxy = 0, vyx = 0, vyy = 0;
     const double inv_dt = 1 / dt;
-    for (std::size_t i = 0; i < n; ++i) {
+    const auto sums = ordered_sum<11>(n, [&](std::size_t i, std::array<double, 11>& acc) {
       double x, y, vx, vy;
       if (by_particle) {
         vx = (px_[i] - px_old_[i]) * inv_dt;
@@ -447,18 +534,10 @@ void DemSolver::step(double dt_ms) {
         x = bx_[i] - h * vx - origin_x_;
         y = by_[i] - h * vy - origin_y_;
       }
-      sx += x;
-      sy += y;
-      svx += vx;
-      svy += vy;
-      sxx += x * x;
-      sxy += x * y;
-      syy += y * y;
-      vxx += vx * x;
-      vxy += vx * y;
-      vyx += vy * x;
-      vyy += vy * y;
-    }
+      const double terms[11] = {x, y, vx, vy, x * x, x * y, y * y, vx * x, vx * y, vy * x, vy * y};
+      for (std::size_t k = 0; k < 11; ++k) acc[k] += terms[k];
+    });
+    const auto [sx, sy, svx, svy, sxx, sxy, syy, vxx, vxy, vyx, vyy] = sums;
     // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
     if (!std::isfinite(sx + sy + svx + svy))
       throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +

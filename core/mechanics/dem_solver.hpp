@@ -33,7 +33,10 @@
 // body's bonds, rho from its centroid to the contact point, k' the law's
 // dashpot-corrected stiffness (REFERENCES.md 2.4), at rest geometry.
 //
-// Deterministic: one thread, fixed order, no allocation per step.
+// Threads (OpenMP's present count): each contact's force is computed in
+// parallel, block by block, into per-contact arrays, then summed per particle
+// and body in a fixed order (contact_incidence.hpp). Deterministic: the same
+// bits for any number of threads; no allocation per step.
 #pragma once
 
 #include <array>
@@ -43,6 +46,7 @@
 
 #include "mechanics/clump_geometry.hpp"
 #include "mechanics/contact_detector.hpp"
+#include "mechanics/contact_incidence.hpp"
 #include "mechanics/contact_law.hpp"
 #include "mechanics/mechanics_solver.hpp"
 
@@ -99,7 +103,11 @@ class DemSolver final : public MechanicsSolver {
   void update_geometry(double dt_s);
   void place_particles();
   void compute_forces(double dt_s);
-  void add_contact_forces(BondSet& set, double dt_s);
+  struct BlockScratch;
+  void contact_block(BondSet& set, std::size_t begin, std::size_t count, std::size_t number, double dt_s,
+                     BlockScratch& s);
+  void sum_forces_on_body(std::size_t b);
+  void index_contacts();
   void set_contact_constants(BondSet& set, std::size_t k, int p, int q) const;
   void rebuild_contacts();
   void compute_stable_step();
@@ -118,21 +126,33 @@ class DemSolver final : public MechanicsSolver {
   // Clump geometry per body (disks: n 1, s 0).
   std::vector<int> bn_;
   std::vector<double> br0_, bs0_, br_, bs_, bsdot_, blambda_, btarget_r_, btarget_s_, bux_, buy_;
+  std::vector<double> next_r_, next_s_;  // set_cell_length_ratios' scratch
   std::vector<int> cell_body_;  // myocyte cell -> body, else -1
 
   // Particles (SoA, SI).
   std::vector<int> pbody_;
   std::vector<double> pa_;  // axial offset in spacings (k - (N-1)/2)
-  std::vector<double> px_, py_, px_old_, py_old_, pvx_, pvy_, pr_, pw_, pfx_, pfy_, ptq_;
+  std::vector<double> px_, py_, px_old_, py_old_, pvx_, pvy_, pr_, pw_;
+  std::vector<int> body_particle_start_, body_particle_;  // each body's particles, ascending (CSR)
 
-  // Bonds, unbonded contacts (and the next list, scratch), one block's scratch.
+  // Bonds, unbonded contacts (and the next list, scratch).
   BondSet bonds_, contacts_, next_contacts_;
   std::unique_ptr<ContactDetector> detector_;
   std::vector<std::pair<int, int>> candidate_pairs_;
-  std::array<double, kBlock> gap_{}, dn_{}, ds_{}, dth_{}, nx_{}, ny_{}, fnt_{}, fst_{}, mt_{};
+  // Each contact's force on q (minus on p) and moments on its ends (moment[end],
+  // end as in ContactIncidence's entries), numbered bonds then contacts; one
+  // contact's in one cache line's half, as a particle's sum reads them.
+  struct ContactForce {
+    double fx, fy, moment[2];
+  };
+  std::vector<ContactForce> contact_force_;
+  ContactIncidence particle_contacts_;
 
   double stable_step_ms_ = 0;
-  std::vector<double> body_kt_, body_kr_;  // stable-step scratch: summed stiffness per body
+  // Stable-step scratch: each contact's stiffness on its bodies (kr[2c + end]),
+  // and each body's contacts.
+  std::vector<double> contact_kt_, contact_kr_;
+  ContactIncidence body_contacts_;
   double time_s_ = 0;
   std::size_t steps_ = 0;
   std::array<double, 3> strain_{0, 0, 0};

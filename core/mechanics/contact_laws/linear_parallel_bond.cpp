@@ -35,6 +35,7 @@ class LinearParallelBond final : public ContactLaw {
     double* const mb = b.mb.data() + blk.begin;
     const double* const kb = b.kb.data() + blk.begin;
     const std::uint8_t* const intact = b.intact.data() + blk.begin;
+#pragma omp simd
     for (std::size_t i = 0; i < blk.count; ++i) {
       mb[i] = intact[i] ? mb[i] - kb[i] * blk.dtheta[i] : 0.0;
       blk.m_total[i] = mb[i];
