@@ -56,6 +56,11 @@ class Cells {
     store(v_.a + k * v_.stride, alpha);
     store(v_.b + k * v_.stride, -(alpha + beta));
   }
+  // Any other linear form, dy/dt = a + b y (b of the model's own).
+  FIBRODEM_LANE_INLINE void linear(int k, const R& a, const R& b) const {
+    store(v_.a + k * v_.stride, a);
+    store(v_.b + k * v_.stride, b);
+  }
   FIBRODEM_LANE_INLINE void output(int k, const R& value) const {
     if (v_.outputs != nullptr) store(v_.outputs + k * v_.stride, value);
   }

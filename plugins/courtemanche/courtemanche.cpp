@@ -20,8 +20,8 @@
 //
 // Removable singularities (x/(exp(x)-1) forms: INa alpha_m at -47.13 mV, IKr
 // alpha_xr at -14.1 and beta_xr at 3.3328, IKs alpha_xs/beta_xs at 19.9, ICaL
-// tau_d at -10, Irel tau_w at 7.9 mV) are rewritten with exprel() below, which is
-// exact at and around the singular point. Note: the CellML's own fallback value
+// tau_d at -10, Irel tau_w at 7.9 mV) are rewritten with x_over_expm1() below, which
+// is exact at and around the singular point. Note: the CellML's own fallback value
 // for beta_xr at V = 3.3328 is 3.7836118e-4 /ms, a digit swap of the true limit
 // 7.3898e-5 * 5.1237 = 3.78631e-4 /ms; we use the true limit (continuity). The
 // CellML's tau_d fallback 4.579/2 = 2.2895 ms also differs slightly from the limit
@@ -32,13 +32,14 @@
 // `i_ext_K_fraction` selects this (0 = CellML, default; 1 = Myokit convention, the
 // whole i_ext carried by K+).
 #include <cmath>
+#include <type_traits>
 
 #include "model/block_access.hpp"
 #include "model/cell_model.hpp"
 
 namespace {
 
-using fibrodem::CellAccess;
+FIBRODEM_USE_LANE_MATH;
 
 enum State {
   kV,
@@ -138,55 +139,75 @@ enum Output {
   kI_rel_out,
 };
 
+// Equations are generic in R: lanes of cells (simd::Real) or one cell (double).
+// Both sides of a select are evaluated and one kept (the other may be inf or NaN).
+
 // x / (exp(x) - 1), with its limit 1 - x/2 at x -> 0. expm1 keeps full relative
 // precision for small |x|, so the switch only avoids 0/0 at exactly x = 0.
-inline double exprel(double x) { return std::fabs(x) < 1e-12 ? 1.0 - 0.5 * x : x / std::expm1(x); }
+// (simd.hpp's exprel is the other convention, x / (1 - exp(-x)) = x_over_expm1(-x),
+// and switches at |x| < 1e-6; this model keeps its own.)
+template <class R>
+FIBRODEM_LANE_INLINE R x_over_expm1(const R& x) {
+  return select(fabs(x) < 1e-12, 1.0 - 0.5 * x, x / expm1(x));
+}
 
-inline double sigmoid(double x) { return 1.0 / (1.0 + std::exp(x)); }
+template <class R>
+R sigmoid(const R& x) {
+  return 1.0 / (1.0 + exp(x));
+}
+
+template <class R>
+struct AlphaBeta {
+  R alpha;
+  R beta;
+};
 
 // ---- Gates (paper eqs. 29-56, 64-68) -------------------------------------------
 
 // INa m (eq. 29-31): alpha_m = 0.32 (V+47.13) / (1 - exp(-0.1 (V+47.13)))
-//                            = 3.2 * exprel(-0.1 (V+47.13)).
-inline void gate_m(double V, double& a, double& b) {
-  a = 3.2 * exprel(-0.1 * (V + 47.13));
-  b = 0.08 * std::exp(-V / 11.0);
+//                            = 3.2 * x_over_expm1(-0.1 (V+47.13)).
+template <class R>
+AlphaBeta<R> gate_m(const R& V) {
+  return {3.2 * x_over_expm1(R(-0.1 * (V + 47.13))), 0.08 * exp(-V / 11.0)};
 }
 
-// INa h (eq. 32).
-inline void gate_h(double V, double& a, double& b) {
-  if (V < -40.0) {
-    a = 0.135 * std::exp((V + 80.0) / -6.8);
-    b = 3.56 * std::exp(0.079 * V) + 3.1e5 * std::exp(0.35 * V);
-  } else {
-    a = 0.0;
-    b = 1.0 / (0.13 * (1.0 + std::exp((V + 10.66) / -11.1)));
-  }
+// INa h (eq. 32); h and j switch form at V = -40 mV (both forms are evaluated, one kept).
+template <class R>
+AlphaBeta<R> gate_h(const R& V) {
+  const auto below = V < -40.0;
+  return {select(below, 0.135 * exp((V + 80.0) / -6.8), 0.0),
+          select(below, 3.56 * exp(0.079 * V) + 3.1e5 * exp(0.35 * V),
+                 1.0 / (0.13 * (1.0 + exp((V + 10.66) / -11.1))))};
 }
 
 // INa j (eq. 33).
-inline void gate_j(double V, double& a, double& b) {
-  if (V < -40.0) {
-    a = (-1.2714e5 * std::exp(0.2444 * V) - 3.474e-5 * std::exp(-0.04391 * V)) * (V + 37.78) /
-        (1.0 + std::exp(0.311 * (V + 79.23)));
-    b = 0.1212 * std::exp(-0.01052 * V) / (1.0 + std::exp(-0.1378 * (V + 40.14)));
-  } else {
-    a = 0.0;
-    b = 0.3 * std::exp(-2.535e-7 * V) / (1.0 + std::exp(-0.1 * (V + 32.0)));
-  }
+template <class R>
+AlphaBeta<R> gate_j(const R& V) {
+  const auto below = V < -40.0;
+  return {select(below,
+                 (-1.2714e5 * exp(0.2444 * V) - 3.474e-5 * exp(-0.04391 * V)) * (V + 37.78) /
+                     (1.0 + exp(0.311 * (V + 79.23))),
+                 0.0),
+          select(below, 0.1212 * exp(-0.01052 * V) / (1.0 + exp(-0.1378 * (V + 40.14))),
+                 0.3 * exp(-2.535e-7 * V) / (1.0 + exp(-0.1 * (V + 32.0))))};
 }
 
 // Ito oa (eq. 36-37); also IKur ua rates (eq. 42-43). tau divided by KQ10.
-inline double rate_alpha_a(double V) {
-  return 0.65 / (std::exp((V + 10.0) / -8.5) + std::exp((V - 30.0) / -59.0));
+template <class R>
+R rate_alpha_a(const R& V) {
+  return 0.65 / (exp((V + 10.0) / -8.5) + exp((V - 30.0) / -59.0));
 }
-inline double rate_beta_a(double V) { return 0.65 / (2.5 + std::exp((V + 82.0) / 17.0)); }
+template <class R>
+R rate_beta_a(const R& V) {
+  return 0.65 / (2.5 + exp((V + 82.0) / 17.0));
+}
 
 // ---- Currents, pA/pF -------------------------------------------------------------
 
-inline double E_nernst(double RTF_z, double out, double in) { return RTF_z * std::log(out / in); }
-
-}  // namespace
+template <class R>
+R E_nernst(double RTF_z, double out, const R& in) {
+  return RTF_z * log(out / in);
+}
 
 class Courtemanche1998 final : public fibrodem::CellModel {
  public:
@@ -357,73 +378,73 @@ class Courtemanche1998 final : public fibrodem::CellModel {
         (std::pow(p[kK_mNa], 3) + std::pow(p[kNa_o], 3)) * (p[kK_mCa] + p[kCa_o]);
     const double Nao3 = std::pow(p[kNa_o], 3);
 
-    for (std::size_t c = block.begin; c < block.end; ++c) {
-      const CellAccess cell(block, c);
-      const double V = cell.state(kV);
-      const double Na_i = cell.state(kNa_i);
-      const double K_i = cell.state(kK_i);
-      const double Ca_i = cell.state(kCa_i);
-      const double Ca_up = cell.state(kCa_up);
-      const double Ca_rel = cell.state(kCa_rel);
-      const double m = cell.state(km), h = cell.state(kh), j = cell.state(kj);
-      const double oa = cell.state(koa), oi = cell.state(koi);
-      const double ua = cell.state(kua), ui = cell.state(kui);
-      const double xr = cell.state(kxr), xs = cell.state(kxs);
-      const double d = cell.state(kd), f = cell.state(kf), f_Ca = cell.state(kf_Ca);
-      const double u = cell.state(ku), v = cell.state(kv), w = cell.state(kw);
+    fibrodem::for_each_lane_group(block, [&](const auto& cell) {
+      using R = typename std::decay_t<decltype(cell)>::Real;
+      const R V = cell.state(kV);
+      const R Na_i = cell.state(kNa_i);
+      const R K_i = cell.state(kK_i);
+      const R Ca_i = cell.state(kCa_i);
+      const R Ca_up = cell.state(kCa_up);
+      const R Ca_rel = cell.state(kCa_rel);
+      const R m = cell.state(km), h = cell.state(kh), j = cell.state(kj);
+      const R oa = cell.state(koa), oi = cell.state(koi);
+      const R ua = cell.state(kua), ui = cell.state(kui);
+      const R xr = cell.state(kxr), xs = cell.state(kxs);
+      const R d = cell.state(kd), f = cell.state(kf), f_Ca = cell.state(kf_Ca);
+      const R u = cell.state(ku), v = cell.state(kv), w = cell.state(kw);
 
       // Reversal potentials (eq. 28).
-      const double E_Na = E_nernst(RTF, p[kNa_o], Na_i);
-      const double E_K = E_nernst(RTF, p[kK_o], K_i);
-      const double E_Ca = E_nernst(0.5 * RTF, p[kCa_o], Ca_i);
+      const R E_Na = E_nernst(RTF, p[kNa_o], Na_i);
+      const R E_K = E_nernst(RTF, p[kK_o], K_i);
+      const R E_Ca = E_nernst(0.5 * RTF, p[kCa_o], Ca_i);
 
       // ---- Currents in pA/pF ----
       // INa (eq. 29).
-      const double i_Na = p[kg_Na] * m * m * m * h * j * (V - E_Na);
+      const R i_Na = p[kg_Na] * m * m * m * h * j * (V - E_Na);
       // IK1 (eq. 35).
-      const double i_K1 = p[kg_K1] * (V - E_K) / (1.0 + std::exp(0.07 * (V + 80.0)));
+      const R i_K1 = p[kg_K1] * (V - E_K) / (1.0 + exp(0.07 * (V + 80.0)));
       // Ito (eq. 36).
-      const double i_to = p[kg_to] * oa * oa * oa * oi * (V - E_K);
+      const R i_to = p[kg_to] * oa * oa * oa * oi * (V - E_K);
       // IKur (eq. 41).
-      const double g_Kur = p[kg_Kur_base] + p[kg_Kur_var] / (1.0 + std::exp((V - 15.0) / -13.0));
-      const double i_Kur = g_Kur * ua * ua * ua * ui * (V - E_K);
+      const R g_Kur = p[kg_Kur_base] + p[kg_Kur_var] / (1.0 + exp((V - 15.0) / -13.0));
+      const R i_Kur = g_Kur * ua * ua * ua * ui * (V - E_K);
       // IKr (eq. 47).
-      const double i_Kr = p[kg_Kr] * xr * (V - E_K) / (1.0 + std::exp((V + 15.0) / 22.4));
+      const R i_Kr = p[kg_Kr] * xr * (V - E_K) / (1.0 + exp((V + 15.0) / 22.4));
       // IKs (eq. 50).
-      const double i_Ks = p[kg_Ks] * xs * xs * (V - E_K);
+      const R i_Ks = p[kg_Ks] * xs * xs * (V - E_K);
       // ICaL (eq. 53).
-      const double i_CaL = p[kg_CaL] * d * f * f_Ca * (V - p[kE_CaL]);
+      const R i_CaL = p[kg_CaL] * d * f * f_Ca * (V - p[kE_CaL]);
       // INaK (eq. 57-59).
-      const double f_NaK =
-          1.0 / (1.0 + 0.1245 * std::exp(-0.1 * V * FRT) + 0.0365 * sigma * std::exp(-V * FRT));
-      const double i_NaK = p[ki_NaK_max] * f_NaK / (1.0 + std::pow(p[kKm_Na_i] / Na_i, 1.5)) *
-                           p[kK_o] / (p[kK_o] + p[kKm_K_o]);
+      const R f_NaK =
+          1.0 / (1.0 + 0.1245 * exp(-0.1 * V * FRT) + 0.0365 * sigma * exp(-V * FRT));
+      const R i_NaK = p[ki_NaK_max] * f_NaK / (1.0 + pow(p[kKm_Na_i] / Na_i, 1.5)) *
+                      p[kK_o] / (p[kK_o] + p[kKm_K_o]);
       // INaCa (eq. 60).
       const double gam = p[kgamma];
-      const double i_NaCa = p[kI_NaCa_max] *
-                            (std::exp(gam * V * FRT) * Na_i * Na_i * Na_i * p[kCa_o] -
-                             std::exp((gam - 1.0) * V * FRT) * Nao3 * Ca_i) /
-                            (naca_den * (1.0 + p[kK_sat] * std::exp((gam - 1.0) * V * FRT)));
+      const R i_NaCa = p[kI_NaCa_max] *
+                       (exp(gam * V * FRT) * Na_i * Na_i * Na_i * p[kCa_o] -
+                        exp((gam - 1.0) * V * FRT) * Nao3 * Ca_i) /
+                       (naca_den * (1.0 + p[kK_sat] * exp((gam - 1.0) * V * FRT)));
       // Background currents (eq. 61-62), IpCa (eq. 63).
-      const double i_B_Na = p[kg_B_Na] * (V - E_Na);
-      const double i_B_Ca = p[kg_B_Ca] * (V - E_Ca);
-      const double i_B_K = p[kg_B_K] * (V - E_K);
-      const double i_CaP = p[ki_CaP_max] * Ca_i / (p[kKm_CaP] + Ca_i);
+      const R i_B_Na = p[kg_B_Na] * (V - E_Na);
+      const R i_B_Ca = p[kg_B_Ca] * (V - E_Ca);
+      const R i_B_K = p[kg_B_K] * (V - E_K);
+      const R i_CaP = p[ki_CaP_max] * Ca_i / (p[kKm_CaP] + Ca_i);
 
       // ---- Ca handling, mM/ms (eq. 64-72) ----
-      const double i_rel = p[kK_rel] * u * u * v * w * (Ca_rel - Ca_i);
-      const double i_tr = (Ca_up - Ca_rel) / p[ktau_tr];
-      const double i_up = p[kI_up_max] / (1.0 + p[kK_up] / Ca_i);
-      const double i_up_leak = p[kI_up_max] * Ca_up / p[kCa_up_max];
+      const R i_rel = p[kK_rel] * u * u * v * w * (Ca_rel - Ca_i);
+      const R i_tr = (Ca_up - Ca_rel) / p[ktau_tr];
+      const R i_up = p[kI_up_max] / (1.0 + p[kK_up] / Ca_i);
+      const R i_up_leak = p[kI_up_max] * Ca_up / p[kCa_up_max];
       // Fn (eq. 68), CellML units: currents in pA, volumes in um^3.
-      const double Fn =
+      const R Fn =
           1e3 * (1e-15 * V_rel * i_rel - 1e-15 / (2.0 * p[kF]) * (0.5 * i_CaL - 0.2 * i_NaCa) * Cm);
 
       // ---- Membrane ----
-      const double i_ion = i_Na + i_K1 + i_to + i_Kur + i_Kr + i_Ks + i_B_Na + i_B_Ca + i_B_K +
-                           i_NaK + i_CaP + i_NaCa + i_CaL;  // pA/pF
-      const double I_ion_pA = Cm * i_ion;
-      const double i_ext = cell.input(kI_ext_pA);
+      const R i_ion = i_Na + i_K1 + i_to + i_Kur + i_Kr + i_Ks + i_B_Na + i_B_Ca + i_B_K +
+                      i_NaK + i_CaP + i_NaCa + i_CaL;  // pA/pF
+      const R I_ion_pA = Cm * i_ion;
+      const R i_ext = cell.input(kI_ext_pA);
       cell.rate(kV, (i_ext - I_ion_pA) / Cm);
 
       // ---- Concentrations (eq. 21-27) ----
@@ -432,87 +453,86 @@ class Courtemanche1998 final : public fibrodem::CellModel {
       cell.rate(kK_i, (Cm * (2.0 * i_NaK - (i_K1 + i_to + i_Kur + i_Kr + i_Ks + i_B_K)) +
                        p[ki_ext_K_fraction] * i_ext) /
                           FVi);
-      const double B1 = Cm * (2.0 * i_NaCa - (i_CaP + i_CaL + i_B_Ca)) / (2.0 * FVi) +
-                        (V_up * (i_up_leak - i_up) + i_rel * V_rel) / V_i;
-      const double kt = Ca_i + p[kKm_TRPN], kc = Ca_i + p[kKm_CMDN];
+      const R B1 = Cm * (2.0 * i_NaCa - (i_CaP + i_CaL + i_B_Ca)) / (2.0 * FVi) +
+                   (V_up * (i_up_leak - i_up) + i_rel * V_rel) / V_i;
+      const R kt = Ca_i + p[kKm_TRPN], kc = Ca_i + p[kKm_CMDN];
       // Troponin: CRN's rapid-equilibrium buffer, scaled by troponin_buffer_scale
       // (0 when a myofilament model owns troponin and feeds its binding flux
       // J_TRPN back: fibrodem's calcium_feedback).
       const double TRPN_max = p[kTRPN_max] * p[kTroponin_scale];
-      const double B2 = 1.0 + TRPN_max * p[kKm_TRPN] / (kt * kt) + p[kCMDN_max] * p[kKm_CMDN] / (kc * kc);
+      const R B2 = 1.0 + TRPN_max * p[kKm_TRPN] / (kt * kt) + p[kCMDN_max] * p[kKm_CMDN] / (kc * kc);
       cell.rate(kCa_i, (B1 - cell.input(kJ_TRPN)) / B2);
       cell.rate(kCa_up, i_up - (i_up_leak + i_tr * V_rel / V_up));
-      const double kq = Ca_rel + p[kKm_CSQN];
+      const R kq = Ca_rel + p[kKm_CSQN];
       cell.rate(kCa_rel, (i_tr - i_rel) / (1.0 + p[kCSQN_max] * p[kKm_CSQN] / (kq * kq)));
 
       // ---- Gates ----
       // Gates marked voltage_only may be left to the core's lookup table.
       if (!block.skip_voltage_only_gates) {
-        double a, b;
-        gate_m(V, a, b);
-        cell.gate_alpha_beta(km, a, b);
-        gate_h(V, a, b);
-        cell.gate_alpha_beta(kh, a, b);
-        gate_j(V, a, b);
-        cell.gate_alpha_beta(kj, a, b);
+        const auto gm = gate_m(V);
+        cell.gate_alpha_beta(km, gm.alpha, gm.beta);
+        const auto gh = gate_h(V);
+        cell.gate_alpha_beta(kh, gh.alpha, gh.beta);
+        const auto gj = gate_j(V);
+        cell.gate_alpha_beta(kj, gj.alpha, gj.beta);
 
         // Ito oa, oi (eq. 37-40).
-        const double tau_a = 1.0 / ((rate_alpha_a(V) + rate_beta_a(V)) * KQ10);
-        cell.gate_inf_tau(koa, sigmoid((V + 20.47) / -17.54), tau_a);
+        const R tau_a = 1.0 / ((rate_alpha_a(V) + rate_beta_a(V)) * KQ10);
+        cell.gate_inf_tau(koa, sigmoid(R((V + 20.47) / -17.54)), tau_a);
         {
-          const double a_oi = 1.0 / (18.53 + std::exp((V + 113.7) / 10.95));
-          const double b_oi = 1.0 / (35.56 + std::exp((V + 1.26) / -7.44));
-          cell.gate_inf_tau(koi, sigmoid((V + 43.1) / 5.3), 1.0 / ((a_oi + b_oi) * KQ10));
+          const R a_oi = 1.0 / (18.53 + exp((V + 113.7) / 10.95));
+          const R b_oi = 1.0 / (35.56 + exp((V + 1.26) / -7.44));
+          cell.gate_inf_tau(koi, sigmoid(R((V + 43.1) / 5.3)), 1.0 / ((a_oi + b_oi) * KQ10));
         }
         // IKur ua, ui (eq. 42-46); ui beta as in the CellML: exp((V - 158)/16).
-        cell.gate_inf_tau(kua, sigmoid((V + 30.3) / -9.6), tau_a);
+        cell.gate_inf_tau(kua, sigmoid(R((V + 30.3) / -9.6)), tau_a);
         {
-          const double a_ui = 1.0 / (21.0 + std::exp((V - 185.0) / -28.0));
-          const double b_ui = std::exp((V - 158.0) / 16.0);
-          cell.gate_inf_tau(kui, sigmoid((V - 99.45) / 27.48), 1.0 / ((a_ui + b_ui) * KQ10));
+          const R a_ui = 1.0 / (21.0 + exp((V - 185.0) / -28.0));
+          const R b_ui = exp((V - 158.0) / 16.0);
+          cell.gate_inf_tau(kui, sigmoid(R((V - 99.45) / 27.48)), 1.0 / ((a_ui + b_ui) * KQ10));
         }
         // IKr xr (eq. 48-49): alpha = 0.0003 (V+14.1)/(1-exp(-(V+14.1)/5)) = 0.0015
-        // exprel(-(V+14.1)/5); beta = 7.3898e-5 (V-3.3328)/(exp((V-3.3328)/5.1237)-1)
-        // = 7.3898e-5*5.1237 exprel(...).
+        // x_over_expm1(-(V+14.1)/5); beta = 7.3898e-5 (V-3.3328)/(exp((V-3.3328)/5.1237)-1)
+        // = 7.3898e-5*5.1237 x_over_expm1(...).
         {
-          const double a_xr = 0.0003 * 5.0 * exprel(-(V + 14.1) / 5.0);
-          const double b_xr = 7.3898e-5 * 5.1237 * exprel((V - 3.3328) / 5.1237);
-          cell.gate_inf_tau(kxr, sigmoid((V + 14.1) / -6.5), 1.0 / (a_xr + b_xr));
+          const R a_xr = 0.0003 * 5.0 * x_over_expm1(R(-(V + 14.1) / 5.0));
+          const R b_xr = 7.3898e-5 * 5.1237 * x_over_expm1(R((V - 3.3328) / 5.1237));
+          cell.gate_inf_tau(kxr, sigmoid(R((V + 14.1) / -6.5)), 1.0 / (a_xr + b_xr));
         }
-        // IKs xs (eq. 51-52): alpha = 4e-5*17 exprel(-(V-19.9)/17), beta = 3.5e-5*9
-        // exprel((V-19.9)/9).
+        // IKs xs (eq. 51-52): alpha = 4e-5*17 x_over_expm1(-(V-19.9)/17), beta = 3.5e-5*9
+        // x_over_expm1((V-19.9)/9).
         {
-          const double a_xs = 4e-5 * 17.0 * exprel(-(V - 19.9) / 17.0);
-          const double b_xs = 3.5e-5 * 9.0 * exprel((V - 19.9) / 9.0);
-          const double xs_inf = 1.0 / std::sqrt(1.0 + std::exp((V - 19.9) / -12.7));
+          const R a_xs = 4e-5 * 17.0 * x_over_expm1(R(-(V - 19.9) / 17.0));
+          const R b_xs = 3.5e-5 * 9.0 * x_over_expm1(R((V - 19.9) / 9.0));
+          const R xs_inf = 1.0 / sqrt(1.0 + exp((V - 19.9) / -12.7));
           cell.gate_inf_tau(kxs, xs_inf, 0.5 / (a_xs + b_xs));
         }
         // ICaL d (eq. 54): tau_d = (1-e^{-x})/(0.035*6.24 x (1+e^{-x})), x = (V+10)/6.24,
-        // and (1-e^{-x})/x = 1/exprel(-x).
+        // and (1-e^{-x})/x = 1/x_over_expm1(-x).
         {
-          const double x = (V + 10.0) / 6.24;
-          const double tau_d = 1.0 / (0.035 * 6.24 * exprel(-x) * (1.0 + std::exp(-x)));
-          cell.gate_inf_tau(kd, sigmoid((V + 10.0) / -8.0), tau_d);
+          const R x = (V + 10.0) / 6.24;
+          const R tau_d = 1.0 / (0.035 * 6.24 * x_over_expm1(R(-x)) * (1.0 + exp(-x)));
+          cell.gate_inf_tau(kd, sigmoid(R((V + 10.0) / -8.0)), tau_d);
         }
         // ICaL f (eq. 55), f_Ca (eq. 56).
         {
-          const double dv = V + 10.0;
-          const double tau_f = 9.0 / (0.0197 * std::exp(-0.0337 * 0.0337 * dv * dv) + 0.02);
-          cell.gate_inf_tau(kf, sigmoid((V + 28.0) / 6.9), tau_f);
+          const R dv = V + 10.0;
+          const R tau_f = 9.0 / (0.0197 * exp(-0.0337 * 0.0337 * dv * dv) + 0.02);
+          cell.gate_inf_tau(kf, sigmoid(R((V + 28.0) / 6.9)), tau_f);
         }
       }  // voltage_only gates
-      cell.gate_inf_tau(kf_Ca, 1.0 / (1.0 + Ca_i / p[kKm_f_Ca]), p[ktau_f_Ca]);
+      cell.gate_inf_tau(kf_Ca, 1.0 / (1.0 + Ca_i / p[kKm_f_Ca]), R(p[ktau_f_Ca]));
       // Irel u, v, w (eq. 64-67).
       {
         const double c1 = p[kFn_c1], c2 = p[kFn_c2];
-        const double s_u = 1.0 / (1.0 + std::exp(-(Fn - c1) / c2));
-        cell.gate_inf_tau(ku, s_u, p[ktau_u]);
-        const double v_inf = 1.0 - 1.0 / (1.0 + std::exp(-(Fn - 0.2 * c1) / c2));
+        const R s_u = 1.0 / (1.0 + exp(-(Fn - c1) / c2));
+        cell.gate_inf_tau(ku, s_u, R(p[ktau_u]));
+        const R v_inf = 1.0 - 1.0 / (1.0 + exp(-(Fn - 0.2 * c1) / c2));
         cell.gate_inf_tau(kv, v_inf, 1.91 + 2.09 * s_u);
         // tau_w = 6 (1-e^{-x}) / ((1+0.3 e^{-x}) 5 x), x = (V-7.9)/5.
-        const double x = (V - 7.9) / 5.0;
-        const double tau_w = 6.0 / (5.0 * exprel(-x) * (1.0 + 0.3 * std::exp(-x)));
-        const double w_inf = 1.0 - 1.0 / (1.0 + std::exp(-(V - 40.0) / 17.0));
+        const R x = (V - 7.9) / 5.0;
+        const R tau_w = 6.0 / (5.0 * x_over_expm1(R(-x)) * (1.0 + 0.3 * exp(-x)));
+        const R w_inf = 1.0 - 1.0 / (1.0 + exp(-(V - 40.0) / 17.0));
         cell.gate_inf_tau(kw, w_inf, tau_w);
       }
 
@@ -528,11 +548,13 @@ class Courtemanche1998 final : public fibrodem::CellModel {
       cell.output(kI_NaK_out, Cm * i_NaK);
       cell.output(kI_NaCa_out, Cm * i_NaCa);
       cell.output(kI_rel_out, i_rel);
-    }
+    });
   }
 
  private:
   fibrodem::ModelInfo info_;
 };
+
+}  // namespace
 
 FIBRODEM_CELL_MODEL_PLUGIN(Courtemanche1998)

@@ -38,13 +38,14 @@
 // -87.3 mV that ELECTRA hard-codes (Grandi environment), so the resting potential
 // is not MacCannell's -49.6 mV; see the initial values below.
 #include <cmath>
+#include <type_traits>
 
 #include "model/block_access.hpp"
 #include "model/cell_model.hpp"
 
 namespace {
 
-using fibrodem::CellAccess;
+FIBRODEM_USE_LANE_MATH;
 
 enum State { kV, kr, ks, kK_i, kNa_i, kNumStates };
 
@@ -97,8 +98,6 @@ constexpr RestState kRestActive1 = {-48.8901027987, 0.067460266402, 0.9758396663
                                     8.5547};
 constexpr RestState kRestDepolarised = {-24.0036402184, 0.0434700452346, 0.988215217905, 129.4349,
                                         8.5547};
-
-}  // namespace
 
 class MaleckarActive2 final : public fibrodem::CellModel {
  public:
@@ -205,42 +204,43 @@ class MaleckarActive2 final : public fibrodem::CellModel {
     // pA -> mM/ms for a monovalent ion: 1e-3 / (F Vol).
     const double ion_factor = p[kDynamic_ions] * C * 1e-3 / (p[kF] * p[kVol_nL]);
 
-    for (std::size_t c = block.begin; c < block.end; ++c) {
-      const CellAccess cell(block, c);
-      const double V = cell.state(kV);
-      const double r = cell.state(kr);
-      const double s = cell.state(ks);
-      const double K_i = cell.state(kK_i);
-      const double Na_i = cell.state(kNa_i);
+    // Equations generic in R: lanes of cells (simd::Real) or one cell (double).
+    fibrodem::for_each_lane_group(block, [&](const auto& cell) {
+      using R = typename std::decay_t<decltype(cell)>::Real;
+      const R V = cell.state(kV);
+      const R r = cell.state(kr);
+      const R s = cell.state(ks);
+      const R K_i = cell.state(kK_i);
+      const R Na_i = cell.state(kNa_i);
 
-      const double E_K = RTF * std::log(p[kK_o] / K_i);
-      const double E_Na = RTF * std::log(p[kNa_o] / Na_i);
+      const R E_K = RTF * log(p[kK_o] / K_i);
+      const R E_Na = RTF * log(p[kNa_o] / Na_i);
 
       // I_Kv and its gates.
-      const double vr = V + 20.0 - shift;
-      const double vs = V + 23.0 - shift;
-      const double r_inf = 1.0 / (1.0 + std::exp(-vr / 11.0));
-      const double tau_r = 20.3 + 138.0 * std::exp(-(vr / 25.9) * (vr / 25.9));
-      const double s_inf = 1.0 / (1.0 + std::exp(vs / 7.0));
-      const double tau_s = 1574.0 + 5268.0 * std::exp(-(vs / 22.7) * (vs / 22.7));
-      const double I_Kv = p[kG_Kv] * r * s * (V - E_K);
+      const R vr = V + 20.0 - shift;
+      const R vs = V + 23.0 - shift;
+      const R r_inf = 1.0 / (1.0 + exp(-vr / 11.0));
+      const R tau_r = 20.3 + 138.0 * exp(-(vr / 25.9) * (vr / 25.9));
+      const R s_inf = 1.0 / (1.0 + exp(vs / 7.0));
+      const R tau_s = 1574.0 + 5268.0 * exp(-(vs / 22.7) * (vs / 22.7));
+      const R I_Kv = p[kG_Kv] * r * s * (V - E_K);
 
       // I_K1.
-      const double dk = V - E_K;
-      const double a_K1 = 0.1 / (1.0 + std::exp(0.06 * (dk - 200.0)));
-      const double b_K1 = (3.0 * std::exp(0.0002 * (dk + 100.0)) + std::exp(0.1 * (dk - 10.0))) /
-                          (1.0 + std::exp(-0.5 * dk));
-      const double I_K1 = p[kG_K1] * a_K1 / (a_K1 + b_K1) * dk;
+      const R dk = V - E_K;
+      const R a_K1 = 0.1 / (1.0 + exp(0.06 * (dk - 200.0)));
+      const R b_K1 = (3.0 * exp(0.0002 * (dk + 100.0)) + exp(0.1 * (dk - 10.0))) /
+                     (1.0 + exp(-0.5 * dk));
+      const R I_K1 = p[kG_K1] * a_K1 / (a_K1 + b_K1) * dk;
 
       // I_NaK.
-      const double na15 = std::pow(Na_i, 1.5);
-      const double I_NaK = pump_K * na15 / (na15 + KmNa15) * (V - p[kV_rev]) / (V - p[kB]);
+      const R na15 = pow(Na_i, 1.5);
+      const R I_NaK = pump_K * na15 / (na15 + KmNa15) * (V - p[kV_rev]) / (V - p[kB]);
 
       // I_bNa.
-      const double I_bNa = p[kG_bNa] * (V - E_Na);
+      const R I_bNa = p[kG_bNa] * (V - E_Na);
 
-      const double I_ion_pA = C * (I_Kv + I_K1 + I_NaK + I_bNa);
-      const double i_ext = cell.input(kI_ext_pA);
+      const R I_ion_pA = C * (I_Kv + I_K1 + I_NaK + I_bNa);
+      const R i_ext = cell.input(kI_ext_pA);
       cell.rate(kV, (i_ext - I_ion_pA) / C);
       cell.gate_inf_tau(kr, r_inf, tau_r);
       cell.gate_inf_tau(ks, s_inf, tau_s);
@@ -253,11 +253,13 @@ class MaleckarActive2 final : public fibrodem::CellModel {
       cell.output(kI_K1_out, C * I_K1);
       cell.output(kI_NaK_out, C * I_NaK);
       cell.output(kI_bNa_out, C * I_bNa);
-    }
+    });
   }
 
  private:
   fibrodem::ModelInfo info_;
 };
+
+}  // namespace
 
 FIBRODEM_CELL_MODEL_PLUGIN(MaleckarActive2)

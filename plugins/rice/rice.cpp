@@ -47,6 +47,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "model/block_access.hpp"
@@ -54,7 +55,7 @@
 
 namespace {
 
-using fibrodem::CellAccess;
+FIBRODEM_USE_LANE_MATH;
 
 // ---------------------------------------------------------------------------
 // States: name, unit, initial value (CellML), lower, upper, gate.
@@ -145,8 +146,12 @@ enum Param { RICE_PARAMS(RICE_ENUM) kNumParams };
 enum Input { kCa_i_mM };
 enum Output { kSarcomereLength, kActiveTension, kTRPN_Ca, kdTRPN_Ca_dt, kCa_i_used };
 
-// Matlab's sign(): 0 at 0 (the CellML's x/abs(x) is NaN there).
-inline double sign(double x) { return static_cast<double>((x > 0.0) - (x < 0.0)); }
+// Matlab's sign(): 0 at 0 (the CellML's x/abs(x) is NaN there). Generic in R:
+// lanes of cells (simd::Real) or one value (double).
+template <class R>
+R sign(const R& x) {
+  return select(x > 0.0, 1.0, select(x < 0.0, -1.0, R(0.0)));
+}
 
 // Block constants: temperature-adjusted rates and the test transient's
 // normalisation (parameters are per block).
@@ -216,50 +221,52 @@ void Rice::evaluate(const fibrodem::BlockView& block, double t_ms) const {
   const double len_thin = p[k_len_thin], len_thick = p[k_len_thick], len_hbare = p[k_len_hbare];
   const double x_0 = p[k_x_0];
 
-  for (std::size_t c = block.begin; c < block.end; ++c) {
-    const CellAccess cell(block, c);
-    const double SL = cell.state(k_SL);
-    const double intf = cell.state(k_intf);
-    const double TRPNCaL = cell.state(k_TRPNCaL);
-    const double TRPNCaH = cell.state(k_TRPNCaH);
-    const double N = cell.state(k_N);
-    const double XBprer = cell.state(k_XBprer);
-    const double XBpostr = cell.state(k_XBpostr);
-    const double xXBprer = cell.state(k_xXBprer);
-    const double xXBpostr = cell.state(k_xXBpostr);
-    const double Cai = prescribed ? Ca_prescribed_uM : 1000.0 * cell.input(kCa_i_mM);  // uM
+  fibrodem::for_each_lane_group(block, [&](const auto& cell) {
+    using R = typename std::decay_t<decltype(cell)>::Real;
+    const R SL = cell.state(k_SL);
+    const R intf = cell.state(k_intf);
+    const R TRPNCaL = cell.state(k_TRPNCaL);
+    const R TRPNCaH = cell.state(k_TRPNCaH);
+    const R N = cell.state(k_N);
+    const R XBprer = cell.state(k_XBprer);
+    const R XBpostr = cell.state(k_XBpostr);
+    const R xXBprer = cell.state(k_xXBprer);
+    const R xXBpostr = cell.state(k_xXBpostr);
+    const R Cai = prescribed ? R(Ca_prescribed_uM) : R(1000.0 * cell.input(kCa_i_mM));  // uM
 
     // "sarcomere_geometry": single-overlap fractions of thick and thin filaments.
-    const double sovr_ze = std::min(len_thick / 2.0, SL / 2.0);
-    const double sovr_cle = std::max(SL / 2.0 - (SL - len_thin), len_hbare / 2.0);
-    const double len_sovr = sovr_ze - sovr_cle;
-    const double SOVFThick = len_sovr * 2.0 / (len_thick - len_hbare);
-    const double SOVFThin = len_sovr / len_thin;
+    const R sovr_ze = fmin(R(len_thick / 2.0), R(SL / 2.0));
+    const R sovr_cle = fmax(R(SL / 2.0 - (SL - len_thin)), R(len_hbare / 2.0));
+    const R len_sovr = sovr_ze - sovr_cle;
+    const R SOVFThick = len_sovr * 2.0 / (len_thick - len_hbare);
+    const R SOVFThin = len_sovr / len_thin;
 
     // "Ca_binding_to_troponin_to_thin_filament_regulation".
-    const double Tropreg = (1.0 - SOVFThin) * TRPNCaL + SOVFThin * TRPNCaH;
-    const double permtot =
-        Tropreg > 0.0 ? std::sqrt(std::abs(1.0 / (1.0 + std::pow(p[k_perm50] / Tropreg, p[k_nperm])))) : 0.0;
-    const double inprmt = permtot * 100.0 > 1.0 ? 1.0 / permtot : 100.0;  // min(1/permtot, 100)
-    const double kn_pT = r.kn_p_Q * permtot;
-    const double kp_nT = r.kp_n_Q * inprmt;
+    const R Tropreg = (1.0 - SOVFThin) * TRPNCaL + SOVFThin * TRPNCaH;
+    // (both sides of a select are evaluated, one kept: at Tropreg <= 0 the unused one
+    // may be inf or NaN, as may 1/permtot at permtot = 0)
+    const R permtot =
+        select(Tropreg > 0.0, sqrt(fabs(1.0 / (1.0 + pow(p[k_perm50] / Tropreg, p[k_nperm])))), R(0.0));
+    const R inprmt = select(permtot * 100.0 > 1.0, 1.0 / permtot, R(100.0));  // min(1/permtot, 100)
+    const R kn_pT = r.kn_p_Q * permtot;
+    const R kp_nT = r.kp_n_Q * inprmt;
     // dTRPNCa = konT Cai (1 - TRPNCa) - koffT TRPNCa
-    const double aL = r.konT * Cai, bL = -(r.konT * Cai + r.koffLT);
-    const double aH = r.konT * Cai, bH = -(r.konT * Cai + r.koffHT);
-    const double dTRPNCaL = aL + bL * TRPNCaL;
-    const double dTRPNCaH = aH + bH * TRPNCaH;
+    const R aL = r.konT * Cai, bL = -(r.konT * Cai + r.koffLT);
+    const R aH = r.konT * Cai, bH = -(r.konT * Cai + r.koffHT);
+    const R dTRPNCaL = aL + bL * TRPNCaL;
+    const R dTRPNCaH = aH + bH * TRPNCaH;
 
     // "thin_filament_regulation_and_crossbridge_cycling_rates".
-    const double gapslmd = 1.0 + (1.0 - SOVFThick) * p[k_gslmod];
-    const double gappT = r.gapp_Q * gapslmd;
-    const double hfmd = std::exp(-sign(xXBprer) * p[k_hfmdc] * (xXBprer / x_0) * (xXBprer / x_0));
-    const double dpost = xXBpostr - x_0;
-    const double hbmd = std::exp(sign(dpost) * p[k_hbmdc] * (dpost / x_0) * (dpost / x_0));
-    const double hfT = r.hf_Q * hfmd;
-    const double hbT = r.hb_Q * hbmd;
-    const double gxbmd = xXBpostr < x_0 ? std::exp(p[k_sigmap] * (dpost / x_0) * (dpost / x_0))
-                                        : std::exp(p[k_sigman] * (dpost / x_0) * (dpost / x_0));
-    const double gxbT = r.gxb_Q * gxbmd;
+    const R gapslmd = 1.0 + (1.0 - SOVFThick) * p[k_gslmod];
+    const R gappT = r.gapp_Q * gapslmd;
+    const R hfmd = exp(-sign(xXBprer) * p[k_hfmdc] * (xXBprer / x_0) * (xXBprer / x_0));
+    const R dpost = xXBpostr - x_0;
+    const R hbmd = exp(sign(dpost) * p[k_hbmdc] * (dpost / x_0) * (dpost / x_0));
+    const R hfT = r.hf_Q * hfmd;
+    const R hbT = r.hb_Q * hbmd;
+    const R gxbmd = select(xXBpostr < x_0, exp(p[k_sigmap] * (dpost / x_0) * (dpost / x_0)),
+                           exp(p[k_sigman] * (dpost / x_0) * (dpost / x_0)));
+    const R gxbT = r.gxb_Q * gxbmd;
     const double fappT = r.fappT;
 
     // "regulation_and_crossbridge_cycling_state_equations", P = 1 - N - XBprer - XBpostr:
@@ -268,67 +275,63 @@ void Rice::evaluate(const fibrodem::BlockView& block, double t_ms) const {
     //   dXBprer = fappT P + hbT XBpostr - (gappT + hfT) XBprer
     //           = fappT (1 - N - XBpostr) + hbT XBpostr - (fappT + gappT + hfT) XBprer
     //   dXBpostr = hfT XBprer - (hbT + gxbT) XBpostr
-    const double aXBprer = fappT * (1.0 - N - XBpostr) + hbT * XBpostr;
-    const double bXBprer = -(fappT + gappT + hfT);
-    const double aXBpostr = hfT * XBprer;
-    const double bXBpostr = -(hbT + gxbT);
-    const double dXBprer = aXBprer + bXBprer * XBprer;
-    const double dXBpostr = aXBpostr + bXBpostr * XBpostr;
+    const R aXBprer = fappT * (1.0 - N - XBpostr) + hbT * XBpostr;
+    const R bXBprer = -(fappT + gappT + hfT);
+    const R aXBpostr = hfT * XBprer;
+    const R bXBpostr = -(hbT + gxbT);
+    const R dXBprer = aXBprer + bXBprer * XBprer;
+    const R dXBpostr = aXBpostr + bXBpostr * XBpostr;
 
     // "normalised_active_and_passive_force": SL dynamics (zero outside (SLmin, SLmax]).
-    const bool SL_free = SL <= p[k_SLmax] && SL > p[k_SLmin];
-    const double aSL = SL_free ? (intf + p[k_SLset] * p[k_visc]) / p[k_massf] : 0.0;
-    const double bSL = SL_free ? -p[k_visc] / p[k_massf] : 0.0;
-    const double dSL = aSL + bSL * SL;  // (intf + (SLset - SL) visc) / massf
+    const auto SL_free = SL <= p[k_SLmax] && SL > p[k_SLmin];
+    const R aSL = select(SL_free, (intf + p[k_SLset] * p[k_visc]) / p[k_massf], R(0.0));
+    const R bSL = select(SL_free, R(-p[k_visc] / p[k_massf]), R(0.0));
+    const R dSL = aSL + bSL * SL;  // (intf + (SLset - SL) visc) / massf
 
     // "mean_strain_of_strongly_bound_states".
-    const double den = fappT * hfT + gxbT * hfT + gxbT * gappT + hbT * fappT + hbT * gappT + gxbT * fappT;
-    const double dutyprer = (hbT * fappT + gxbT * fappT) / den;
-    const double dutypostr = fappT * hfT / den;
+    const R den = fappT * hfT + gxbT * hfT + gxbT * gappT + hbT * fappT + hbT * gappT + gxbT * fappT;
+    const R dutyprer = (hbT * fappT + gxbT * fappT) / den;
+    const R dutypostr = fappT * hfT / den;
     // dxXBprer = dSL/2 + xPsi/dutyprer (-fappT xXBprer + hbT (xXBpostr - (x_0 + xXBprer)))
-    const double kprer = p[k_xPsi] / dutyprer;
-    const double axXBprer = dSL / 2.0 + kprer * hbT * (xXBpostr - x_0);
-    const double bxXBprer = -kprer * (fappT + hbT);
+    const R kprer = p[k_xPsi] / dutyprer;
+    const R axXBprer = dSL / 2.0 + kprer * hbT * (xXBpostr - x_0);
+    const R bxXBprer = -kprer * (fappT + hbT);
     // dxXBpostr = dSL/2 + xPsi/dutypostr hfT ((xXBprer + x_0) - xXBpostr)
-    const double kpostr = p[k_xPsi] / dutypostr * hfT;
-    const double axXBpostr = dSL / 2.0 + kpostr * (xXBprer + x_0);
-    const double bxXBpostr = -kpostr;
+    const R kpostr = p[k_xPsi] / dutypostr * hfT;
+    const R axXBpostr = dSL / 2.0 + kpostr * (xXBprer + x_0);
+    const R bxXBpostr = -kpostr;
 
     // Forces (normalised): active, passive (titin ppforce_t, collagen ppforce_c).
-    const double force = p[k_kxb] * SOVFThick * (xXBpostr * XBpostr + xXBprer * XBprer);
-    const double active = force / r.Fnordv;
-    const double dSLr = SL - p[k_SLrest];
-    const double ppforce_t = sign(dSLr) * p[k_PCon_t] * (std::exp(p[k_PExp_t] * std::abs(dSLr)) - 1.0);
-    const double ppforce_c =
-        SL > p[k_SL_c] ? p[k_PCon_c] * (std::exp(p[k_PExp_c] * std::abs(SL - p[k_SL_c])) - 1.0) : 0.0;
-    const double afterload = p[k_SEon] == 1.0 ? p[k_KSE] * (p[k_SLset] - SL) : 0.0;
-    const double dintf = (r.preload + afterload) - (ppforce_t + ppforce_c + active);
+    const R force = p[k_kxb] * SOVFThick * (xXBpostr * XBpostr + xXBprer * XBprer);
+    const R active = force / r.Fnordv;
+    const R dSLr = SL - p[k_SLrest];
+    const R ppforce_t = sign(dSLr) * p[k_PCon_t] * (exp(p[k_PExp_t] * fabs(dSLr)) - 1.0);
+    const R ppforce_c =
+        select(SL > p[k_SL_c], p[k_PCon_c] * (exp(p[k_PExp_c] * fabs(SL - p[k_SL_c])) - 1.0), R(0.0));
+    const R afterload = p[k_SEon] == 1.0 ? R(p[k_KSE] * (p[k_SLset] - SL)) : R(0.0);
+    const R dintf = (r.preload + afterload) - (ppforce_t + ppforce_c + active);
 
     // "calculation_of_micromolar_per_millisecondes_of_Ca_for_apparent_Ca_binding".
     const double SSsum = r.SSXBpostr + r.SSXBprer;
-    const double FrSBXB = (XBpostr + XBprer) / SSsum;
-    const double dFrSBXB = (dXBpostr + dXBprer) / SSsum;
-    const double dsovr_ze = SL < len_thick ? -0.5 * dSL : 0.0;
-    const double dsovr_cle = (2.0 * len_thin - SL) > len_hbare ? -0.5 * dSL : 0.0;
-    const double dSOVFThin = (dsovr_ze - dsovr_cle) / len_thin;
+    const R FrSBXB = (XBpostr + XBprer) / SSsum;
+    const R dFrSBXB = (dXBpostr + dXBprer) / SSsum;
+    const R dsovr_ze = select(SL < len_thick, -0.5 * dSL, R(0.0));
+    const R dsovr_cle = select((2.0 * len_thin - SL) > len_hbare, -0.5 * dSL, R(0.0));
+    const R dSOVFThin = (dsovr_ze - dsovr_cle) / len_thin;
     const double Trop_conc = p[k_Trop_conc];
-    const double TropTot =
+    const R TropTot =
         Trop_conc * ((1.0 - SOVFThin) * TRPNCaL + SOVFThin * (FrSBXB * TRPNCaH + (1.0 - FrSBXB) * TRPNCaL));
-    const double dTropTot =
+    const R dTropTot =
         Trop_conc * (-dSOVFThin * TRPNCaL + (1.0 - SOVFThin) * dTRPNCaL +
                      dSOVFThin * (FrSBXB * TRPNCaH + (1.0 - FrSBXB) * TRPNCaL) +
                      SOVFThin * (dFrSBXB * TRPNCaH + FrSBXB * dTRPNCaH + (1.0 - FrSBXB) * dTRPNCaL -
                                  dFrSBXB * TRPNCaL));
 
     // Derivatives in linear form.
-    auto linear = [&](int k, double a, double b) {
-      block.a[k * block.stride + c] = a;
-      block.b[k * block.stride + c] = b;
-    };
-    linear(k_SL, aSL, bSL);
+    cell.linear(k_SL, aSL, bSL);
     cell.rate(k_intf, dintf);
-    linear(k_TRPNCaL, aL, bL);
-    linear(k_TRPNCaH, aH, bH);
+    cell.linear(k_TRPNCaL, aL, bL);
+    cell.linear(k_TRPNCaH, aH, bH);
     // N_NoXB + P_NoXB = 1 is an invariant of the CellML's pair (its initial values sum
     // to 1 to 16 digits): dN_NoXB = kp_nT P_NoXB - kn_pT N_NoXB is used in the
     // equivalent closed form kp_nT - (kp_nT + kn_pT) N_NoXB (and likewise P_NoXB),
@@ -336,20 +339,20 @@ void Rice::evaluate(const fibrodem::BlockView& block, double t_ms) const {
     // with the other frozen, the open form lets the sum drift above 1 (Rush-Larsen:
     // P_NoXB decays exactly, N_NoXB gains by Euler); the closed form keeps it 1 under
     // Euler and Rush-Larsen alike. (Neither state feeds back on any other.)
-    linear(k_N_NoXB, kp_nT, -(kp_nT + kn_pT));
-    linear(k_P_NoXB, kn_pT, -(kp_nT + kn_pT));
-    linear(k_N, kp_nT * (1.0 - XBprer - XBpostr), -(kp_nT + kn_pT));
-    linear(k_XBprer, aXBprer, bXBprer);
-    linear(k_XBpostr, aXBpostr, bXBpostr);
-    linear(k_xXBprer, axXBprer, bxXBprer);
-    linear(k_xXBpostr, axXBpostr, bxXBpostr);
+    cell.linear(k_N_NoXB, kp_nT, -(kp_nT + kn_pT));
+    cell.linear(k_P_NoXB, kn_pT, -(kp_nT + kn_pT));
+    cell.linear(k_N, kp_nT * (1.0 - XBprer - XBpostr), -(kp_nT + kn_pT));
+    cell.linear(k_XBprer, aXBprer, bXBprer);
+    cell.linear(k_XBpostr, aXBpostr, bXBpostr);
+    cell.linear(k_xXBprer, axXBprer, bxXBprer);
+    cell.linear(k_xXBpostr, axXBpostr, bxXBpostr);
 
     cell.output(kSarcomereLength, SL);
     cell.output(kActiveTension, active);
     cell.output(kTRPN_Ca, TropTot / 1000.0);
     cell.output(kdTRPN_Ca_dt, dTropTot / 1000.0);
     cell.output(kCa_i_used, Cai / 1000.0);
-  }
+  });
 }
 
 // ---------------------------------------------------------------------------
