@@ -134,18 +134,19 @@ TEST_CASE("an effect the scene cannot support is refused with what it needs") {
 }
 
 TEST_CASE("results do not depend on the thread count") {
-  // 600 cells: more than one block of cells, so threads really share the work.
+  // 2100 cells: several blocks of cells, and above kParallelCells, so that the
+  // gathers, coupling currents and biomarker tracking run in parallel too.
   json m = json::parse(R"({
     "fibrodem": 1, "name": "threads", "duration_ms": 6,
-    "tissue": {"builder": "strand", "type": "myocyte", "cells": 600},
+    "tissue": {"builder": "strand", "type": "myocyte", "cells": 2100},
     "cells": {"myocyte": {"model": "courtemanche", "variant": "paced_1hz"}},
     "coupling": {"D_m_nS": 1000},
     "stimulus": [{"target": [0, 1, 2, 3], "start_ms": 1, "duration_ms": 2, "amplitude_pA": 8000}],
     "solver": {"method": "rush_larsen", "dt_ms": 0.01},
-    "output": {"traces": {"cells": [0, 100, 599], "variables": ["V", "Ca_i"], "every_ms": 0.1}}
+    "output": {"traces": {"cells": [0, 100, 2099], "variables": ["V", "Ca_i"], "every_ms": 0.1}}
   })");
   std::string first;
-  for (int threads : {1, 2}) {
+  for (int threads : {1, 2, 3}) {
     CAPTURE(threads);
     m["solver"]["threads"] = threads;
     const auto dir = testing::scratch_dir("threads_" + std::to_string(threads));
