@@ -1,4 +1,5 @@
 #include "io/plot_png.hpp"
+#include "io/png_file.hpp"
 
 #include <cairo.h>
 
@@ -357,10 +358,8 @@ void write_plot_png(const std::vector<PlotPanel>& panels, const std::filesystem:
   const double pw = panels.empty() ? options.width_px : static_cast<double>(options.width_px) / static_cast<double>(panels.size());
   for (std::size_t i = 0; i < panels.size(); ++i)
     draw_panel(c, panels[i], pw * static_cast<double>(i), y0, pw, options.height_px - y0, font);
-  cairo_surface_flush(surface.get());
   std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
-  if (cairo_surface_write_to_png(surface.get(), file.string().c_str()) != CAIRO_STATUS_SUCCESS)
-    throw std::runtime_error("cannot write " + file.string());
+  write_png_file(surface.get(), file);
 }
 
 }  // namespace fibrodem

@@ -1,4 +1,5 @@
 #include "io/tissue_picture.hpp"
+#include "io/png_file.hpp"
 
 #include <cairo.h>
 
@@ -9,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 namespace fibrodem {
 namespace {
@@ -90,11 +92,19 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
     if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0, hi = 1;
     if (hi <= lo) hi = lo + 1;
   }
-  for (const Particle& p : tissue.particles) {
-    const Rgb col = values ? colour_map(((*values)[p.cell] - lo) / (hi - lo))
-                           : type_colour(tissue.type[p.cell]);
+  // Disks of a few pixels: a coarser arc tolerance (0.25 px) is invisible.
+  cairo_set_tolerance(c, 0.25);
+  // Consecutive particles of one colour (a myocyte's seven) are filled as one
+  // path: one rasterisation instead of seven.
+  for (std::size_t i = 0; i < tissue.particles.size();) {
+    const int cell = tissue.particles[i].cell;
+    const Rgb col = values ? colour_map(((*values)[cell] - lo) / (hi - lo)) : type_colour(tissue.type[cell]);
     cairo_set_source_rgb(c, col.r, col.g, col.b);
-    cairo_arc(c, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), 0, 2 * M_PI);
+    for (; i < tissue.particles.size() && tissue.particles[i].cell == cell; ++i) {
+      const Particle& p = tissue.particles[i];
+      cairo_new_sub_path(c);
+      cairo_arc(c, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), 0, 2 * M_PI);
+    }
     cairo_fill(c);
   }
   if (options.draw_bonds) {
@@ -148,9 +158,7 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
       cairo_show_text(c, options.value_label.c_str());
     }
   }
-  cairo_surface_flush(surface.get());
-  if (cairo_surface_write_to_png(surface.get(), file.string().c_str()) != CAIRO_STATUS_SUCCESS)
-    throw std::runtime_error("write_tissue_png: cannot write " + file.string());
+  write_png_file(surface.get(), file);
 }
 
 }  // namespace fibrodem

@@ -1,0 +1,63 @@
+#include "io/png_file.hpp"
+
+#include <png.h>
+#include <zlib.h>
+
+#include <csetjmp>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace fibrodem {
+
+void write_png_file(cairo_surface_t* image, const std::filesystem::path& file) {
+  cairo_surface_flush(image);
+  const int width = cairo_image_surface_get_width(image), height = cairo_image_surface_get_height(image);
+  const int stride = cairo_image_surface_get_stride(image);
+  const unsigned char* data = cairo_image_surface_get_data(image);
+  if (data == nullptr || cairo_image_surface_get_format(image) != CAIRO_FORMAT_RGB24)
+    throw std::runtime_error("write_png_file: expected an RGB24 image surface for " + file.string());
+
+  std::unique_ptr<FILE, decltype(&std::fclose)> out(std::fopen(file.c_str(), "wb"), &std::fclose);
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (info == nullptr) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("write_png_file: libpng could not start for " + file.string());
+  }
+  // RGB24 is one 32-bit word per pixel, 0x00RRGGBB in native byte order.
+  std::vector<png_byte> row(3 * static_cast<std::size_t>(width));
+  // libpng reports errors by longjmp to here (it is C: no exception may cross it).
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("cannot write " + file.string());
+  }
+  {
+    png_init_io(png, out.get());
+    // Flat colours: the "sub" filter turns runs into zeros, which run-length
+    // coding packs at memory speed.
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+    png_set_compression_strategy(png, Z_RLE);
+    png_set_compression_level(png, Z_BEST_SPEED);
+    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < height; ++y) {
+      const auto* pixels = reinterpret_cast<const std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
+      for (int x = 0; x < width; ++x) {
+        row[3 * x] = static_cast<png_byte>(pixels[x] >> 16);
+        row[3 * x + 1] = static_cast<png_byte>(pixels[x] >> 8);
+        row[3 * x + 2] = static_cast<png_byte>(pixels[x]);
+      }
+      png_write_row(png, row.data());
+    }
+    png_write_end(png, nullptr);
+  }
+  png_destroy_write_struct(&png, &info);
+  if (std::fflush(out.get()) != 0) throw std::runtime_error("cannot write " + file.string());
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,15 @@
+// Writes a Cairo image surface as a PNG file through libpng, with the "sub"
+// filter and run-length coding: Cairo's own writer uses libpng's defaults,
+// which on a tissue snapshot (a mostly flat picture) cost more than drawing it.
+#pragma once
+
+#include <cairo.h>
+
+#include <filesystem>
+
+namespace fibrodem {
+
+// Throws std::runtime_error naming the file if it cannot be written.
+void write_png_file(cairo_surface_t* image, const std::filesystem::path& file);
+
+}  // namespace fibrodem
