@@ -56,53 +56,59 @@ struct Layout {
   }
 };
 
-// Copies between CVODE's vector and the populations (to_populations) or back.
-void transfer(const Layout& layout, CellSystem& sys, double* y, bool to_populations) {
-  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
-    std::size_t k0 = layout.offset[cell];
-    sys.for_each_part(cell, [&](Population& pop, std::size_t c) {
-      const std::size_t n = pop.size();
-      for (std::size_t k = 0; k < pop.n_states(); ++k) {
-        if (to_populations) pop.y[k * n + c] = y[k0 + k];
-        else y[k0 + k] = pop.y[k * n + c];
-      }
-      k0 += pop.n_states();
-    });
+// Where entry i of CVODE's vector lives in the populations: its state y and its
+// linear form dy/dt = a + b y. Built once per advance() (the populations' arrays
+// keep their addresses during a run), so the right-hand side, called thousands
+// of times per simulated second, is three flat loops with no lookups.
+struct StateMap {
+  std::vector<double*> y;
+  std::vector<const double*> a, b;
+
+  StateMap(const Layout& layout, CellSystem& sys) : y(layout.size), a(layout.size), b(layout.size) {
+    for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
+      std::size_t i = layout.offset[cell];
+      sys.for_each_part(cell, [&](Population& pop, std::size_t c) {
+        const std::size_t n = pop.size();
+        for (std::size_t k = 0; k < pop.n_states(); ++k, ++i) {
+          y[i] = &pop.y[k * n + c];
+          a[i] = &pop.a[k * n + c];
+          b[i] = &pop.b[k * n + c];
+        }
+      });
+    }
   }
-}
+
+  // CVODE's vector -> the populations.
+  void unpack(const double* from) const {
+    for (std::size_t i = 0; i < y.size(); ++i) *y[i] = from[i];
+  }
+  // The populations -> CVODE's vector.
+  void pack(double* to) const {
+    for (std::size_t i = 0; i < y.size(); ++i) to[i] = *y[i];
+  }
+};
 
 struct Context {
   CellSystem* system = nullptr;
-  const Layout* layout = nullptr;
+  const StateMap* map = nullptr;
   double t_stimulus = 0;  // the stimulus is evaluated here for the whole interval
   std::string error;
   std::unique_ptr<BlockPreconditioner> preconditioner;  // Krylov solver only
-  std::vector<double> scratch;                          // the preconditioner's RHS input copy
 };
-
-void unpack(const Layout& layout, CellSystem& sys, const double* y) {
-  transfer(layout, sys, const_cast<double*>(y), true);
-}
 
 // The system's derivatives f(t, y); false if any is not finite.
 bool evaluate_rhs(Context& ctx, double t, const double* y, double* f) {
-  CellSystem& sys = *ctx.system;
-  unpack(*ctx.layout, sys, y);
-  sys.evaluate(ctx.t_stimulus, t);
-  bool finite = true;
-  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
-    std::size_t k0 = ctx.layout->offset[cell];
-    sys.for_each_part(cell, [&](const Population& pop, std::size_t c) {
-      const std::size_t n = pop.size();
-      for (std::size_t k = 0; k < pop.n_states(); ++k) {
-        const double value = pop.a[k * n + c] + pop.b[k * n + c] * pop.y[k * n + c];
-        finite = finite && std::isfinite(value);
-        f[k0 + k] = value;
-      }
-      k0 += pop.n_states();
-    });
+  const StateMap& map = *ctx.map;
+  map.unpack(y);
+  ctx.system->evaluate(ctx.t_stimulus, t);
+  // One finiteness test for the whole vector: a NaN or infinity in any entry
+  // makes the sum non-finite.
+  double sum = 0;
+  for (std::size_t i = 0; i < map.y.size(); ++i) {
+    f[i] = *map.a[i] + *map.b[i] * y[i];
+    sum += f[i];
   }
-  return finite;
+  return std::isfinite(sum);
 }
 
 int right_hand_side(double t, N_Vector y, N_Vector ydot, void* user) {
@@ -152,10 +158,11 @@ void check(int flag, const char* what, const Context& ctx) {
 }  // namespace
 
 void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, StepObserver& observer) {
-  Layout layout(system);
+  const Layout layout(system);
+  const StateMap map(layout, system);
   Context ctx;
   ctx.system = &system;
-  ctx.layout = &layout;
+  ctx.map = &map;
 
   SUNContext sun = nullptr;
   if (SUNContext_Create(nullptr, &sun) != 0) throw std::runtime_error("CVODE: cannot create a context");
@@ -179,7 +186,7 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
   g.y = N_VNew_Serial(n, sun);
   g.dky = N_VNew_Serial(n, sun);
   double* y = N_VGetArrayPointer(g.y);
-  transfer(layout, system, y, false);
+  map.pack(y);
 
   g.mem = CVodeCreate(CV_BDF, sun);
   check(CVodeSetErrHandlerFn(g.mem, record_error, &ctx), "SetErrHandlerFn", ctx);
@@ -214,7 +221,12 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
   if (max_step <= 0) max_step = system.stimulus.shortest_pulse_ms();
   if (std::isfinite(max_step)) check(CVodeSetMaxStep(g.mem, max_step), "SetMaxStep", ctx);
 
+  // Row of each cell's potential, for the dV/dt handed to the observer.
+  std::vector<std::size_t> v_row(system.cell_count());
+  for (std::size_t cell = 0; cell < system.cell_count(); ++cell)
+    v_row[cell] = layout.offset[cell] + system.populations[system.where[cell].first].voltage_state;
   std::vector<double> dVdt(system.cell_count());
+
   double t = t_start;
   while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
   while (t < t_end - kTimeEpsilon_ms) {
@@ -230,19 +242,18 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
       while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) {
         const double ts = observer.next_sample_ms();
         check(CVodeGetDky(g.mem, std::min(ts, t), 0, g.dky), "GetDky", ctx);
-        unpack(layout, system, N_VGetArrayPointer(g.dky));
+        map.unpack(N_VGetArrayPointer(g.dky));
         observer.on_sample(ts);
       }
-      unpack(layout, system, y);
+      map.unpack(y);
       check(CVodeGetDky(g.mem, t, 1, g.dky), "GetDky", ctx);
       const double* dy = N_VGetArrayPointer(g.dky);
-      for (std::size_t cell = 0; cell < system.cell_count(); ++cell)
-        dVdt[cell] = dy[layout.offset[cell] + system.populations[system.where[cell].first].voltage_state];
+      for (std::size_t cell = 0; cell < system.cell_count(); ++cell) dVdt[cell] = dy[v_row[cell]];
       observer.on_step(t_old, t, dVdt.data());
     }
     t = stop;
   }
-  unpack(layout, system, y);
+  map.unpack(y);
 }
 
 std::string CvodeIntegrator::describe() const {
