@@ -3,10 +3,11 @@
 // system, with a dense or banded direct linear solver (finite-difference
 // Jacobian). The stiff, accurate reference.
 //
-// Hygiene (Myokit issue #67, Chaste AbstractCvodeCell): CVODE stops at every
-// stimulus edge and is re-initialised there, and its step never exceeds the
-// shortest pulse, so it cannot step over a stimulus. Within an interval
-// between edges the stimulus is constant (its value at the interval's middle).
+// Hygiene (Myokit issue #67, Chaste AbstractCvodeCell): CVODE stops exactly at
+// every stimulus edge (tstop) and is re-initialised there, so it cannot step
+// over a stimulus; between edges its step is free (capped only by a user's
+// max_step_ms). Within an interval between edges the stimulus is constant (its
+// value at the interval's middle).
 // States are packed cell by cell, so a strand gives a narrow band.
 #pragma once
 

@@ -74,7 +74,7 @@ struct SolverSpec {
   std::string method = "rush_larsen";  // euler | rush_larsen | rush_larsen2 | cvode
   double dt_ms = 0.01;                 // euler, rush_larsen
   double rtol = 1e-6, atol = 1e-8;     // cvode
-  double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
+  double max_step_ms = 0;              // cvode; 0: no cap (it stops at every stimulus edge anyway)
   std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
   int threads = 1;                     // 0: OpenMP's default (every core); results do not depend on it
   bool lookup_tables = false;          // voltage_only gate rates from tables in V (linear, 0.05 mV)
