@@ -258,12 +258,21 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
     t = stop;
   }
   map.unpack(y);
+  CVodeGetNumSteps(g.mem, &work_.steps);
+  CVodeGetNumRhsEvals(g.mem, &work_.rhs_evaluations);
+  CVodeGetNumJacEvals(g.mem, &work_.jacobians);
+  long jacobian_rhs = 0;
+  CVodeGetNumLinRhsEvals(g.mem, &jacobian_rhs);
+  work_.rhs_evaluations += jacobian_rhs;
 }
 
 std::string CvodeIntegrator::describe() const {
   std::ostringstream s;
   s << "CVODE BDF/Newton, rtol " << spec_.rtol << ", atol " << spec_.atol << ", "
     << (linear_solver_used_.empty() ? spec_.linear_solver : linear_solver_used_) << " linear solver";
+  if (work_.steps > 0)
+    s << "; last run " << work_.steps << " steps, " << work_.rhs_evaluations << " right-hand sides, "
+      << work_.jacobians << " Jacobians";
   return s.str();
 }
 

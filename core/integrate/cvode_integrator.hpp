@@ -28,6 +28,10 @@ class CvodeIntegrator final : public Integrator {
  private:
   SolverSpec spec_;
   std::string linear_solver_used_;
+  // CVODE's work in the last advance(), for the run log.
+  struct Work {
+    long steps = 0, rhs_evaluations = 0, jacobians = 0;
+  } work_;
 };
 
 }  // namespace fibrodem
