@@ -34,8 +34,7 @@ void Population::evaluate(double t_ms) {
   // state and inputs, so the result does not depend on the thread count.
   const BlockView whole = view();
   const auto blocks = static_cast<long>((size() + kCellsPerBlock - 1) / kCellsPerBlock);
-#pragma omp parallel for schedule(static) if (blocks > 1)
-  for (long k = 0; k < blocks; ++k) {
+  auto evaluate_block = [&](long k) {
     BlockView block = whole;
     block.begin = static_cast<std::size_t>(k) * kCellsPerBlock;
     block.end = std::min(size(), block.begin + kCellsPerBlock);
@@ -46,7 +45,13 @@ void Population::evaluate(double t_ms) {
     } else {
       model->evaluate(block, t_ms);
     }
-  }
+  };
+  // One block (a single cell, a small tissue) runs here: even an OpenMP region
+  // whose if() is false costs an allocation and a futex call per entry, which
+  // CVODE on one cell pays thousands of times per simulated second.
+  if (blocks == 1) return evaluate_block(0);
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < blocks; ++k) evaluate_block(k);
 }
 
 bool Population::use_lookup_table() {
