@@ -80,3 +80,29 @@ TEST_CASE("an integrator's own dV/dt is used when it gives one") {
   CHECK(beats[0].activation_ms == 1.0);
   CHECK(beats[0].type == CellType::fibroblast);
 }
+
+TEST_CASE("with the integrator's dV/dt, APD crossings inside long steps follow the curve, not the chord") {
+  // Upstroke at t = 0 to +20 mV, then V = -80 + 100 exp(-t / 100) (never quite
+  // back to rest): RMP -80, APA 100, so APD90 ends at -70 mV, t = 100 ln 10,
+  // and APD50 at -30 mV, t = 100 ln 2. Steps of 5 ms as CVODE takes in late
+  // repolarisation: the chord would miss by 0.006 ms (APD90) and 0.015 ms (APD50).
+  auto V_at = [](double t) { return -80 + 100 * std::exp(-t / 100); };
+  auto dVdt_at = [](double t) { return -std::exp(-t / 100); };
+  std::vector<BeatBiomarkers> beats;
+  BiomarkerTracker tracker({CellType::myocyte}, {-1.0}, -10.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  double V = -80, slope = 0;
+  tracker.start(-2, &V);
+  tracker.step(-2, -1, &V, &slope);  // the beat opens at -1, at rest
+  V = 20, slope = 1000;              // the upstroke: the steepest point is t = 0
+  tracker.step(-1, 0, &V, &slope);
+  for (double t = 0; t < 400; t += 5) {
+    V = V_at(t + 5), slope = dVdt_at(t + 5);
+    tracker.step(t, t + 5, &V, &slope);
+  }
+  tracker.finish();
+  REQUIRE(beats.size() == 1);
+  CHECK(beats[0].activation_ms == 0.0);
+  // Cubic Hermite over h = 5 ms: error ~ h^4 V'''' / 384 ~ 2e-9 mV, so ~2e-6 ms in time.
+  CHECK(beats[0].apd90_ms == doctest::Approx(100 * std::log(10.0)).epsilon(1e-7));
+  CHECK(beats[0].apd50_ms == doctest::Approx(100 * std::log(2.0)).epsilon(1e-7));
+}
