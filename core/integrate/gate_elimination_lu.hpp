@@ -9,8 +9,8 @@
 // so it is eliminated before any dense work: the remaining ("kept") rows form a
 // smaller dense system, the Schur complement
 //     S = M_KK - sum_j M_Kj (M_jq / M_jj) e_q^T,
-// factored by LU with partial pivoting. CRN 1998 keeps 8 of its 21 rows
-// (LU cost 8^3 instead of 21^3, solve 8^2 + 13 * 8 instead of 21^2).
+// factored by LU with partial pivoting. On one CRN 1998 cell 5 to 8 of its 21
+// rows are kept (LU cost <= 8^3 instead of 21^3); Ni 2017 keeps 10 to 12 of 27.
 //
 // The structure is read from M's entries at every factorisation (exact zeros
 // off the row's pair), so nothing is assumed of the model: a row that does not
