@@ -63,6 +63,22 @@ double falling_crossing(double t0, double h, double v0, double v1, double d0, do
   return t0 + h * theta;
 }
 
+// Where dV/dt peaks between samples: the vertex of the parabola through
+// (t0, d0), (t1, d1), (t2, d2), t0 < t1 < t2, d1 the largest. As d1 >= d0, d2
+// the vertex always lies within half a step of t1, so even where dV/dt has a
+// kink (a stimulus edge) the time is no further off than the samples' own
+// spacing. Only the time is taken: at a kink the parabola's height could
+// overshoot, so max dV/dt stays the largest sample. Unchanged if the parabola
+// does not open downwards.
+void refine_peak_time(double t0, double d0, double t1, double d1, double t2, double d2, double& t_peak) {
+  const double a = t0 - t1, b = t2 - t1;  // d = d1 + p u + q u^2, u = t - t1
+  if (!(a < 0 && b > 0) || !std::isfinite(d0)) return;
+  const double q = ((d2 - d1) / b - (d0 - d1) / a) / (b - a);
+  const double p = (d0 - d1) / a - q * a;
+  if (!(q < 0)) return;
+  t_peak = t1 + std::clamp(-p / (2 * q), 0.5 * a, 0.5 * b);  // the clamp only guards round-off
+}
+
 }  // namespace
 
 void BiomarkerTracker::step(double t_old, double t_new, const double* V, const double* dVdt) {
@@ -85,6 +101,14 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     if (slope > s.dvdt_max) {
       s.dvdt_max = slope;
       s.t_act = t_slope;
+      // With the integrator's own dV/dt the samples are exact values at step
+      // ends, so the peak between them is refined once the next one is in.
+      s.refine_max = dVdt != nullptr;
+      s.max_left_t = t_old;
+      s.max_left_dvdt = s.dvdt_prev;
+    } else if (s.refine_max) {
+      s.refine_max = false;
+      refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
     }
     if (V[c] > s.peak) {
       s.peak = V[c];
