@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <iostream>
+#include <tuple>
 
 #include "apps/commands.hpp"
 #include "integrate/fixed_step.hpp"
@@ -70,11 +71,15 @@ void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel>
 
 // One simulated second (one beat at 1 Hz) of one cell, whole run: the wall
 // time per iteration is the wall time per simulated second.
-void single_cell_second(benchmark::State& state, std::string model, bool myocyte, json solver) {
+// `variant` empty: the model's default parameter set.
+void single_cell_second_of(benchmark::State& state, const std::string& model, const std::string& variant,
+                           bool myocyte, const json& solver) {
   const std::string type = myocyte ? "myocyte" : "fibroblast";
+  json cell = {{"model", model}};
+  if (!variant.empty()) cell["variant"] = variant;
   json m = {{"fibrodem", 1}, {"name", "bench"}, {"duration_ms", 1000},
             {"tissue", {{"builder", "single_cell"}, {"type", type}}},
-            {"cells", {{type, {{"model", model}}}}},
+            {"cells", {{type, cell}}},
             {"stimulus", json::array({{{"target", type}, {"start_ms", 50}, {"duration_ms", 2},
                                        {"amplitude_pA", myocyte ? 2000 : 20}}})},
             {"solver", solver},
@@ -91,6 +96,10 @@ void single_cell_second(benchmark::State& state, std::string model, bool myocyte
       break;
     }
   }
+}
+
+void single_cell_second(benchmark::State& state, std::string model, bool myocyte, json solver) {
+  single_cell_second_of(state, model, "", myocyte, solver);
 }
 
 // One DEM step of the paper's full-size tissue (Table 1, contact detection on)
@@ -146,6 +155,19 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
     benchmark::RegisterBenchmark(("one_cell_1s/" + name + "/rush_larsen_dt0.01").c_str(), single_cell_second, name,
                                  myocyte, json{{"method", "rush_larsen"}, {"dt_ms", 0.01}})
         ->Unit(benchmark::kMillisecond);
+  }
+  // CVODE on one myocyte at the two tolerance pairs compared with Myokit's
+  // CVODES simulation (README, Numerics): CRN 1998 and Ni 2017.
+  const std::pair<const char*, const char*> cvode_cells[] = {{"courtemanche", ""}, {"colman", "ni2017"}};
+  for (const auto& [model, variant] : cvode_cells) {
+    const std::string label = std::string(model) + (*variant ? std::string("_") + variant : "");
+    for (const auto& [rtol, atol, suffix] : {std::tuple{1e-6, 1e-8, "1e-6"}, std::tuple{1e-4, 1e-6, "1e-4"}}) {
+      const std::string name = "one_cell_1s/" + label + "/cvode_rtol" + suffix;
+      if (label == model && std::string(suffix) == "1e-6") continue;  // registered above
+      benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+        single_cell_second_of(st, model, variant, true, json{{"method", "cvode"}, {"rtol", rtol}, {"atol", atol}});
+      })->Unit(benchmark::kMillisecond);
+    }
   }
   for (const char* builder : {"in_series", "interstitial"})
     for (int threads : {1, 2})

@@ -80,3 +80,50 @@ TEST_CASE("an integrator's own dV/dt is used when it gives one") {
   CHECK(beats[0].activation_ms == 1.0);
   CHECK(beats[0].type == CellType::fibroblast);
 }
+
+TEST_CASE("with the integrator's dV/dt, APD crossings inside long steps follow the curve, not the chord") {
+  // Upstroke at t = 0 to +20 mV, then V = -80 + 100 exp(-t / 100) (never quite
+  // back to rest): RMP -80, APA 100, so APD90 ends at -70 mV, t = 100 ln 10,
+  // and APD50 at -30 mV, t = 100 ln 2. Steps of 5 ms as CVODE takes in late
+  // repolarisation: the chord would miss by 0.006 ms (APD90) and 0.015 ms (APD50).
+  auto V_at = [](double t) { return -80 + 100 * std::exp(-t / 100); };
+  auto dVdt_at = [](double t) { return -std::exp(-t / 100); };
+  std::vector<BeatBiomarkers> beats;
+  BiomarkerTracker tracker({CellType::myocyte}, {-1.0}, -10.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  double V = -80, slope = 0;
+  tracker.start(-2, &V);
+  tracker.step(-2, -1, &V, &slope);  // the beat opens at -1, at rest
+  V = 20, slope = 1000;              // the upstroke: the steepest point is t = 0
+  tracker.step(-1, 0, &V, &slope);
+  for (double t = 0; t < 400; t += 5) {
+    V = V_at(t + 5), slope = dVdt_at(t + 5);
+    tracker.step(t, t + 5, &V, &slope);
+  }
+  tracker.finish();
+  REQUIRE(beats.size() == 1);
+  // Cubic Hermite over h = 5 ms: error ~ h^4 V'''' / 384 ~ 2e-9 mV, so ~2e-6 ms in time.
+  const double t_act = beats[0].activation_ms;
+  CHECK(beats[0].apd90_ms + t_act == doctest::Approx(100 * std::log(10.0)).epsilon(1e-7));
+  CHECK(beats[0].apd50_ms + t_act == doctest::Approx(100 * std::log(2.0)).epsilon(1e-7));
+}
+
+TEST_CASE("with the integrator's dV/dt, the activation time and max dV/dt come from the peak between samples") {
+  // The half-cosine upstroke of synthetic_V, its exact dV/dt given at step ends
+  // 0.1 ms apart that miss the steepest point (10.5 ms) by 0.03 ms: the samples
+  // alone would place activation at 10.53 ms.
+  std::vector<BeatBiomarkers> beats;
+  BiomarkerTracker tracker({CellType::myocyte}, {9.0}, 0.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  auto slope_at = [](double t) { return t > 10 && t < 11 ? 50 * kPi * std::sin(kPi * (t - 10)) : 0.0; };
+  double V = synthetic_V(8.93), slope = 0;
+  tracker.start(8.93, &V);
+  for (double t = 8.93; t < 12; t += 0.1) {
+    V = synthetic_V(t + 0.1), slope = slope_at(t + 0.1);
+    tracker.step(t, t + 0.1, &V, &slope);
+  }
+  tracker.finish();
+  REQUIRE(beats.size() == 1);
+  // Parabola through samples 0.1 ms apart on a sine of period 2 ms: the vertex
+  // is off by 1.6e-4 ms. Max dV/dt stays the largest sample (at 10.53 ms).
+  CHECK(beats[0].activation_ms == doctest::Approx(10.5).epsilon(2e-4 / 10.5));
+  CHECK(beats[0].dvdt_max_mV_per_ms == doctest::Approx(50 * kPi * std::sin(kPi * 0.53)).epsilon(1e-12));
+}

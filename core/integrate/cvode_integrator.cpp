@@ -1,12 +1,12 @@
 #include "integrate/cvode_integrator.hpp"
 
 #include "integrate/block_preconditioner.hpp"
+#include "integrate/gate_elimination_lu.hpp"
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_band.h>
-#include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_spgmr.h>
 #include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
@@ -56,53 +56,59 @@ struct Layout {
   }
 };
 
-// Copies between CVODE's vector and the populations (to_populations) or back.
-void transfer(const Layout& layout, CellSystem& sys, double* y, bool to_populations) {
-  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
-    std::size_t k0 = layout.offset[cell];
-    sys.for_each_part(cell, [&](Population& pop, std::size_t c) {
-      const std::size_t n = pop.size();
-      for (std::size_t k = 0; k < pop.n_states(); ++k) {
-        if (to_populations) pop.y[k * n + c] = y[k0 + k];
-        else y[k0 + k] = pop.y[k * n + c];
-      }
-      k0 += pop.n_states();
-    });
+// Where entry i of CVODE's vector lives in the populations: its state y and its
+// linear form dy/dt = a + b y. Built once per advance() (the populations' arrays
+// keep their addresses during a run), so the right-hand side, called thousands
+// of times per simulated second, is three flat loops with no lookups.
+struct StateMap {
+  std::vector<double*> y;
+  std::vector<const double*> a, b;
+
+  StateMap(const Layout& layout, CellSystem& sys) : y(layout.size), a(layout.size), b(layout.size) {
+    for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
+      std::size_t i = layout.offset[cell];
+      sys.for_each_part(cell, [&](Population& pop, std::size_t c) {
+        const std::size_t n = pop.size();
+        for (std::size_t k = 0; k < pop.n_states(); ++k, ++i) {
+          y[i] = &pop.y[k * n + c];
+          a[i] = &pop.a[k * n + c];
+          b[i] = &pop.b[k * n + c];
+        }
+      });
+    }
   }
-}
+
+  // CVODE's vector -> the populations.
+  void unpack(const double* from) const {
+    for (std::size_t i = 0; i < y.size(); ++i) *y[i] = from[i];
+  }
+  // The populations -> CVODE's vector.
+  void pack(double* to) const {
+    for (std::size_t i = 0; i < y.size(); ++i) to[i] = *y[i];
+  }
+};
 
 struct Context {
   CellSystem* system = nullptr;
-  const Layout* layout = nullptr;
+  const StateMap* map = nullptr;
   double t_stimulus = 0;  // the stimulus is evaluated here for the whole interval
   std::string error;
   std::unique_ptr<BlockPreconditioner> preconditioner;  // Krylov solver only
-  std::vector<double> scratch;                          // the preconditioner's RHS input copy
 };
-
-void unpack(const Layout& layout, CellSystem& sys, const double* y) {
-  transfer(layout, sys, const_cast<double*>(y), true);
-}
 
 // The system's derivatives f(t, y); false if any is not finite.
 bool evaluate_rhs(Context& ctx, double t, const double* y, double* f) {
-  CellSystem& sys = *ctx.system;
-  unpack(*ctx.layout, sys, y);
-  sys.evaluate(ctx.t_stimulus, t);
-  bool finite = true;
-  for (std::size_t cell = 0; cell < sys.cell_count(); ++cell) {
-    std::size_t k0 = ctx.layout->offset[cell];
-    sys.for_each_part(cell, [&](const Population& pop, std::size_t c) {
-      const std::size_t n = pop.size();
-      for (std::size_t k = 0; k < pop.n_states(); ++k) {
-        const double value = pop.a[k * n + c] + pop.b[k * n + c] * pop.y[k * n + c];
-        finite = finite && std::isfinite(value);
-        f[k0 + k] = value;
-      }
-      k0 += pop.n_states();
-    });
+  const StateMap& map = *ctx.map;
+  map.unpack(y);
+  ctx.system->evaluate(ctx.t_stimulus, t);
+  // One finiteness test for the whole vector: a NaN or infinity in any entry
+  // makes the sum non-finite.
+  double sum = 0;
+  for (std::size_t i = 0; i < map.y.size(); ++i) {
+    f[i] = *map.a[i] + *map.b[i] * y[i];
+    sum += f[i];
   }
-  return finite;
+  return std::isfinite(sum);
 }
 
 int right_hand_side(double t, N_Vector y, N_Vector ydot, void* user) {
@@ -138,6 +144,35 @@ std::unique_ptr<BlockPreconditioner> make_preconditioner(CellSystem& sys, const 
   return std::make_unique<BlockPreconditioner>(layout.offset, layout.states, v_rows, coupling);
 }
 
+// CVODE's dense direct solve with the gate rows eliminated first (see
+// gate_elimination_lu.hpp): a SUNDIALS linear solver over CVODE's dense matrix
+// M = I - gamma J, which CVODE still forms (finite-difference Jacobian).
+GateEliminationLu& gate_lu(SUNLinearSolver s) { return *static_cast<GateEliminationLu*>(s->content); }
+
+SUNLinearSolver make_gate_elimination_solver(sunindextype n, SUNContext sun) {
+  SUNLinearSolver s = SUNLinSolNewEmpty(sun);
+  if (!s) throw std::runtime_error("CVODE: cannot create the linear solver");
+  s->content = new GateEliminationLu(static_cast<std::size_t>(n));
+  s->ops->gettype = [](SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; };
+  s->ops->getid = [](SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; };
+  // A singular matrix is recoverable: CVODE retries with a smaller step.
+  s->ops->setup = [](SUNLinearSolver self, SUNMatrix A) {
+    return gate_lu(self).factor(SM_DATA_D(A)) ? SUNLS_SUCCESS : SUNLS_LUFACT_FAIL;
+  };
+  s->ops->solve = [](SUNLinearSolver self, SUNMatrix, N_Vector x, N_Vector b, double) {
+    N_VScale(1.0, b, x);
+    gate_lu(self).solve(N_VGetArrayPointer(x));
+    return SUNLS_SUCCESS;
+  };
+  s->ops->free = [](SUNLinearSolver self) {
+    delete static_cast<GateEliminationLu*>(self->content);
+    self->content = nullptr;
+    SUNLinSolFreeEmpty(self);
+    return 0;
+  };
+  return s;
+}
+
 void record_error(int /*code*/, const char* module, const char* function, char* message, void* user) {
   auto& ctx = *static_cast<Context*>(user);
   ctx.error = std::string(module) + "::" + function + ": " + message;
@@ -152,10 +187,11 @@ void check(int flag, const char* what, const Context& ctx) {
 }  // namespace
 
 void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, StepObserver& observer) {
-  Layout layout(system);
+  const Layout layout(system);
+  const StateMap map(layout, system);
   Context ctx;
   ctx.system = &system;
-  ctx.layout = &layout;
+  ctx.map = &map;
 
   SUNContext sun = nullptr;
   if (SUNContext_Create(nullptr, &sun) != 0) throw std::runtime_error("CVODE: cannot create a context");
@@ -179,7 +215,7 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
   g.y = N_VNew_Serial(n, sun);
   g.dky = N_VNew_Serial(n, sun);
   double* y = N_VGetArrayPointer(g.y);
-  transfer(layout, system, y, false);
+  map.pack(y);
 
   g.mem = CVodeCreate(CV_BDF, sun);
   check(CVodeSetErrHandlerFn(g.mem, record_error, &ctx), "SetErrHandlerFn", ctx);
@@ -199,8 +235,8 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
     linear_solver_used_ = "band (half-bandwidth " + std::to_string(half) + ")";
   } else if (choice == "dense") {
     g.A = SUNDenseMatrix(n, n, sun);
-    g.ls = SUNLinSol_Dense(g.y, g.A, sun);
-    linear_solver_used_ = "dense";
+    g.ls = make_gate_elimination_solver(n, sun);
+    linear_solver_used_ = "dense (gate rows eliminated first)";
   } else {
     g.ls = SUNLinSol_SPGMR(g.y, SUN_PREC_LEFT, 0, sun);
     ctx.preconditioner = make_preconditioner(system, layout);
@@ -210,17 +246,26 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
   if (ctx.preconditioner)
     check(CVodeSetPreconditioner(g.mem, preconditioner_setup, preconditioner_solve), "SetPreconditioner", ctx);
 
-  double max_step = spec_.max_step_ms;
-  if (max_step <= 0) max_step = system.stimulus.shortest_pulse_ms();
-  if (std::isfinite(max_step)) check(CVodeSetMaxStep(g.mem, max_step), "SetMaxStep", ctx);
+  // No cap on the step by default: the stop at each stimulus edge already keeps
+  // CVODE from stepping over a pulse, and between edges the right-hand side is
+  // smooth, so the error test alone should choose the step (Myokit does the same).
+  if (spec_.max_step_ms > 0) check(CVodeSetMaxStep(g.mem, spec_.max_step_ms), "SetMaxStep", ctx);
 
+  // Row of each cell's potential, for the dV/dt handed to the observer.
+  std::vector<std::size_t> v_row(system.cell_count());
+  for (std::size_t cell = 0; cell < system.cell_count(); ++cell)
+    v_row[cell] = layout.offset[cell] + system.populations[system.where[cell].first].voltage_state;
   std::vector<double> dVdt(system.cell_count());
+
   double t = t_start;
   while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
   while (t < t_end - kTimeEpsilon_ms) {
+    // One interval between stimulus edges: the stimulus is constant in it, CVODE
+    // stops exactly at its end (tstop) and restarts from there at low order, as
+    // the derivative jumps at an edge.
     const double stop = std::min(t_end, system.stimulus.next_edge_after(t));
     ctx.t_stimulus = 0.5 * (t + stop);
-    check(CVodeReInit(g.mem, t, g.y), "ReInit", ctx);
+    if (t > t_start) check(CVodeReInit(g.mem, t, g.y), "ReInit", ctx);
     check(CVodeSetStopTime(g.mem, stop), "SetStopTime", ctx);
     while (t < stop - kTimeEpsilon_ms) {
       const double t_old = t;
@@ -230,25 +275,33 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
       while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) {
         const double ts = observer.next_sample_ms();
         check(CVodeGetDky(g.mem, std::min(ts, t), 0, g.dky), "GetDky", ctx);
-        unpack(layout, system, N_VGetArrayPointer(g.dky));
+        map.unpack(N_VGetArrayPointer(g.dky));
         observer.on_sample(ts);
       }
-      unpack(layout, system, y);
+      map.unpack(y);
       check(CVodeGetDky(g.mem, t, 1, g.dky), "GetDky", ctx);
       const double* dy = N_VGetArrayPointer(g.dky);
-      for (std::size_t cell = 0; cell < system.cell_count(); ++cell)
-        dVdt[cell] = dy[layout.offset[cell] + system.populations[system.where[cell].first].voltage_state];
+      for (std::size_t cell = 0; cell < system.cell_count(); ++cell) dVdt[cell] = dy[v_row[cell]];
       observer.on_step(t_old, t, dVdt.data());
     }
     t = stop;
   }
-  unpack(layout, system, y);
+  map.unpack(y);
+  CVodeGetNumSteps(g.mem, &work_.steps);
+  CVodeGetNumRhsEvals(g.mem, &work_.rhs_evaluations);
+  CVodeGetNumJacEvals(g.mem, &work_.jacobians);
+  long jacobian_rhs = 0;
+  CVodeGetNumLinRhsEvals(g.mem, &jacobian_rhs);
+  work_.rhs_evaluations += jacobian_rhs;
 }
 
 std::string CvodeIntegrator::describe() const {
   std::ostringstream s;
   s << "CVODE BDF/Newton, rtol " << spec_.rtol << ", atol " << spec_.atol << ", "
     << (linear_solver_used_.empty() ? spec_.linear_solver : linear_solver_used_) << " linear solver";
+  if (work_.steps > 0)
+    s << "; last run " << work_.steps << " steps, " << work_.rhs_evaluations << " right-hand sides, "
+      << work_.jacobians << " Jacobians";
   return s.str();
 }
 

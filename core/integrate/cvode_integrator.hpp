@@ -3,10 +3,11 @@
 // system, with a dense or banded direct linear solver (finite-difference
 // Jacobian). The stiff, accurate reference.
 //
-// Hygiene (Myokit issue #67, Chaste AbstractCvodeCell): CVODE stops at every
-// stimulus edge and is re-initialised there, and its step never exceeds the
-// shortest pulse, so it cannot step over a stimulus. Within an interval
-// between edges the stimulus is constant (its value at the interval's middle).
+// Hygiene (Myokit issue #67, Chaste AbstractCvodeCell): CVODE stops exactly at
+// every stimulus edge (tstop) and is re-initialised there, so it cannot step
+// over a stimulus; between edges its step is free (capped only by a user's
+// max_step_ms). Within an interval between edges the stimulus is constant (its
+// value at the interval's middle).
 // States are packed cell by cell, so a strand gives a narrow band.
 #pragma once
 
@@ -27,6 +28,10 @@ class CvodeIntegrator final : public Integrator {
  private:
   SolverSpec spec_;
   std::string linear_solver_used_;
+  // CVODE's work in the last advance(), for the run log.
+  struct Work {
+    long steps = 0, rhs_evaluations = 0, jacobians = 0;
+  } work_;
 };
 
 }  // namespace fibrodem

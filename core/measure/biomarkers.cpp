@@ -25,9 +25,63 @@ void BiomarkerTracker::open_beat(double onset, double t_old, double t_new, const
   const double w = t_new > t_old ? std::clamp((onset - t_old) / (t_new - t_old), 0.0, 1.0) : 0.0;
   for (std::size_t c = 0; c < cells_.size(); ++c) {
     const double v_onset = cells_[c].v_prev + w * (V[c] - cells_[c].v_prev);
+    const double dvdt_prev = cells_[c].dvdt_prev;
     cells_[c] = Cell{cells_[c].v_prev, v_onset};
+    cells_[c].dvdt_prev = dvdt_prev;
   }
 }
+
+namespace {
+
+// Time within a step [t0, t0 + h] at which V falls through `level`, with
+// v0 >= level > v1. With the slopes d0, d1 at both ends (an integrator's own
+// dV/dt) the crossing of the cubic Hermite interpolant, found by Newton's
+// method kept inside the bracket: in late repolarisation V curves over CVODE's
+// long steps, and the chord would cross late. Without them, the chord. (At a
+// stimulus edge d0 is the slope before the edge; CVODE restarts there with
+// tiny steps, so the cubic's error from it is negligible.)
+double falling_crossing(double t0, double h, double v0, double v1, double d0, double d1, double level) {
+  double theta = (v0 - level) / (v0 - v1);  // the chord's crossing
+  if (!std::isfinite(d0) || !std::isfinite(d1)) return t0 + h * theta;
+  // p(theta) - level on [0, 1], p the Hermite cubic.
+  auto excess = [&](double s) {
+    const double s2 = s * s, s3 = s2 * s;
+    return (2 * s3 - 3 * s2 + 1) * v0 + (s3 - 2 * s2 + s) * h * d0 + (-2 * s3 + 3 * s2) * v1 +
+           (s3 - s2) * h * d1 - level;
+  };
+  auto slope = [&](double s) {
+    const double s2 = s * s;
+    return (6 * s2 - 6 * s) * v0 + (3 * s2 - 4 * s + 1) * h * d0 + (-6 * s2 + 6 * s) * v1 + (3 * s2 - 2 * s) * h * d1;
+  };
+  double lo = 0, hi = 1;  // excess(lo) >= 0 > excess(hi)
+  for (int k = 0; k < 50 && hi - lo > 1e-14; ++k) {
+    const double f = excess(theta);
+    if (f == 0) break;
+    (f > 0 ? lo : hi) = theta;
+    const double df = slope(theta);
+    const double next = theta - f / df;
+    theta = df < 0 && next > lo && next < hi ? next : 0.5 * (lo + hi);  // Newton, else bisection
+  }
+  return t0 + h * theta;
+}
+
+// Where dV/dt peaks between samples: the vertex of the parabola through
+// (t0, d0), (t1, d1), (t2, d2), t0 < t1 < t2, d1 the largest. As d1 >= d0, d2
+// the vertex always lies within half a step of t1, so even where dV/dt has a
+// kink (a stimulus edge) the time is no further off than the samples' own
+// spacing. Only the time is taken: at a kink the parabola's height could
+// overshoot, so max dV/dt stays the largest sample. Unchanged if the parabola
+// does not open downwards.
+void refine_peak_time(double t0, double d0, double t1, double d1, double t2, double d2, double& t_peak) {
+  const double a = t0 - t1, b = t2 - t1;  // d = d1 + p u + q u^2, u = t - t1
+  if (!(a < 0 && b > 0) || !std::isfinite(d0)) return;
+  const double q = ((d2 - d1) / b - (d0 - d1) / a) / (b - a);
+  const double p = (d0 - d1) / a - q * a;
+  if (!(q < 0)) return;
+  t_peak = t1 + std::clamp(-p / (2 * q), 0.5 * a, 0.5 * b);  // the clamp only guards round-off
+}
+
+}  // namespace
 
 void BiomarkerTracker::step(double t_old, double t_new, const double* V, const double* dVdt) {
   while (next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new - 1e-9) {
@@ -35,7 +89,10 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     ++next_onset_;
   }
   if (beat_ < 0) {
-    for (std::size_t c = 0; c < cells_.size(); ++c) cells_[c].v_prev = V[c];
+    for (std::size_t c = 0; c < cells_.size(); ++c) {
+      cells_[c].v_prev = V[c];
+      cells_[c].dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
+    }
     return;
   }
   const double h = t_new - t_old;
@@ -48,6 +105,14 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     if (slope > s.dvdt_max) {
       s.dvdt_max = slope;
       s.t_act = t_slope;
+      // With the integrator's own dV/dt the samples are exact values at step
+      // ends, so the peak between them is refined once the next one is in.
+      s.refine_max = dVdt != nullptr;
+      s.max_left_t = t_old;
+      s.max_left_dvdt = s.dvdt_prev;
+    } else if (s.refine_max) {
+      s.refine_max = false;
+      refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
     }
     if (V[c] > s.peak) {
       s.peak = V[c];
@@ -55,15 +120,17 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
       s.cross50 = s.cross90 = -1;  // a new peak: repolarisation not yet seen
     } else {
       const double amplitude = s.peak - s.rmp;
+      const double d1 = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
       auto crossing = [&](double fraction, double& t_cross) {
         const double level = s.peak - fraction * amplitude;
         if (s.v_prev >= level && V[c] < level)
-          t_cross = t_old + h * (s.v_prev - level) / (s.v_prev - V[c]);
+          t_cross = falling_crossing(t_old, h, s.v_prev, V[c], s.dvdt_prev, d1, level);
       };
       crossing(0.5, s.cross50);
       crossing(0.9, s.cross90);
     }
     s.v_prev = V[c];
+    s.dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
   }
 }
 

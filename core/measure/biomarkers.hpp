@@ -4,8 +4,13 @@
 //   RMP              V just before the beat's stimulus onset
 //   APO              peak potential (signed: a fibroblast's may be negative)
 //   APD_X            activation to the last downward crossing of
-//                    V_peak - X/100 * (V_peak - RMP) after the peak (APD90, APD50)
-//   max dV/dt        from the integrator's own steps
+//                    V_peak - X/100 * (V_peak - RMP) after the peak (APD90, APD50),
+//                    placed within the step by the cubic through V and dV/dt at
+//                    both ends when the integrator gives dV/dt (CVODE), else by
+//                    the chord
+//   max dV/dt        from the integrator's own steps (with the integrator's
+//                    dV/dt, CVODE, the activation time is refined to the vertex
+//                    of the parabola through the largest sample and its neighbours)
 // A beat runs from one stimulus onset to the next (or to the end of the run);
 // without stimulus the whole run is one beat.
 #pragma once
@@ -45,6 +50,10 @@ class BiomarkerTracker {
   struct Cell {
     double v_prev = 0, rmp = 0, peak = -1e300, t_peak = 0, dvdt_max = -1e300, t_act = 0;
     double cross50 = -1, cross90 = -1;
+    double dvdt_prev = std::numeric_limits<double>::quiet_NaN();  // integrator's dV/dt at the last step's end
+    // The sample before the largest dV/dt so far, while its right neighbour is awaited.
+    double max_left_t = 0, max_left_dvdt = 0;
+    bool refine_max = false;
   };
   void open_beat(double onset, double t_old, double t_new, const double* V);
   void close_beat();

@@ -34,7 +34,11 @@ void Population::evaluate(double t_ms, const AfterBlock& after) {
   // Blocks of cells in parallel: each cell's derivatives depend only on its own
   // state and inputs, so the result does not depend on the thread count.
   const auto blocks = static_cast<long>(block_count());
-#pragma omp parallel for schedule(static) if (blocks > 1)
+  // One block (a single cell, a small tissue) runs here: even an OpenMP region
+  // whose if() is false costs an allocation and a futex call per entry, which
+  // CVODE on one cell pays thousands of times per simulated second.
+  if (blocks == 1) return evaluate_block(0, t_ms, after);
+#pragma omp parallel for schedule(static)
   for (long k = 0; k < blocks; ++k) evaluate_block(static_cast<std::size_t>(k), t_ms, after);
 }
 

@@ -74,7 +74,7 @@ struct SolverSpec {
   std::string method = "rush_larsen";  // euler | rush_larsen | rush_larsen2 | cvode
   double dt_ms = 0.01;                 // euler, rush_larsen
   double rtol = 1e-6, atol = 1e-8;     // cvode
-  double max_step_ms = 0;              // cvode; 0: the shortest stimulus pulse
+  double max_step_ms = 0;              // cvode; 0: no cap (it stops at every stimulus edge anyway)
   std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
   // Threads over blocks of cells: -1 (the default, "auto"): every core when
   // the scene is large enough to gain, else 1; 0: every core; results do not
