@@ -19,6 +19,7 @@
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
 #include "mechanics/mechanics_solver.hpp"
+#include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
 #include "run/population_setup.hpp"
 #include "run/run_summary.hpp"
@@ -77,6 +78,7 @@ struct Simulation::Impl : StepObserver {
   std::array<double, 3> peak_strain{0, 0, 0};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
+  BackgroundWriter writer;  // snapshots
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
@@ -374,7 +376,9 @@ struct Simulation::Impl : StepObserver {
     if (out.empty() || snap.every_ms <= 0) return;
     const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
     if (t >= next - kTimeEpsilon_ms) {
-      write_snapshot(out, t, snap, scene.name, tissue, mechanics.get(), system.V_mV);
+      // Drawn on the writer's thread while the run goes on.
+      auto frame = std::make_shared<SnapshotFrame>(take_snapshot(t, snap, tissue, mechanics.get(), system.V_mV));
+      writer.post([this, frame] { write_snapshot(out, scene.output.snapshots, scene.name, *frame); });
       ++snapshots_taken;
     }
   }
@@ -500,10 +504,12 @@ struct Simulation::Impl : StepObserver {
       tracker->finish();
       ScopeTimer timer(output_seconds);
       if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats);
+      writer.finish();
       status = "completed";
     } catch (const std::exception& e) {
       status = "failed";
       error = e.what();
+      finish_writing();
     }
     if (options.progress) std::fprintf(stderr, "\n");
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -515,6 +521,16 @@ struct Simulation::Impl : StepObserver {
     }
     log->flush();
     if (status == "failed") throw std::runtime_error(error);
+  }
+
+  // A failed run keeps what was written: the snapshots already taken are
+  // finished (an error in them is logged; the run's own error stands).
+  void finish_writing() {
+    try {
+      writer.finish();
+    } catch (const std::exception& e) {
+      warnings.push_back(std::string("snapshot not written: ") + e.what());
+    }
   }
 
   // The integrator's own time: its wall time less what the models, coupling,

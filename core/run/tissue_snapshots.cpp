@@ -31,30 +31,35 @@ Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
   return now;
 }
 
-void write_snapshot(const std::filesystem::path& dir, double t, const SnapshotSpec& spec,
-                    const std::string& scene_name, const Tissue& tissue, const MechanicsSolver* mechanics,
-                    const std::vector<double>& V_mV) {
+SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const Tissue& tissue,
+                            const MechanicsSolver* mechanics, const std::vector<double>& V_mV) {
+  SnapshotFrame frame;
+  frame.t_ms = t;
+  frame.now = present_tissue(tissue, mechanics, spec.vtk && mechanics ? &frame.displacement : nullptr);
+  frame.V_mV = V_mV;
+  // The scale of the undeformed tissue, so that every snapshot shows the
+  // deformation at the same magnification.
+  const auto box = tissue.bounds_um();
+  frame.pixels_per_um = PictureOptions{}.height_px / std::max(box[3] - box[2], 1.0);
+  return frame;
+}
+
+void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& scene_name,
+                    const SnapshotFrame& frame) {
   char stem[64];
-  std::snprintf(stem, sizeof stem, "snapshot_%09.3f_ms", t);
+  std::snprintf(stem, sizeof stem, "snapshot_%09.3f_ms", frame.t_ms);
   if (spec.png) {
     PictureOptions picture;
     picture.value_label = "V (mV)";
     picture.value_min = -90;
     picture.value_max = 40;
-    picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, t);
-    // The scale of the undeformed tissue, so that every snapshot shows the
-    // deformation at the same magnification.
-    const auto box = tissue.bounds_um();
-    picture.pixels_per_um = picture.height_px / std::max(box[3] - box[2], 1.0);
-    write_tissue_png(present_tissue(tissue, mechanics, nullptr), dir / (std::string(stem) + ".png"), &V_mV,
-                     picture);
+    picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, frame.t_ms);
+    picture.pixels_per_um = frame.pixels_per_um;
+    write_tissue_png(frame.now, dir / (std::string(stem) + ".png"), &frame.V_mV, picture);
   }
-  if (spec.vtk) {
-    std::vector<std::array<double, 2>> displacement;
-    const Tissue now = present_tissue(tissue, mechanics, &displacement);
-    write_tissue_vtk(now, dir / (std::string(stem) + ".vtk"), {{"V_mV", V_mV}}, false,
-                     mechanics ? &displacement : nullptr);
-  }
+  if (spec.vtk)
+    write_tissue_vtk(frame.now, dir / (std::string(stem) + ".vtk"), {{"V_mV", frame.V_mV}}, false,
+                     frame.displacement.empty() ? nullptr : &frame.displacement);
 }
 
 void write_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,

@@ -24,11 +24,21 @@ void write_tissue_overview(const std::filesystem::path& dir, const std::string& 
 Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
                       std::vector<std::array<double, 2>>* displacement);
 
-// The tissue coloured by membrane potential at time t (the step's end):
-// snapshot_<t>_ms.png and/or .vtk in dir, as spec asks.
-void write_snapshot(const std::filesystem::path& dir, double t, const SnapshotSpec& spec,
-                    const std::string& scene_name, const Tissue& tissue, const MechanicsSolver* mechanics,
-                    const std::vector<double>& V_mV);
+// What a snapshot shows, taken at time t: the run goes on while it is drawn.
+struct SnapshotFrame {
+  double t_ms = 0;
+  Tissue now;                                       // deformed, with mechanics
+  std::vector<std::array<double, 2>> displacement;  // per particle, with mechanics and VTK
+  std::vector<double> V_mV;
+  double pixels_per_um = 0;                         // of the undeformed tissue
+};
+SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const Tissue& tissue,
+                            const MechanicsSolver* mechanics, const std::vector<double>& V_mV);
+
+// The tissue coloured by membrane potential at the frame's time (the step's
+// end): snapshot_<t>_ms.png and/or .vtk in dir, as spec asks.
+void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& scene_name,
+                    const SnapshotFrame& frame);
 
 // Per-cell maps of the last recorded beat: activation_map.png and maps.vtk in dir.
 void write_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,

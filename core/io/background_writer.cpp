@@ -1,0 +1,60 @@
+#include "io/background_writer.hpp"
+
+namespace fibrodem {
+
+BackgroundWriter::BackgroundWriter(std::size_t pending)
+    : pending_(pending == 0 ? 1 : pending), thread_([this] { work(); }) {}
+
+BackgroundWriter::~BackgroundWriter() {
+  {
+    std::unique_lock lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+void BackgroundWriter::post(std::function<void()> job) {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return jobs_.size() < pending_ || failure_; });
+  if (failure_) rethrow_failure();
+  jobs_.push_back(std::move(job));
+  changed_.notify_all();
+}
+
+void BackgroundWriter::finish() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return (jobs_.empty() && !busy_) || failure_; });
+  if (failure_) rethrow_failure();
+}
+
+void BackgroundWriter::rethrow_failure() {
+  std::exception_ptr failure = failure_;
+  failure_ = nullptr;  // thrown once
+  jobs_.clear();
+  std::rethrow_exception(failure);
+}
+
+void BackgroundWriter::work() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [&] { return !jobs_.empty() || stopping_; });
+    if (jobs_.empty()) return;  // stopping, and nothing left to write
+    std::function<void()> job = std::move(jobs_.front());
+    jobs_.pop_front();
+    busy_ = true;
+    lock.unlock();
+    std::exception_ptr failure;
+    try {
+      job();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    lock.lock();
+    busy_ = false;
+    if (failure && !failure_) failure_ = failure;
+    changed_.notify_all();
+  }
+}
+
+}  // namespace fibrodem
