@@ -29,16 +29,22 @@ GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, doub
   rhs_.resize(n);
 }
 
+// Row `row` of -L V: each row sums in a fixed order, whatever the threads.
+double GapJunctionCoupler::row_current(Eigen::Index row, const double* V) const {
+  double current = 0.0;
+  for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)
+    current -= it.value() * V[it.col()];
+  return current;
+}
+
 void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
-  // i_ext -= L V, row by row: each row sums in a fixed order, whatever the threads.
   const Eigen::Index rows = laplacian_.outerSize();
 #pragma omp parallel for schedule(static) if (rows > kParallelCells)
-  for (Eigen::Index row = 0; row < rows; ++row) {
-    double current = 0.0;
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)
-      current -= it.value() * V[it.col()];
-    i_ext[row] += current;
-  }
+  for (Eigen::Index row = 0; row < rows; ++row) i_ext[row] += row_current(row, V);
+}
+
+void GapJunctionCoupler::current_into(const double* V, const int* cells, std::size_t count, double* current) const {
+  for (std::size_t k = 0; k < count; ++k) current[cells[k]] = row_current(cells[k], V);
 }
 
 void GapJunctionCoupler::implicit_step(double* V, double dt_ms) {

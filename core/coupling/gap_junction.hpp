@@ -21,6 +21,7 @@ class GapJunctionCoupler final : public Coupler {
                      std::vector<double> capacitance_pF);
 
   void add_current(const double* V_mV, double* i_ext_pA) const override;
+  void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const override;
   void implicit_step(double* V_mV, double dt_ms) override;
   double max_rate_per_ms() const override;
   std::vector<double> total_conductance_nS() const override;
@@ -28,6 +29,7 @@ class GapJunctionCoupler final : public Coupler {
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& laplacian_nS() const { return laplacian_; }
 
  private:
+  double row_current(Eigen::Index row, const double* V_mV) const;
   Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_;
   std::vector<double> capacitance_pF_;
   // Factorisation of C/dt + L, reused while dt stays the same.

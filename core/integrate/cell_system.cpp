@@ -39,18 +39,34 @@ double CellSystem::stretch(int population, std::size_t local) const {
   return 1.0;
 }
 
-void CellSystem::add_stretch_activated_current() {
-  for (const auto& m : myofilaments) {
-    const Population& host = populations[m.host];
-    const std::size_t n = host.size();
-    for (std::size_t c = 0; c < n; ++c) {
-      const double lambda = m.pop.outputs[m.sarcomere_output * n + c] / m.rest_sarcomere_length[c];
-      if (lambda <= 1.0) continue;
-      const double V = host.y[host.voltage_state * n + c];
-      // Outward positive current, so it enters i_ext (depolarising positive) negated.
-      i_ext_pA[host.cells[c]] -= sac.G_nS * (lambda - 1.0) / (sac.lambda_max - 1.0) * (V - sac.E_mV);
-    }
+// i_ext of the cells [begin, end) of ionic population p: the stimulus (step 2),
+// the gap-junction current (computed now if refreshed this step, else held),
+// and the stretch-activated current, in that order.
+void CellSystem::block_inputs(std::size_t p, std::size_t begin, std::size_t end) {
+  Population& pop = populations[p];
+  const int* cells = pop.cells.data();
+  const bool gap = coupler && !implicit_coupling;
+  if (refresh_gap_current_) coupler->current_into(V_mV.data(), cells + begin, end - begin, gap_current_pA.data());
+  const Myofilament* stretch_source = nullptr;
+  if (sac.on)
+    for (const auto& m : myofilaments)
+      if (m.host == static_cast<int>(p)) stretch_source = &m;
+  double* in = pop.i_ext();
+  for (std::size_t c = begin; c < end; ++c) {
+    double current = i_ext_pA[cells[c]];
+    if (gap) current += gap_current_pA[cells[c]];
+    if (stretch_source) current -= stretch_activated_pA(*stretch_source, pop, c);
+    in[c] = current;
   }
+}
+
+// I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E) for lambda > 1 [pA, + outward].
+double CellSystem::stretch_activated_pA(const Myofilament& m, const Population& host, std::size_t c) const {
+  const std::size_t n = host.size();
+  const double lambda = m.pop.outputs[m.sarcomere_output * n + c] / m.rest_sarcomere_length[c];
+  if (lambda <= 1.0) return 0.0;
+  const double V = host.y[host.voltage_state * n + c];
+  return sac.G_nS * (lambda - 1.0) / (sac.lambda_max - 1.0) * (V - sac.E_mV);
 }
 
 namespace {
@@ -71,6 +87,8 @@ void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) 
     for (std::size_t k = 0; k < populations[p].block_count(); ++k) blocks_.push_back({p, k});
   auto evaluate_block = [&](std::size_t i) {
     Population& pop = populations[blocks_[i].first];
+    const std::size_t begin = blocks_[i].second * kCellsPerBlock;
+    block_inputs(blocks_[i].first, begin, std::min(pop.size(), begin + kCellsPerBlock));
     if (!after) pop.evaluate_block(blocks_[i].second, t_ms);
     else pop.evaluate_block(blocks_[i].second, t_ms, [&](std::size_t b, std::size_t e) { after(pop, b, e); });
   };
@@ -101,21 +119,15 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
     }
     lap(kMyofilament);
   }
-  // 2. Currents into each cell.
+  // 2. Currents into each cell: the stimulus here; the gap-junction and
+  // stretch-activated currents block by block in step 4, in parallel.
   std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
   stimulus.add_current(t_stim_ms, i_ext_pA.data());
-  if (coupler && !implicit_coupling) {
-    if (refresh_coupling || gap_current_pA.size() != V_mV.size()) {
-      gather_voltage();
-      gap_current_pA.assign(V_mV.size(), 0.0);
-      coupler->add_current(V_mV.data(), gap_current_pA.data());
-    }
-    for (std::size_t i = 0; i < i_ext_pA.size(); ++i) i_ext_pA[i] += gap_current_pA[i];
-  }
-  if (sac.on) add_stretch_activated_current();
-  for (auto& pop : populations) {
-    double* in = pop.i_ext();
-    for (std::size_t c = 0; c < pop.size(); ++c) in[c] = i_ext_pA[pop.cells[c]];
+  refresh_gap_current_ = false;
+  if (coupler && !implicit_coupling && (refresh_coupling || gap_current_pA.size() != V_mV.size())) {
+    gather_voltage();
+    gap_current_pA.resize(V_mV.size());
+    refresh_gap_current_ = true;
   }
   // 3. Troponin flux back into the host's Ca balance (calcium feedback).
   for (auto& m : myofilaments) {

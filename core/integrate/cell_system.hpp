@@ -49,7 +49,8 @@ struct CellSystem {
   Stimulus stimulus;
   StretchActivatedCurrent sac;
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
-  std::vector<double> V_mV, i_ext_pA;              // per global cell
+  std::vector<double> V_mV;                        // per global cell
+  std::vector<double> i_ext_pA;                    // per global cell: the stimulus of the step
   // Set by an integrator that checked every state against its population's
   // limits while updating it: the observer then need not scan them again
   // unless one was out (to find and name it).
@@ -92,7 +93,9 @@ struct CellSystem {
   double stretch(int population, std::size_t local) const;
 
  private:
-  void add_stretch_activated_current();
+  void block_inputs(std::size_t population, std::size_t begin, std::size_t end);
+  double stretch_activated_pA(const Myofilament& m, const Population& host, std::size_t local) const;
+  bool refresh_gap_current_ = false;  // this step computes gap_current_pA afresh
   static void evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after);
   void evaluate_ionic(double t_ms, const AfterPopulationBlock& after);
   std::vector<std::pair<std::size_t, std::size_t>> blocks_;  // (population, block) of one step
