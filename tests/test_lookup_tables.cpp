@@ -54,7 +54,7 @@ fibrodem::json colman_beat(bool tables) {
       {"solver", {{"method", "rush_larsen"}, {"dt_ms", 0.02}}},
       {"output", {{"traces", {{"cells", {0}}, {"variables", {"V", "Ca_i"}}, {"every_ms", 0.5}}}}},
   };
-  if (tables) m["solver"]["lookup_tables"] = true;
+  m["solver"]["lookup_tables"] = tables;  // explicit: unset means on for rush_larsen
   return m;
 }
 
@@ -176,4 +176,16 @@ TEST_CASE("lookup tables: a colman beat agrees with the table-free beat") {
   CHECK(*std::max_element(ct.begin(), ct.end()) ==
         doctest::Approx(*std::max_element(ce.begin(), ce.end())).epsilon(1e-3));
   CHECK(exact.trace("V", 0) != tabled.trace("V", 0));  // the tables were used
+}
+
+TEST_CASE("lookup tables are on by default for fixed steps, off for CVODE, and follow the manifest") {
+  fibrodem::json m = colman_beat(false);
+  m["solver"].erase("lookup_tables");
+  CHECK(fibrodem::parse_scene(m).solver.use_lookup_tables());
+  m["solver"]["method"] = "cvode";
+  CHECK_FALSE(fibrodem::parse_scene(m).solver.use_lookup_tables());
+  m["solver"]["lookup_tables"] = true;
+  CHECK(fibrodem::parse_scene(m).solver.use_lookup_tables());
+  m["solver"] = {{"method", "rush_larsen"}, {"lookup_tables", false}};
+  CHECK_FALSE(fibrodem::parse_scene(m).solver.use_lookup_tables());
 }

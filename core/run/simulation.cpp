@@ -128,9 +128,11 @@ struct Simulation::Impl : StepObserver {
   // solver.lookup_tables: a table of the voltage_only gates' rates per ionic
   // population whose model marks any (after every parameter change above).
   void build_lookup_tables() {
-    if (!scene.solver.lookup_tables) return;
+    if (!scene.solver.use_lookup_tables()) return;
     for (auto& pop : system.populations) {
-      std::string note = std::string("lookup tables: ") + cell_type_name(pop.type) + " model " + pop.info().name;
+      std::string note = std::string("lookup tables") +
+                         (scene.solver.lookup_tables ? "" : " (the default for fixed-step methods)") + ": " +
+                         cell_type_name(pop.type) + " model " + pop.info().name;
       if (pop.use_lookup_table()) {
         std::string names;
         for (int k : pop.table->gates()) names += (names.empty() ? "" : " ") + pop.info().states[k].name;

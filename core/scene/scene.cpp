@@ -137,7 +137,7 @@ SolverSpec read_solver(JsonReader r) {
     r.text("threads", "auto", {"auto"});  // "auto" is the default; anything else is an error
   else
     s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
-  s.lookup_tables = r.boolean("lookup_tables", s.lookup_tables);
+  if (r.has("lookup_tables")) s.lookup_tables = r.boolean("lookup_tables", false);
   s.simd = r.boolean("simd", s.simd);
   r.finish();
   return s;

@@ -80,7 +80,12 @@ struct SolverSpec {
   // the scene is large enough to gain, else 1; 0: every core; results do not
   // depend on it.
   int threads = -1;
-  bool lookup_tables = false;          // voltage_only gate rates from tables in V (linear, 0.05 mV)
+  // Rates (and, for rush_larsen, exp(b dt)) of voltage_only gates from tables
+  // in V (linear, 0.05 mV). Unset: on for the fixed-step methods (their APD90
+  // moves < 0.001 ms, README "Lookup tables"), off for CVODE (a table makes
+  // the right-hand side only piecewise smooth).
+  std::optional<bool> lookup_tables;
+  bool use_lookup_tables() const { return lookup_tables.value_or(method != "cvode"); }
   bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 
