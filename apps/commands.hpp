@@ -49,6 +49,14 @@ struct BenchAccuracyArgs {
   int repeat = 1;                    // wall time: the least of this many runs
 };
 
+// `fibrodem bench headline`: the headline speed figures beside another build's.
+struct BenchHeadlineArgs {
+  std::string baseline;  // another fibrodem executable; empty: this build alone
+  int repeat = 3;
+  std::string examples = "examples";
+  bool skip_em = false;
+};
+
 int run_command(const RunArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
@@ -58,6 +66,8 @@ int bench_command(const char* program, const std::vector<std::string>& args);
 int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.
 CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& args);
+int bench_headline_command(const BenchHeadlineArgs& args, const char* argv0);
+CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
 
 // Runs `body`, turning each kind of failure into a message and an exit code.
 template <class Body>

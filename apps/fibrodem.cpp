@@ -60,10 +60,12 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
 
-  auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), or `bench accuracy`");
+  auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
   bench->allow_extras();
   fibrodem::cli::BenchAccuracyArgs accuracy_args;
   auto* accuracy = fibrodem::cli::add_bench_accuracy_subcommand(*bench, accuracy_args);
+  fibrodem::cli::BenchHeadlineArgs headline_args;
+  auto* headline = fibrodem::cli::add_bench_headline_subcommand(*bench, headline_args);
 
   CLI11_PARSE(app, argc, argv);
 
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
+  if (*headline) return fibrodem::cli::bench_headline_command(headline_args, argv[0]);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
   return 0;
 }

@@ -38,9 +38,7 @@ double GapJunctionCoupler::row_current(Eigen::Index row, const double* V) const 
 }
 
 void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
-  const Eigen::Index rows = laplacian_.outerSize();
-#pragma omp parallel for schedule(static) if (rows > kParallelCells)
-  for (Eigen::Index row = 0; row < rows; ++row) i_ext[row] += row_current(row, V);
+  for_each_cell(laplacian_.outerSize(), [&](Eigen::Index row) { i_ext[row] += row_current(row, V); });
 }
 
 void GapJunctionCoupler::current_into(const double* V, const int* cells, std::size_t count, double* current) const {

@@ -8,9 +8,7 @@ namespace fibrodem {
 void CellSystem::gather_voltage() {
   for (auto& pop : populations) {
     const double* v = pop.voltage();
-    const auto n = static_cast<long>(pop.size());
-#pragma omp parallel for schedule(static) if (n > kParallelCells)
-    for (long c = 0; c < n; ++c) V_mV[pop.cells[c]] = v[c];
+    for_each_cell(static_cast<long>(pop.size()), [&](long c) { V_mV[pop.cells[c]] = v[c]; });
   }
 }
 

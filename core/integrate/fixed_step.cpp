@@ -64,12 +64,14 @@ bool FixedStepIntegrator::update_block(Population& pop, const std::vector<double
 void FixedStepIntegrator::update_from(Population& pop, const std::vector<double>& from,
                                       const std::vector<double>& slope_at, double dt) const {
   const std::size_t n = pop.size();
-  const auto blocks = static_cast<long>((n + kCellsPerBlock - 1) / kCellsPerBlock);
-#pragma omp parallel for schedule(static) if (blocks > 1)
-  for (long block = 0; block < blocks; ++block) {
+  const auto blocks = static_cast<long>(pop.block_count());
+  auto update = [&](long block) {
     const std::size_t begin = static_cast<std::size_t>(block) * kCellsPerBlock;
     update_block(pop, from, slope_at, begin, std::min(n, begin + kCellsPerBlock), dt);
-  }
+  };
+  if (blocks == 1) return update(0);  // no OpenMP region for one block (see Population::evaluate)
+#pragma omp parallel for schedule(static)
+  for (long block = 0; block < blocks; ++block) update(block);
 }
 
 void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
@@ -83,8 +85,15 @@ void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
       // (h is t_next - t: the table's step up to round-off, except a short last step)
       pop.table_advances_gates = pop.table && std::abs(pop.table->rush_larsen_step_ms() - h) <= 1e-9 * h;
     });
-    system.evaluate(t, t, [&](Population& pop, std::size_t begin, std::size_t end) {
-      if (!update_block(pop, pop.y, pop.y, begin, end, h)) out_of_limits.store(true, std::memory_order_relaxed);
+    // (One pointer captured: std::function keeps it without a heap allocation.)
+    struct Update {
+      const FixedStepIntegrator* integrator;
+      double h;
+      std::atomic<bool>* out_of_limits;
+    } update{this, h, &out_of_limits};
+    system.evaluate(t, t, [u = &update](Population& pop, std::size_t begin, std::size_t end) {
+      if (!u->integrator->update_block(pop, pop.y, pop.y, begin, end, u->h))
+        u->out_of_limits->store(true, std::memory_order_relaxed);
     });
     system.for_each_population([](Population& pop) { pop.table_advances_gates = false; });
     system.states_checked = all_checked;

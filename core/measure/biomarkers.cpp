@@ -96,9 +96,7 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     return;
   }
   const double h = t_new - t_old;
-  const auto n = static_cast<long>(cells_.size());
-#pragma omp parallel for schedule(static) if (n > kParallelCells)
-  for (long c = 0; c < n; ++c) {
+  for_each_cell(static_cast<long>(cells_.size()), [&](long c) {
     Cell& s = cells_[c];
     const double slope = dVdt ? dVdt[c] : (V[c] - s.v_prev) / h;
     const double t_slope = dVdt ? t_new : t_old + 0.5 * h;
@@ -131,7 +129,7 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     }
     s.v_prev = V[c];
     s.dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
-  }
+  });
 }
 
 void BiomarkerTracker::close_beat() {

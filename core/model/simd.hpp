@@ -54,6 +54,7 @@ FIBRODEM_LANE_INLINE Real select(const Real::batch_bool_type& mask, double a, do
 // goes through the same vector code wherever it sits in its block.
 FIBRODEM_LANE_INLINE Real load(const double* p, std::size_t n) {
   if (n == kLanes) return Real::load_unaligned(p);
+  if (n == 1) return Real(*p);  // a single cell: one broadcast
   alignas(64) double lanes[kLanes];
   for (std::size_t i = 0; i < kLanes; ++i) lanes[i] = p[i < n ? i : n - 1];
   return Real::load_aligned(lanes);

@@ -16,4 +16,18 @@ inline constexpr std::size_t kCellsPerBlock = 256;
 // machine and far more when another job holds a core).
 inline constexpr long kParallelCells = 32768;
 
+// f(i) for i in [0, n): on the OpenMP threads from kParallelCells on, else a
+// plain loop. (Not an `omp parallel for if(...)`: even a region whose if() is
+// false costs libgomp an allocation and a futex call, which a single cell,
+// stepping in ~1 us, would pay every step.)
+template <class F>
+void for_each_cell(long n, F&& f) {
+  if (n <= kParallelCells) {
+    for (long i = 0; i < n; ++i) f(i);
+    return;
+  }
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) f(i);
+}
+
 }  // namespace fibrodem

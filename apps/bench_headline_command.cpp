@@ -1,0 +1,195 @@
+// `fibrodem bench headline [--baseline OTHER] [--repeat N] [--examples DIR]
+//  [--skip-em]`: the speed figures users ask about, in one table, each as a
+// ratio to another build measured in the same run (machines are shared and
+// noisy: only ratios taken side by side mean much).
+//
+// Figures, from this build and from OTHER (a `fibrodem` executable, e.g. the
+// previous release), alternating, the median of N rounds:
+//   - Google Benchmark figures of `fibrodem bench`: the Rush-Larsen step of
+//     10^4 colman and courtemanche cells on one thread (cell-steps/s), one
+//     simulated second of one CRN cell under CVODE at (rtol, atol) = (1e-6,
+//     1e-8) and (1e-4, 1e-6) (ms), one DEM step of the Fig. 3 in-series tissue
+//     (particle-steps/s, one thread);
+//   - whole runs of the paper's Fig. 3 scenes at their default settings
+//     (examples/fig3_in_series_ep.json and _em.json, 500 ms): wall time and
+//     where it went (summary.json wall_time_by_process_s).
+// Each figure is read from the programs' own output (--benchmark_format=json,
+// summary.json); a figure the other build lacks is shown as "-".
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <unistd.h>
+
+#include "apps/commands.hpp"
+#include "scene/json_reader.hpp"
+
+namespace fibrodem::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Micro {
+  std::string label, benchmark, counter;  // counter empty: the time per iteration [ms]
+};
+
+const std::vector<Micro> kMicro = {
+    {"colman Rush-Larsen step, 1 thread [M cell-steps/s]", "rush_larsen_step_1e4/colman", "cell_steps_per_s"},
+    {"courtemanche Rush-Larsen step, 1 thread [M cell-steps/s]", "rush_larsen_step_1e4/courtemanche",
+     "cell_steps_per_s"},
+    {"CRN 1 s, CVODE rtol 1e-6 atol 1e-8 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-6", ""},
+    {"CRN 1 s, CVODE rtol 1e-4 atol 1e-6 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-4", ""},
+    {"DEM step, Fig. 3 in-series, 1 thread [M particle-steps/s]", "dem_step/in_series", "particle_steps_per_s"},
+};
+
+// Runs `command` with its standard output to `file`; false if it failed.
+bool run_to_file(const std::string& command, const fs::path& file) {
+  return std::system((command + " > '" + file.string() + "' 2>/dev/null").c_str()) == 0;
+}
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+// name -> figure, from one `bench --benchmark_format=json` run of `program`.
+std::map<std::string, double> micro_figures(const std::string& program, const fs::path& scratch) {
+  std::string filter;
+  for (const auto& m : kMicro) filter += (filter.empty() ? "" : "|") + m.benchmark;
+  const fs::path out = scratch / "bench.json";
+  std::map<std::string, double> figures;
+  if (!run_to_file(quoted(program) + " bench --benchmark_format=json --benchmark_min_time=0.5 '--benchmark_filter=^(" +
+                       filter + ")(/real_time)?$'",
+                   out))
+    return figures;
+  json report;
+  try {
+    report = json::parse(std::ifstream(out));
+  } catch (const std::exception&) {
+    return figures;
+  }
+  for (const auto& b : report.value("benchmarks", json::array()))
+    for (const auto& m : kMicro) {
+      const std::string name = b.value("name", "");
+      if (name != m.benchmark && name != m.benchmark + "/real_time") continue;
+      if (m.counter.empty()) {
+        const double scale = b.value("time_unit", "ns") == "ms" ? 1.0 : b.value("time_unit", "ns") == "us" ? 1e-3 : 1e-6;
+        figures[m.benchmark] = b.value("real_time", 0.0) * scale;
+      } else if (b.contains(m.counter)) {
+        figures[m.benchmark] = b[m.counter].get<double>() / 1e6;
+      }
+    }
+  return figures;
+}
+
+// summary.json of one run of `manifest` by `program` (empty if it failed).
+json scene_summary(const std::string& program, const fs::path& manifest, const fs::path& scratch) {
+  const fs::path out = scratch / "run";
+  fs::remove_all(out);
+  if (!run_to_file(quoted(program) + " run " + quoted(manifest.string()) + " --quiet --out " + quoted(out.string()),
+                   scratch / "run.txt"))
+    return json();
+  try {
+    return json::parse(std::ifstream(out / "summary.json"));
+  } catch (const std::exception&) {
+    return json();
+  }
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct Row {
+  std::string label;
+  std::vector<double> ours, theirs;
+};
+
+std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : "-"; }
+
+std::string self_path(const char* argv0) {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(argv0) : self.string();
+}
+
+}  // namespace
+
+CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& a) {
+  auto* head = bench.add_subcommand("headline", "The headline speed figures (kernels, Fig. 3 scenes, CVODE, DEM), "
+                                                "each beside another build's, measured in one run");
+  head->add_option("--baseline", a.baseline, "another fibrodem executable to measure alongside (e.g. the previous build)");
+  head->add_option("--repeat", a.repeat, "rounds, alternating the builds; figures are medians (default 3)");
+  head->add_option("--examples", a.examples, "folder of the Fig. 3 manifests (default: examples)");
+  head->add_flag("--skip-em", a.skip_em, "leave out the electromechanical scene (the longest)");
+  return head;
+}
+
+int bench_headline_command(const BenchHeadlineArgs& args, const char* argv0) {
+  return guarded([&]() -> int {
+    const std::string self = self_path(argv0);
+    if (!args.baseline.empty() && !fs::exists(args.baseline))
+      throw ManifestError("--baseline", "no such executable: " + args.baseline);
+    std::vector<std::pair<std::string, fs::path>> scenes = {
+        {"Fig. 3 in-series EP, 500 ms", fs::path(args.examples) / "fig3_in_series_ep.json"}};
+    if (!args.skip_em) scenes.push_back({"Fig. 3 in-series EM, 500 ms", fs::path(args.examples) / "fig3_in_series_em.json"});
+    for (const auto& [label, file] : scenes)
+      if (!fs::exists(file)) throw ManifestError("--examples", "no " + file.string() + " (run from the repository root)");
+
+    const fs::path scratch = fs::temp_directory_path() / fmt::format("fibrodem_headline_{}", getpid());
+    fs::create_directories(scratch);
+    std::vector<Row> rows;
+    for (const auto& m : kMicro) rows.push_back({m.label, {}, {}});
+    for (const auto& [label, file] : scenes) rows.push_back({label + ": wall time [s]", {}, {}});
+    std::map<std::string, std::map<std::string, std::vector<double>>> breakdown;  // scene -> process -> s (ours)
+
+    const int rounds = std::max(1, args.repeat);
+    for (int round = 0; round < rounds; ++round) {
+      std::cerr << "round " << round + 1 << " of " << rounds << "\n";
+      for (int side = 0; side < (args.baseline.empty() ? 1 : 2); ++side) {
+        const std::string& program = side == 0 ? self : args.baseline;
+        const auto figures = micro_figures(program, scratch);
+        for (std::size_t i = 0; i < kMicro.size(); ++i) {
+          const auto it = figures.find(kMicro[i].benchmark);
+          if (it != figures.end()) (side == 0 ? rows[i].ours : rows[i].theirs).push_back(it->second);
+        }
+        for (std::size_t s = 0; s < scenes.size(); ++s) {
+          const json summary = scene_summary(program, scenes[s].second, scratch);
+          if (!summary.is_object() || summary.value("status", "") != "completed") continue;
+          (side == 0 ? rows[kMicro.size() + s].ours : rows[kMicro.size() + s].theirs)
+              .push_back(summary["wall_time_s"].get<double>());
+          if (side == 0)
+            for (const auto& [process, seconds] : summary["wall_time_by_process_s"].items())
+              breakdown[scenes[s].first][process].push_back(seconds.get<double>());
+        }
+      }
+    }
+    fs::remove_all(scratch);
+
+    std::cout << "| figure | this build | " << (args.baseline.empty() ? "" : "baseline | this / baseline |") << "\n"
+              << "|---|---|" << (args.baseline.empty() ? "" : "---|---|") << "\n";
+    for (const auto& r : rows) {
+      const double ours = median(r.ours), theirs = median(r.theirs);
+      std::cout << "| " << r.label << " | " << cell(ours) << " |";
+      if (!args.baseline.empty()) std::cout << " " << cell(theirs) << " | " << cell(ours / theirs) << " |";
+      std::cout << "\n";
+    }
+    for (const auto& [scene, processes] : breakdown) {
+      std::cout << "\n" << scene << ", this build, wall time by process [s, median]:";
+      for (const auto& [process, seconds] : processes) std::cout << " " << process << " " << cell(median(seconds)) << ";";
+      std::cout << "\n";
+    }
+    std::cout << fmt::format("\n{} round(s); figures are medians; machine: {} cores.\n", rounds,
+                             sysconf(_SC_NPROCESSORS_ONLN));
+    return 0;
+  });
+}
+
+}  // namespace fibrodem::cli
