@@ -21,13 +21,13 @@ namespace {
 
 constexpr std::size_t kBlockCells = 10000;
 
-Population block_of(std::shared_ptr<const CellModel> model) {
+Population block_of(std::shared_ptr<const CellModel> model, std::size_t cells = kBlockCells) {
   Population pop;
   pop.model = std::move(model);
   for (const auto& p : pop.info().parameters) pop.params.push_back(p.default_value);
   for (const auto& s : pop.info().states) pop.initial_state.push_back(s.initial);
   pop.voltage_state = pop.info().voltage_state;
-  pop.cells.resize(kBlockCells);
+  pop.cells.resize(cells);
   pop.reset();
   return pop;
 }
@@ -51,22 +51,31 @@ void evaluate_block(benchmark::State& state, std::shared_ptr<const CellModel> mo
       benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
 }
 
-// A whole Rush-Larsen step over a block of 10^4 cells, one thread, as a run
-// takes it: each block of cells updated right after its evaluation.
-void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel> model, bool lookup_tables) {
+// A whole Rush-Larsen step over `cells` cells (10^4, or 5 x 10^4 to see that
+// the cost per cell stays flat once the states outgrow the caches), one
+// thread, as a run takes it: each block of cells updated right after its
+// evaluation; with lookup_tables the tabulated gates advanced from the table's
+// y_inf and exp(b dt) columns.
+void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel> model, bool lookup_tables,
+                       std::size_t cells) {
   omp_set_num_threads(1);
-  Population pop = block_of(std::move(model));
-  if (lookup_tables && !pop.use_lookup_table()) {
-    state.SkipWithError("the model marks no voltage_only gate");
-    return;
+  constexpr double dt_ms = 0.01;
+  Population pop = block_of(std::move(model), cells);
+  if (lookup_tables) {
+    if (!pop.use_lookup_table()) {
+      state.SkipWithError("the model marks no voltage_only gate");
+      return;
+    }
+    pop.table = pop.table->with_rush_larsen_step(dt_ms);
+    pop.table_advances_gates = true;
   }
-  FixedStepIntegrator rl(FixedStepIntegrator::Rule::rush_larsen, 0.01);
+  FixedStepIntegrator rl(FixedStepIntegrator::Rule::rush_larsen, dt_ms);
   for (auto _ : state) {
-    pop.evaluate(0.0, [&](std::size_t begin, std::size_t end) { rl.update_block(pop, begin, end, 0.01); });
+    pop.evaluate(0.0, [&](std::size_t begin, std::size_t end) { rl.update_block(pop, begin, end, dt_ms); });
     benchmark::ClobberMemory();
   }
   state.counters["cell_steps_per_s"] =
-      benchmark::Counter(static_cast<double>(state.iterations() * kBlockCells), benchmark::Counter::kIsRate);
+      benchmark::Counter(static_cast<double>(state.iterations() * cells), benchmark::Counter::kIsRate);
 }
 
 // One simulated second (one beat at 1 Hz) of one cell, whole run: the wall
@@ -143,10 +152,15 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
     if (any_voltage_only)
       benchmark::RegisterBenchmark(("evaluate_block_1e4_lut/" + name).c_str(), evaluate_block, model, true)
           ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model, false)
+    benchmark::RegisterBenchmark(("rush_larsen_step_1e4/" + name).c_str(), rush_larsen_block, model, false,
+                                 kBlockCells)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("rush_larsen_step_5e4/" + name).c_str(), rush_larsen_block, model, false,
+                                 5 * kBlockCells)
         ->Unit(benchmark::kMicrosecond);
     if (any_voltage_only)
-      benchmark::RegisterBenchmark(("rush_larsen_step_1e4_lut/" + name).c_str(), rush_larsen_block, model, true)
+      benchmark::RegisterBenchmark(("rush_larsen_step_1e4_lut/" + name).c_str(), rush_larsen_block, model, true,
+                                   kBlockCells)
           ->Unit(benchmark::kMicrosecond);
     const bool myocyte = find_output(model->info(), "Ca_i") >= 0;
     benchmark::RegisterBenchmark(("one_cell_1s/" + name + "/cvode_rtol1e-6").c_str(), single_cell_second, name,

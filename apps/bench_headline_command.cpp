@@ -6,7 +6,8 @@
 // Figures, from this build and from OTHER (a `fibrodem` executable, e.g. the
 // previous release), alternating, the median of N rounds:
 //   - Google Benchmark figures of `fibrodem bench`: the Rush-Larsen step of
-//     10^4 colman and courtemanche cells on one thread (cell-steps/s), one
+//     10^4 colman and courtemanche cells on one thread, without and with
+//     lookup tables (cell-steps/s), one
 //     simulated second of one CRN cell under CVODE at (rtol, atol) = (1e-6,
 //     1e-8) and (1e-4, 1e-6) (ms), one DEM step of the Fig. 3 in-series tissue
 //     (particle-steps/s, one thread);
@@ -43,8 +44,12 @@ struct Micro {
 
 const std::vector<Micro> kMicro = {
     {"colman Rush-Larsen step, 1 thread [M cell-steps/s]", "rush_larsen_step_1e4/colman", "cell_steps_per_s"},
+    {"colman Rush-Larsen step with lookup tables, 1 thread [M cell-steps/s]", "rush_larsen_step_1e4_lut/colman",
+     "cell_steps_per_s"},
     {"courtemanche Rush-Larsen step, 1 thread [M cell-steps/s]", "rush_larsen_step_1e4/courtemanche",
      "cell_steps_per_s"},
+    {"courtemanche Rush-Larsen step with lookup tables, 1 thread [M cell-steps/s]",
+     "rush_larsen_step_1e4_lut/courtemanche", "cell_steps_per_s"},
     {"CRN 1 s, CVODE rtol 1e-6 atol 1e-8 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-6", ""},
     {"CRN 1 s, CVODE rtol 1e-4 atol 1e-6 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-4", ""},
     {"DEM step, Fig. 3 in-series, 1 thread [M particle-steps/s]", "dem_step/in_series", "particle_steps_per_s"},

@@ -45,21 +45,6 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
   return table;
 }
 
-VoltageTable::Position VoltageTable::position(double V, long long& clamped) const {
-  const double last = static_cast<double>(points_ - 1);
-  double x = (V - v_min_) * inv_step_;
-  if (!(x >= 0.0)) {  // below the table, or NaN
-    x = 0.0;
-    ++clamped;
-  } else if (x > last) {
-    x = last;
-    ++clamped;
-  }
-  std::size_t i = static_cast<std::size_t>(x);
-  if (i + 1 >= points_) i = points_ - 2;
-  return {i, x - static_cast<double>(i)};
-}
-
 void VoltageTable::fill(const BlockView& block, int voltage_state) const {
   const std::size_t g = gates_.size(), width = 2 * g;
   const double* V = block.y + static_cast<std::size_t>(voltage_state) * block.stride;

@@ -69,7 +69,20 @@ class VoltageTable {
     std::size_t row;
     double weight;
   };
-  Position position(double V, long long& clamped) const;
+  Position position(double V, long long& clamped) const {
+    const double last = static_cast<double>(points_ - 1);
+    double x = (V - v_min_) * inv_step_;
+    if (!(x >= 0.0)) {  // below the table, or NaN
+      x = 0.0;
+      ++clamped;
+    } else if (x > last) {
+      x = last;
+      ++clamped;
+    }
+    std::size_t i = static_cast<std::size_t>(x);
+    if (i + 1 >= points_) i = points_ - 2;
+    return {i, x - static_cast<double>(i)};
+  }
   mutable std::atomic<long long> clamps_{0};
 };
 
