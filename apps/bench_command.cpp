@@ -71,7 +71,7 @@ void rush_larsen_block(benchmark::State& state, std::shared_ptr<const CellModel>
   }
   FixedStepIntegrator rl(FixedStepIntegrator::Rule::rush_larsen, dt_ms);
   for (auto _ : state) {
-    pop.evaluate(0.0, [&](std::size_t begin, std::size_t end) { rl.update_block(pop, begin, end, dt_ms); });
+    pop.evaluate(0.0, [&](const BlockView& block) { rl.update_view(pop, block, dt_ms); }, false);
     benchmark::ClobberMemory();
   }
   state.counters["cell_steps_per_s"] =

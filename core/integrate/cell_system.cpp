@@ -73,7 +73,7 @@ using Clock = std::chrono::steady_clock;
 
 void CellSystem::evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after) {
   if (!after) return pop.evaluate(t_ms);
-  pop.evaluate(t_ms, [&](std::size_t begin, std::size_t end) { after(pop, begin, end); });
+  pop.evaluate(t_ms, [&](const BlockView& block) { after(pop, block); });
 }
 
 // Every block of every ionic population in one parallel loop (one fork and
@@ -88,7 +88,7 @@ void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) 
     const std::size_t begin = blocks_[i].second * kCellsPerBlock;
     block_inputs(blocks_[i].first, begin, std::min(pop.size(), begin + kCellsPerBlock));
     if (!after) pop.evaluate_block(blocks_[i].second, t_ms);
-    else pop.evaluate_block(blocks_[i].second, t_ms, [&](std::size_t b, std::size_t e) { after(pop, b, e); });
+    else pop.evaluate_block(blocks_[i].second, t_ms, [&](const BlockView& block) { after(pop, block); }, false);
   };
   // One block (a single cell): no OpenMP region at all (see Population::evaluate).
   if (blocks_.size() == 1) return evaluate_block(0);

@@ -64,13 +64,17 @@ struct CellSystem {
   void gather_voltage();   // populations -> V_mV
   void scatter_voltage();  // V_mV -> populations
   // Work on one block of a population right after its evaluation.
-  using AfterPopulationBlock = std::function<void(Population&, std::size_t begin, std::size_t end)>;
+  // (The view is the block's own: see AfterBlock in population.hpp.)
+  using AfterPopulationBlock = std::function<void(Population&, const BlockView& block)>;
   // Evaluates every derivative at time t: myofilaments from their hosts' Ca_i,
   // then every cell's i_ext (stimulus at t_stim, explicit coupling current,
   // stretch-activated current), then the ionic models. after(pop, begin, end),
   // if given, runs on each block as soon as it is evaluated: a fixed-step
   // integrator updates the block's states there, while they are in cache (the
-  // inputs every cell needs were all taken before any state changes).
+  // inputs every cell needs were all taken before any state changes). The
+  // ionic models then write no outputs (nothing reads them between samples;
+  // the trace recorder evaluates afresh); myofilaments still do (stretch and
+  // troponin flux feed the cells and the mechanics).
   void evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after = nullptr);
   // Calls f(population, local index) for each block a cell's states live in:
   // its ionic population, then its myofilament if any.

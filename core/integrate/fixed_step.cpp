@@ -38,6 +38,14 @@ bool update_row(double* y, const double* y0, const double* ys, const double* a, 
   return xsimd::all(in_limits);
 }
 
+// A population's limits for state k (none if it has not been given any).
+double lower_limit(const Population& pop, std::size_t k) {
+  return pop.lower_limit.empty() ? -std::numeric_limits<double>::infinity() : pop.lower_limit[k];
+}
+double upper_limit(const Population& pop, std::size_t k) {
+  return pop.upper_limit.empty() ? std::numeric_limits<double>::infinity() : pop.upper_limit[k];
+}
+
 }  // namespace
 
 bool FixedStepIntegrator::update_block(Population& pop, const std::vector<double>& from,
@@ -46,18 +54,32 @@ bool FixedStepIntegrator::update_block(Population& pop, const std::vector<double
   const std::size_t n = pop.size();
   const auto& states = pop.info().states;
   const bool exponential_gates = rule_ != Rule::euler;
-  const bool limits = !pop.lower_limit.empty();
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  // Tabulated gates first, from the potentials at the step's start.
-  const bool by_table = pop.table_advances_gates;
-  if (by_table) pop.table->advance_gates(pop.y.data(), n, pop.voltage(), begin, end);
   bool in_limits = true;
   for (std::size_t k = 0; k < states.size(); ++k)
-    if (!(by_table && states[k].voltage_only))
-      in_limits &= update_row(pop.y.data() + k * n, from.data() + k * n, slope_at.data() + k * n,
+    in_limits &= update_row(pop.y.data() + k * n, from.data() + k * n, slope_at.data() + k * n,
                             pop.a.data() + k * n, pop.b.data() + k * n, begin, end, dt,
-                            exponential_gates && states[k].gate, limits ? pop.lower_limit[k] : -kInf,
-                            limits ? pop.upper_limit[k] : kInf);
+                            exponential_gates && states[k].gate, lower_limit(pop, k), upper_limit(pop, k));
+  return in_limits;
+}
+
+bool FixedStepIntegrator::update_view(const Population& pop, const BlockView& block, double dt) const {
+  const auto& states = pop.info().states;
+  const bool exponential_gates = rule_ != Rule::euler;
+  // The view's y is the population's, offset to the block (const only to the model).
+  double* y = const_cast<double*>(block.y);
+  // Tabulated gates first, from the potentials at the step's start.
+  const bool by_table = pop.table_advances_gates;
+  if (by_table)
+    pop.table->advance_gates(y, block.stride, y + static_cast<std::size_t>(pop.voltage_state) * block.stride, 0,
+                             block.end);
+  bool in_limits = true;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    if (by_table && states[k].voltage_only) continue;
+    double* row = y + k * block.stride;
+    in_limits &= update_row(row, row, row, block.a + k * block.ab_stride, block.b + k * block.ab_stride, 0,
+                            block.end, dt, exponential_gates && states[k].gate, lower_limit(pop, k),
+                            upper_limit(pop, k));
+  }
   return in_limits;
 }
 
@@ -91,9 +113,8 @@ void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
       double h;
       std::atomic<bool>* out_of_limits;
     } update{this, h, &out_of_limits};
-    system.evaluate(t, t, [u = &update](Population& pop, std::size_t begin, std::size_t end) {
-      if (!u->integrator->update_block(pop, pop.y, pop.y, begin, end, u->h))
-        u->out_of_limits->store(true, std::memory_order_relaxed);
+    system.evaluate(t, t, [u = &update](Population& pop, const BlockView& block) {
+      if (!u->integrator->update_view(pop, block, u->h)) u->out_of_limits->store(true, std::memory_order_relaxed);
     });
     system.for_each_population([](Population& pop) { pop.table_advances_gates = false; });
     system.states_checked = all_checked;

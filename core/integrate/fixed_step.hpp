@@ -30,10 +30,10 @@ class FixedStepIntegrator final : public Integrator {
   // Advances every state of a population over dt with its present a, b.
   void update_states(Population& pop, double dt_ms) const { update_from(pop, pop.y, pop.y, dt_ms); }
   // The same for the cells [begin, end) only.
-  // False if a new value left the population's limits (lower_limit, upper_limit).
-  bool update_block(Population& pop, std::size_t begin, std::size_t end, double dt_ms) const {
-    return update_block(pop, pop.y, pop.y, begin, end, dt_ms);
-  }
+  // Advances one block of a population over dt from the a, b of its own view
+  // (Population::evaluate with an AfterBlock); false if a new value left the
+  // population's limits (lower_limit, upper_limit).
+  bool update_view(const Population& pop, const BlockView& block, double dt_ms) const;
 
  private:
   // Advances from the states `from` (gates exactly, others by Euler) with the

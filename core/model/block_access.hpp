@@ -34,7 +34,8 @@ class Cells {
  public:
   using Real = R;
 
-  Cells(const BlockView& block, std::size_t first, std::size_t count) : v_(block), c_(first), n_(count) {}
+  Cells(const BlockView& block, std::size_t first, std::size_t count)
+      : v_(block), ab_stride_(block.ab_stride ? block.ab_stride : block.stride), c_(first), n_(count) {}
 
   FIBRODEM_LANE_INLINE R state(int k) const { return load(v_.y + k * v_.stride); }
   FIBRODEM_LANE_INLINE R input(int k) const { return load(v_.inputs + k * v_.stride); }
@@ -42,24 +43,24 @@ class Cells {
 
   // A state that is not a gate: dy/dt given directly.
   FIBRODEM_LANE_INLINE void rate(int k, const R& dydt) const {
-    store(v_.a + k * v_.stride, dydt);
-    store(v_.b + k * v_.stride, R(0.0));
+    store(v_.a + k * ab_stride_, dydt);
+    store(v_.b + k * ab_stride_, R(0.0));
   }
   // A gate from its steady state and time constant: dy/dt = (y_inf - y)/tau.
   FIBRODEM_LANE_INLINE void gate_inf_tau(int k, const R& y_inf, const R& tau) const {
     const R rate = 1.0 / tau;
-    store(v_.a + k * v_.stride, y_inf * rate);
-    store(v_.b + k * v_.stride, -rate);
+    store(v_.a + k * ab_stride_, y_inf * rate);
+    store(v_.b + k * ab_stride_, -rate);
   }
   // A gate from its opening and closing rates: dy/dt = alpha (1 - y) - beta y.
   FIBRODEM_LANE_INLINE void gate_alpha_beta(int k, const R& alpha, const R& beta) const {
-    store(v_.a + k * v_.stride, alpha);
-    store(v_.b + k * v_.stride, -(alpha + beta));
+    store(v_.a + k * ab_stride_, alpha);
+    store(v_.b + k * ab_stride_, -(alpha + beta));
   }
   // Any other linear form, dy/dt = a + b y (b of the model's own).
   FIBRODEM_LANE_INLINE void linear(int k, const R& a, const R& b) const {
-    store(v_.a + k * v_.stride, a);
-    store(v_.b + k * v_.stride, b);
+    store(v_.a + k * ab_stride_, a);
+    store(v_.b + k * ab_stride_, b);
   }
   FIBRODEM_LANE_INLINE void output(int k, const R& value) const {
     if (v_.outputs != nullptr) store(v_.outputs + k * v_.stride, value);
@@ -76,7 +77,7 @@ class Cells {
   }
 
   const BlockView& v_;
-  std::size_t c_, n_;
+  std::size_t ab_stride_, c_, n_;
 };
 
 // One cell at a time, for a model that loops over its block itself (the

@@ -87,7 +87,7 @@ struct ModelInfo {
 };
 
 // Views of one block of cells in structure-of-arrays layout. Array X of
-// quantity k for cell c is X[k * stride + c]. Parameters are shared by the
+// quantity k for cell c is X[k * stride + c] (a and b: X[k * ab_stride + c]). Parameters are shared by the
 // block (one value each).
 struct BlockView {
   std::size_t begin = 0;
@@ -96,9 +96,12 @@ struct BlockView {
   const double* y = nullptr;       // states     [n_states  * stride]
   const double* params = nullptr;  // parameters [n_params]
   const double* inputs = nullptr;  // inputs     [n_inputs  * stride]
-  double* a = nullptr;             // dy/dt = a + b*y   [n_states * stride]
-  double* b = nullptr;             //                   [n_states * stride]
+  double* a = nullptr;             // dy/dt = a + b*y   [n_states * ab_stride]
+  double* b = nullptr;             //                   [n_states * ab_stride]
   double* outputs = nullptr;       // outputs    [n_outputs * stride], may be null
+  // Stride of a and b, which may live in a small scratch tile of the block's
+  // cells while y lives in the population (0: the same as stride).
+  std::size_t ab_stride = 0;
   // When true the model may leave a, b of its voltage_only gates unwritten: the
   // core fills them from its lookup table (it never sets this for a model
   // without voltage_only gates). Everything else must still be written.

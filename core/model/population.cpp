@@ -26,26 +26,42 @@ BlockView Population::view() {
   v.a = a.data();
   v.b = b.data();
   v.outputs = outputs.empty() ? nullptr : outputs.data();
+  v.ab_stride = size();
   v.scalar_reference = scalar_reference;
   return v;
 }
 
-void Population::evaluate(double t_ms, const AfterBlock& after) {
+void Population::evaluate(double t_ms, const AfterBlock& after, bool with_outputs) {
   // Blocks of cells in parallel: each cell's derivatives depend only on its own
   // state and inputs, so the result does not depend on the thread count.
   const auto blocks = static_cast<long>(block_count());
   // One block (a single cell, a small tissue) runs here: even an OpenMP region
   // whose if() is false costs an allocation and a futex call per entry, which
   // CVODE on one cell pays thousands of times per simulated second.
-  if (blocks == 1) return evaluate_block(0, t_ms, after);
+  if (blocks == 1) return evaluate_block(0, t_ms, after, with_outputs);
 #pragma omp parallel for schedule(static)
-  for (long k = 0; k < blocks; ++k) evaluate_block(static_cast<std::size_t>(k), t_ms, after);
+  for (long k = 0; k < blocks; ++k) evaluate_block(static_cast<std::size_t>(k), t_ms, after, with_outputs);
 }
 
-void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& after) {
+void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& after, bool with_outputs) {
   BlockView block = view();
-  block.begin = k * kCellsPerBlock;
-  block.end = std::min(size(), block.begin + kCellsPerBlock);
+  const std::size_t begin = k * kCellsPerBlock, end = std::min(size(), begin + kCellsPerBlock);
+  if (after) {
+    // The block's own view: cells from 0, a and b in this thread's tile.
+    thread_local std::vector<double> tile;
+    tile.resize(2 * n_states() * kCellsPerBlock);  // no allocation once grown
+    block.y += begin;
+    block.inputs += begin;
+    block.outputs = with_outputs && block.outputs ? block.outputs + begin : nullptr;
+    block.a = tile.data();
+    block.b = tile.data() + n_states() * kCellsPerBlock;
+    block.ab_stride = kCellsPerBlock;
+    block.begin = 0;
+    block.end = end - begin;
+  } else {
+    block.begin = begin;
+    block.end = end;
+  }
   if (table) {
     block.skip_voltage_only_gates = true;
     model->evaluate(block, t_ms);
@@ -53,7 +69,7 @@ void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& af
   } else {
     model->evaluate(block, t_ms);
   }
-  if (after) after(block.begin, block.end);
+  if (after) after(block);
 }
 
 bool Population::use_lookup_table() {

@@ -16,9 +16,11 @@
 namespace fibrodem {
 
 
-// Work on a block [begin, end) right after it was evaluated (an integrator's
-// state update), while its derivatives are still in cache.
-using AfterBlock = std::function<void(std::size_t begin, std::size_t end)>;
+// Work on a block right after it was evaluated (an integrator's state update),
+// while its derivatives are still in cache. The view is the block's alone:
+// cells [0, end - begin) of it are the population's [begin, end); its a and b
+// are a scratch tile of the thread (ab_stride), not the population's arrays.
+using AfterBlock = std::function<void(const BlockView& block)>;
 
 struct Population {
   CellType type = CellType::myocyte;
@@ -55,11 +57,14 @@ struct Population {
   double state(int k, std::size_t local) const { return y[k * size() + local]; }
   double* voltage() { return y.data() + voltage_state * size(); }
   double* i_ext() { return inputs.data(); }  // input 0 of an ionic model
-  // Evaluates a, b and outputs for the whole block at time t, block by block
-  // (in parallel), calling after(begin, end) on each block once it is done.
-  void evaluate(double t_ms, const AfterBlock& after = nullptr);
+  // Evaluates a, b and outputs for the whole population at time t, block by
+  // block (in parallel). With `after`, each block's a and b go to a scratch
+  // tile handed to after() instead (the population's a, b are left alone, so
+  // memory traffic stays that of the states), and the outputs are written
+  // only if with_outputs.
+  void evaluate(double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true);
   // The same for block k alone (cells [k, k+1) x kCellsPerBlock), on the calling thread.
-  void evaluate_block(std::size_t k, double t_ms, const AfterBlock& after = nullptr);
+  void evaluate_block(std::size_t k, double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true);
   std::size_t block_count() const { return (size() + kCellsPerBlock - 1) / kCellsPerBlock; }
   BlockView view();
   // Builds the table from the current parameters and initial state; false

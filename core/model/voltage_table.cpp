@@ -48,13 +48,14 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
 void VoltageTable::fill(const BlockView& block, int voltage_state) const {
   const std::size_t g = gates_.size(), width = 2 * g;
   const double* V = block.y + static_cast<std::size_t>(voltage_state) * block.stride;
+  const std::size_t ab_stride = block.ab_stride ? block.ab_stride : block.stride;
   long long clamped = 0;
   for (std::size_t c = block.begin; c < block.end; ++c) {
     const auto [i, w] = position(V[c], clamped);
     const double* r0 = rows_.data() + i * width;
     const double* r1 = r0 + width;
     for (std::size_t q = 0; q < g; ++q) {
-      const std::size_t at = static_cast<std::size_t>(gates_[q]) * block.stride + c;
+      const std::size_t at = static_cast<std::size_t>(gates_[q]) * ab_stride + c;
       block.a[at] = r0[2 * q] + w * (r1[2 * q] - r0[2 * q]);
       block.b[at] = r0[2 * q + 1] + w * (r1[2 * q + 1] - r0[2 * q + 1]);
     }
