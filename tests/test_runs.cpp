@@ -134,8 +134,8 @@ TEST_CASE("an effect the scene cannot support is refused with what it needs") {
 }
 
 TEST_CASE("results do not depend on the thread count") {
-  // 2100 cells: several blocks of cells, and above kParallelCells, so that the
-  // gathers, coupling currents and biomarker tracking run in parallel too.
+  // 2100 cells: nine blocks of cells, shared dynamically between the threads,
+  // each computing its own gap-junction currents inside the parallel loop.
   json m = json::parse(R"({
     "fibrodem": 1, "name": "threads", "duration_ms": 6,
     "tissue": {"builder": "strand", "type": "myocyte", "cells": 2100},
