@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
-#include <limits>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "model/simd.hpp"
