@@ -15,7 +15,6 @@
 
 namespace fibrodem {
 
-
 // Work on a block right after it was evaluated (an integrator's state update),
 // while its derivatives are still in cache. The view is the block's alone:
 // cells [0, end - begin) of it are the population's [begin, end); its a and b

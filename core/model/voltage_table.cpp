@@ -1,8 +1,11 @@
 #include "model/voltage_table.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "model/population.hpp"
+#include "model/simd.hpp"
 
 namespace fibrodem {
 
@@ -85,17 +88,34 @@ std::shared_ptr<VoltageTable> VoltageTable::with_rush_larsen_step(double dt_ms) 
 
 void VoltageTable::advance_gates(double* y, std::size_t stride, const double* V, std::size_t begin,
                                  std::size_t end) const {
+  // In lanes of cells: each lane's table rows are gathered (every cell has its
+  // own V), the rest is arithmetic on whole registers.
+  using simd::Real;
+  using Index = xsimd::batch<std::int64_t>;
+  static_assert(Index::size == Real::size);
   const std::size_t g = gates_.size(), width = 2 * g;
+  const double last = static_cast<double>(points_ - 1);
   long long clamped = 0;
-  for (std::size_t c = begin; c < end; ++c) {
-    const auto [i, w] = position(V[c], clamped);
-    const double* r0 = rl_rows_.data() + i * width;
-    const double* r1 = r0 + width;
+  for (std::size_t c = begin; c < end; c += simd::kLanes) {
+    const std::size_t n = std::min(simd::kLanes, end - c);
+    // Table position, as position() does it: below the table or NaN -> row 0,
+    // above -> the last row; both counted.
+    Real x = (simd::load(V + c, n) - v_min_) * inv_step_;
+    const auto below = !(x >= 0.0), above = x > last;
+    alignas(64) bool out[simd::kLanes];
+    (below | above).store_aligned(out);
+    for (std::size_t i = 0; i < n; ++i) clamped += out[i];
+    x = simd::select(below, 0.0, simd::select(above, last, x));
+    const Index row = xsimd::min(xsimd::to_int(simd::floor(x)), Index(static_cast<std::int64_t>(points_) - 2));
+    const Real w = x - xsimd::to_float(row);
+    const Index at = row * static_cast<std::int64_t>(width);
     for (std::size_t q = 0; q < g; ++q) {
-      const double y_inf = r0[2 * q] + w * (r1[2 * q] - r0[2 * q]);
-      const double E = r0[2 * q + 1] + w * (r1[2 * q + 1] - r0[2 * q + 1]);
-      double& gate = y[static_cast<std::size_t>(gates_[q]) * stride + c];
-      gate = y_inf + (gate - y_inf) * E;
+      const double* column = rl_rows_.data() + 2 * q;
+      const Real y0 = Real::gather(column, at), y1 = Real::gather(column + width, at);
+      const Real e0 = Real::gather(column + 1, at), e1 = Real::gather(column + 1 + width, at);
+      const Real y_inf = y0 + w * (y1 - y0), E = e0 + w * (e1 - e0);
+      double* gate = y + static_cast<std::size_t>(gates_[q]) * stride + c;
+      simd::store(gate, y_inf + (simd::load(gate, n) - y_inf) * E, n);
     }
   }
   if (clamped != 0) clamps_.fetch_add(clamped, std::memory_order_relaxed);
