@@ -1,5 +1,6 @@
 #include "measure/biomarkers.hpp"
 
+#include "model/simd.hpp"
 #include "model/work_split.hpp"
 
 #include <algorithm>
@@ -10,10 +11,21 @@ namespace fibrodem {
 BiomarkerTracker::BiomarkerTracker(std::vector<CellType> types, std::vector<double> onsets,
                                    double from_ms, std::function<void(const BeatBiomarkers&)> on_beat)
     : types_(std::move(types)), onsets_(std::move(onsets)), from_ms_(from_ms),
-      on_beat_(std::move(on_beat)), cells_(types_.size()) {}
+      on_beat_(std::move(on_beat)), cells_(types_.size()), v_prev_(types_.size()), dvdt_max_(types_.size()),
+      peak_(types_.size()), rmp_(types_.size()) {}
+
+void BiomarkerTracker::mirror(std::size_t c) {
+  dvdt_max_[c] = cells_[c].dvdt_max;
+  peak_[c] = cells_[c].peak;
+  rmp_[c] = cells_[c].rmp;
+}
 
 void BiomarkerTracker::start(double /*t_ms*/, const double* V) {
-  for (std::size_t c = 0; c < cells_.size(); ++c) cells_[c] = Cell{V[c], V[c]};
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    cells_[c] = Cell{.rmp = V[c]};
+    v_prev_[c] = V[c];
+    mirror(c);
+  }
   // Without stimulus the run is one beat whose RMP is the initial V; with one,
   // beats open at the onsets.
   beat_ = onsets_.empty() ? 0 : -1;
@@ -24,10 +36,11 @@ void BiomarkerTracker::open_beat(double onset, double t_old, double t_new, const
   ++beat_;
   const double w = t_new > t_old ? std::clamp((onset - t_old) / (t_new - t_old), 0.0, 1.0) : 0.0;
   for (std::size_t c = 0; c < cells_.size(); ++c) {
-    const double v_onset = cells_[c].v_prev + w * (V[c] - cells_[c].v_prev);
+    const double v_onset = v_prev_[c] + w * (V[c] - v_prev_[c]);
     const double dvdt_prev = cells_[c].dvdt_prev;
-    cells_[c] = Cell{cells_[c].v_prev, v_onset};
+    cells_[c] = Cell{.rmp = v_onset};
     cells_[c].dvdt_prev = dvdt_prev;
+    mirror(c);
   }
 }
 
@@ -90,46 +103,80 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
   }
   if (beat_ < 0) {
     for (std::size_t c = 0; c < cells_.size(); ++c) {
-      cells_[c].v_prev = V[c];
+      v_prev_[c] = V[c];
       cells_[c].dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
     }
     return;
   }
+  if (!dVdt) return step_lanes(t_old, t_new, V);
+  for_each_cell(static_cast<long>(cells_.size()), [&](long c) { step_cell(c, t_old, t_new, V, dVdt); });
+}
+
+void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, const double* V, const double* dVdt) {
   const double h = t_new - t_old;
-  for_each_cell(static_cast<long>(cells_.size()), [&](long c) {
-    Cell& s = cells_[c];
-    const double slope = dVdt ? dVdt[c] : (V[c] - s.v_prev) / h;
-    const double t_slope = dVdt ? t_new : t_old + 0.5 * h;
-    if (slope > s.dvdt_max) {
-      s.dvdt_max = slope;
-      s.t_act = t_slope;
-      // With the integrator's own dV/dt the samples are exact values at step
-      // ends, so the peak between them is refined once the next one is in.
-      s.refine_max = dVdt != nullptr;
-      s.max_left_t = t_old;
-      s.max_left_dvdt = s.dvdt_prev;
-    } else if (s.refine_max) {
-      s.refine_max = false;
-      refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
+  Cell& s = cells_[c];
+  const double slope = dVdt ? dVdt[c] : (V[c] - v_prev_[c]) / h;
+  const double t_slope = dVdt ? t_new : t_old + 0.5 * h;
+  if (slope > s.dvdt_max) {
+    s.dvdt_max = slope;
+    s.t_act = t_slope;
+    // With the integrator's own dV/dt the samples are exact values at step
+    // ends, so the peak between them is refined once the next one is in.
+    s.refine_max = dVdt != nullptr;
+    s.max_left_t = t_old;
+    s.max_left_dvdt = s.dvdt_prev;
+  } else if (s.refine_max) {
+    s.refine_max = false;
+    refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
+  }
+  if (V[c] > s.peak) {
+    s.peak = V[c];
+    s.t_peak = t_new;
+    s.cross50 = s.cross90 = -1;  // a new peak: repolarisation not yet seen
+  } else {
+    const double amplitude = s.peak - s.rmp;
+    const double d1 = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
+    auto crossing = [&](double fraction, double& t_cross) {
+      const double level = s.peak - fraction * amplitude;
+      if (v_prev_[c] >= level && V[c] < level)
+        t_cross = falling_crossing(t_old, h, v_prev_[c], V[c], s.dvdt_prev, d1, level);
+    };
+    crossing(0.5, s.cross50);
+    crossing(0.9, s.cross90);
+  }
+  v_prev_[c] = V[c];
+  s.dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
+  mirror(c);
+}
+
+void BiomarkerTracker::step_lanes(double t_old, double t_new, const double* V) {
+  using simd::Real;
+  const double h = t_new - t_old;
+  // A margin on the levels: step_cell may compute them with a fused
+  // multiply-add, a bit apart from these; near a level, step_cell decides.
+  constexpr double kLevelMargin_mV = 1e-9;
+  const std::size_t n_cells = cells_.size();
+  for (std::size_t c = 0; c < n_cells; c += simd::kLanes) {
+    const std::size_t n = std::min(simd::kLanes, n_cells - c);
+    const Real v = simd::load(V + c, n), v_prev = simd::load(v_prev_.data() + c, n);
+    const Real peak = simd::load(peak_.data() + c, n), amplitude = peak - simd::load(rmp_.data() + c, n);
+    const Real level50 = peak - 0.5 * amplitude, level90 = peak - 0.9 * amplitude;
+    const auto near = [&](const Real& level) {
+      return (v_prev >= level - kLevelMargin_mV) & (v < level + kLevelMargin_mV);
+    };
+    const auto busy = ((v - v_prev) / h > simd::load(dvdt_max_.data() + c, n)) | (v > peak) | near(level50) |
+                      near(level90);
+    if (!xsimd::any(busy)) {  // only V moves on (dvdt_prev stays NaN without dV/dt)
+      simd::store(v_prev_.data() + c, v, n);
+      continue;
     }
-    if (V[c] > s.peak) {
-      s.peak = V[c];
-      s.t_peak = t_new;
-      s.cross50 = s.cross90 = -1;  // a new peak: repolarisation not yet seen
-    } else {
-      const double amplitude = s.peak - s.rmp;
-      const double d1 = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
-      auto crossing = [&](double fraction, double& t_cross) {
-        const double level = s.peak - fraction * amplitude;
-        if (s.v_prev >= level && V[c] < level)
-          t_cross = falling_crossing(t_old, h, s.v_prev, V[c], s.dvdt_prev, d1, level);
-      };
-      crossing(0.5, s.cross50);
-      crossing(0.9, s.cross90);
+    alignas(64) bool lane_busy[simd::kLanes];
+    busy.store_aligned(lane_busy);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (lane_busy[i]) step_cell(c + i, t_old, t_new, V, nullptr);
+      else v_prev_[c + i] = V[c + i];
     }
-    s.v_prev = V[c];
-    s.dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
-  });
+  }
 }
 
 void BiomarkerTracker::close_beat() {

@@ -48,7 +48,7 @@ class BiomarkerTracker {
 
  private:
   struct Cell {
-    double v_prev = 0, rmp = 0, peak = -1e300, t_peak = 0, dvdt_max = -1e300, t_act = 0;
+    double rmp = 0, peak = -1e300, t_peak = 0, dvdt_max = -1e300, t_act = 0;
     double cross50 = -1, cross90 = -1;
     double dvdt_prev = std::numeric_limits<double>::quiet_NaN();  // integrator's dV/dt at the last step's end
     // The sample before the largest dV/dt so far, while its right neighbour is awaited.
@@ -57,12 +57,23 @@ class BiomarkerTracker {
   };
   void open_beat(double onset, double t_old, double t_new, const double* V);
   void close_beat();
+  // One cell over the step (the general path).
+  void step_cell(std::size_t c, double t_old, double t_new, const double* V, const double* dVdt);
+  // The step without the integrator's dV/dt, in SIMD lanes: most cells, most
+  // steps, neither steepen, peak nor cross a repolarisation level; only those
+  // that may take step_cell.
+  void step_lanes(double t_old, double t_new, const double* V);
+  // Copies a cell's fields that step_lanes reads into its lanes' arrays.
+  void mirror(std::size_t c);
 
   std::vector<CellType> types_;
   std::vector<double> onsets_;
   double from_ms_;
   std::function<void(const BeatBiomarkers&)> on_beat_;
   std::vector<Cell> cells_;
+  // Per cell, in lanes' arrays: V at the last step's end, and copies of
+  // dvdt_max, peak, rmp (mirror()).
+  std::vector<double> v_prev_, dvdt_max_, peak_, rmp_;
   int beat_ = -1;           // index of the open beat
   std::size_t next_onset_ = 0;
 };
