@@ -78,7 +78,7 @@ struct Simulation::Impl : StepObserver {
   std::array<double, 3> peak_strain{0, 0, 0};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
-  BackgroundWriter writer;  // snapshots
+  BackgroundWriter writer;  // the tissue picture and the snapshots
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
@@ -318,7 +318,8 @@ struct Simulation::Impl : StepObserver {
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
                                 "dvdt_max_mV_per_ms"});
-    if (scene.output.tissue_picture) write_tissue_overview(out, scene.name, tissue);
+    // Drawn on the writer's thread while the run starts (the tissue stays as built).
+    if (scene.output.tissue_picture) writer.post([this] { write_tissue_overview(out, scene.name, tissue); });
     write_summary(out, summary());
   }
 
@@ -382,7 +383,10 @@ struct Simulation::Impl : StepObserver {
     const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
     if (t >= next - kTimeEpsilon_ms) {
       // Drawn on the writer's thread while the run goes on.
-      auto frame = std::make_shared<SnapshotFrame>(take_snapshot(t, snap, tissue, mechanics.get(), system.V_mV));
+      // (The tissue itself is shared with the frame, not copied: the writer
+      // finishes before the simulation, and so the tissue, goes.)
+      const std::shared_ptr<const Tissue> built(std::shared_ptr<void>(), &tissue);
+      auto frame = std::make_shared<SnapshotFrame>(take_snapshot(t, snap, built, mechanics.get(), system.V_mV));
       writer.post([this, frame] { write_snapshot(out, scene.output.snapshots, scene.name, *frame); });
       ++snapshots_taken;
     }

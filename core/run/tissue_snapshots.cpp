@@ -31,15 +31,17 @@ Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
   return now;
 }
 
-SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const Tissue& tissue,
+SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const std::shared_ptr<const Tissue>& tissue,
                             const MechanicsSolver* mechanics, const std::vector<double>& V_mV) {
   SnapshotFrame frame;
   frame.t_ms = t;
-  frame.now = present_tissue(tissue, mechanics, spec.vtk && mechanics ? &frame.displacement : nullptr);
+  frame.now = mechanics ? std::make_shared<const Tissue>(present_tissue(
+                              *tissue, mechanics, spec.vtk ? &frame.displacement : nullptr))
+                        : tissue;
   frame.V_mV = V_mV;
   // The scale of the undeformed tissue, so that every snapshot shows the
   // deformation at the same magnification.
-  const auto box = tissue.bounds_um();
+  const auto box = tissue->bounds_um();
   frame.pixels_per_um = PictureOptions{}.height_px / std::max(box[3] - box[2], 1.0);
   return frame;
 }
@@ -55,10 +57,10 @@ void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, 
     picture.value_max = 40;
     picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, frame.t_ms);
     picture.pixels_per_um = frame.pixels_per_um;
-    write_tissue_png(frame.now, dir / (std::string(stem) + ".png"), &frame.V_mV, picture);
+    write_tissue_png(*frame.now, dir / (std::string(stem) + ".png"), &frame.V_mV, picture);
   }
   if (spec.vtk)
-    write_tissue_vtk(frame.now, dir / (std::string(stem) + ".vtk"), {{"V_mV", frame.V_mV}}, false,
+    write_tissue_vtk(*frame.now, dir / (std::string(stem) + ".vtk"), {{"V_mV", frame.V_mV}}, false,
                      frame.displacement.empty() ? nullptr : &frame.displacement);
 }
 

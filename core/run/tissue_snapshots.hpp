@@ -6,6 +6,7 @@
 
 #include <array>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,12 +28,13 @@ Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
 // What a snapshot shows, taken at time t: the run goes on while it is drawn.
 struct SnapshotFrame {
   double t_ms = 0;
-  Tissue now;                                       // deformed, with mechanics
+  std::shared_ptr<const Tissue> now;                // deformed, with mechanics; else the tissue itself
   std::vector<std::array<double, 2>> displacement;  // per particle, with mechanics and VTK
   std::vector<double> V_mV;
   double pixels_per_um = 0;                         // of the undeformed tissue
 };
-SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const Tissue& tissue,
+// `tissue` is the run's own (shared, not copied, when nothing moves it).
+SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const std::shared_ptr<const Tissue>& tissue,
                             const MechanicsSolver* mechanics, const std::vector<double>& V_mV);
 
 // The tissue coloured by membrane potential at the frame's time (the step's
