@@ -77,24 +77,18 @@ void CellSystem::evaluate_population(Population& pop, double t_ms, const AfterPo
 }
 
 // Every block of every ionic population in one parallel loop (one fork and
-// join per step); blocks are taken dynamically, as models differ in cost.
-// Each block depends only on its own cells: the thread count changes nothing.
+// join per step).
 void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) {
   blocks_.clear();
   for (std::size_t p = 0; p < populations.size(); ++p)
     for (std::size_t k = 0; k < populations[p].block_count(); ++k) blocks_.push_back({p, k});
-  auto evaluate_block = [&](std::size_t i) {
+  for_each_block(static_cast<long>(blocks_.size()), [&](long i) {
     Population& pop = populations[blocks_[i].first];
     const std::size_t begin = blocks_[i].second * kCellsPerBlock;
     block_inputs(blocks_[i].first, begin, std::min(pop.size(), begin + kCellsPerBlock));
     if (!after) pop.evaluate_block(blocks_[i].second, t_ms);
     else pop.evaluate_block(blocks_[i].second, t_ms, [&](const BlockView& block) { after(pop, block); }, false);
-  };
-  // One block (a single cell): no OpenMP region at all (see Population::evaluate).
-  if (blocks_.size() == 1) return evaluate_block(0);
-  const auto count = static_cast<long>(blocks_.size());
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long i = 0; i < count; ++i) evaluate_block(static_cast<std::size_t>(i));
+  });
 }
 
 void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after) {

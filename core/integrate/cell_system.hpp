@@ -68,8 +68,8 @@ struct CellSystem {
   using AfterPopulationBlock = std::function<void(Population&, const BlockView& block)>;
   // Evaluates every derivative at time t: myofilaments from their hosts' Ca_i,
   // then every cell's i_ext (stimulus at t_stim, explicit coupling current,
-  // stretch-activated current), then the ionic models. after(pop, begin, end),
-  // if given, runs on each block as soon as it is evaluated: a fixed-step
+  // stretch-activated current), then the ionic models. after(pop, block), if
+  // given, runs on each block as soon as it is evaluated: a fixed-step
   // integrator updates the block's states there, while they are in cache (the
   // inputs every cell needs were all taken before any state changes). The
   // ionic models then write no outputs (nothing reads them between samples;

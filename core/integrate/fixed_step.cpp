@@ -86,14 +86,10 @@ bool FixedStepIntegrator::update_view(const Population& pop, const BlockView& bl
 void FixedStepIntegrator::update_from(Population& pop, const std::vector<double>& from,
                                       const std::vector<double>& slope_at, double dt) const {
   const std::size_t n = pop.size();
-  const auto blocks = static_cast<long>(pop.block_count());
-  auto update = [&](long block) {
+  for_each_block(static_cast<long>(pop.block_count()), [&](long block) {
     const std::size_t begin = static_cast<std::size_t>(block) * kCellsPerBlock;
     update_block(pop, from, slope_at, begin, std::min(n, begin + kCellsPerBlock), dt);
-  };
-  if (blocks == 1) return update(0);  // no OpenMP region for one block (see Population::evaluate)
-#pragma omp parallel for schedule(static)
-  for (long block = 0; block < blocks; ++block) update(block);
+  });
 }
 
 void FixedStepIntegrator::step(CellSystem& system, double t, double h) {

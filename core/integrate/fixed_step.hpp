@@ -29,7 +29,6 @@ class FixedStepIntegrator final : public Integrator {
 
   // Advances every state of a population over dt with its present a, b.
   void update_states(Population& pop, double dt_ms) const { update_from(pop, pop.y, pop.y, dt_ms); }
-  // The same for the cells [begin, end) only.
   // Advances one block of a population over dt from the a, b of its own view
   // (Population::evaluate with an AfterBlock); false if a new value left the
   // population's limits (lower_limit, upper_limit).

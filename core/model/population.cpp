@@ -34,13 +34,8 @@ BlockView Population::view() {
 void Population::evaluate(double t_ms, const AfterBlock& after, bool with_outputs) {
   // Blocks of cells in parallel: each cell's derivatives depend only on its own
   // state and inputs, so the result does not depend on the thread count.
-  const auto blocks = static_cast<long>(block_count());
-  // One block (a single cell, a small tissue) runs here: even an OpenMP region
-  // whose if() is false costs an allocation and a futex call per entry, which
-  // CVODE on one cell pays thousands of times per simulated second.
-  if (blocks == 1) return evaluate_block(0, t_ms, after, with_outputs);
-#pragma omp parallel for schedule(static)
-  for (long k = 0; k < blocks; ++k) evaluate_block(static_cast<std::size_t>(k), t_ms, after, with_outputs);
+  for_each_block(static_cast<long>(block_count()),
+                 [&](long k) { evaluate_block(static_cast<std::size_t>(k), t_ms, after, with_outputs); });
 }
 
 void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& after, bool with_outputs) {

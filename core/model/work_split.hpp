@@ -16,10 +16,21 @@ inline constexpr std::size_t kCellsPerBlock = 256;
 // machine and far more when another job holds a core).
 inline constexpr long kParallelCells = 32768;
 
+// f(k) for each of `count` blocks of cells, shared dynamically between the
+// OpenMP threads (blocks differ in cost; each depends only on its own cells,
+// so the thread count changes nothing). One block runs on the calling thread
+// without an OpenMP region: even a region whose if() is false costs libgomp an
+// allocation and a futex call, which a single cell pays at every step (CVODE:
+// thousands of times per simulated second).
+template <class F>
+void for_each_block(long count, F&& f) {
+  if (count == 1) return f(0L);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long k = 0; k < count; ++k) f(k);
+}
+
 // f(i) for i in [0, n): on the OpenMP threads from kParallelCells on, else a
-// plain loop. (Not an `omp parallel for if(...)`: even a region whose if() is
-// false costs libgomp an allocation and a futex call, which a single cell,
-// stepping in ~1 us, would pay every step.)
+// plain loop (not an `omp parallel for if(...)`, as for_each_block says).
 template <class F>
 void for_each_cell(long n, F&& f) {
   if (n <= kParallelCells) {
