@@ -96,14 +96,6 @@ FIBRODEM_LANE_INLINE R exprel(const R& x) {
   return select(fabs(x) < 1e-6, 1.0 + 0.5 * x, x / -expm1(-x));
 }
 
-// x^n for a small whole n, by multiplication (pow is costly in lanes).
-template <int n, class R>
-FIBRODEM_LANE_INLINE R ipow(const R& x) {
-  static_assert(n >= 0 && n <= 8);
-  if constexpr (n == 0) return R(1.0);
-  else return x * ipow<n - 1>(x);
-}
-
 }  // namespace fibrodem::simd
 
 // The elementary functions above, for unqualified use in a model's namespace.
@@ -118,5 +110,4 @@ FIBRODEM_LANE_INLINE R ipow(const R& x) {
   using fibrodem::simd::fmin;        \
   using fibrodem::simd::fmax;        \
   using fibrodem::simd::floor;       \
-  using fibrodem::simd::exprel;      \
-  using fibrodem::simd::ipow
+  using fibrodem::simd::exprel
