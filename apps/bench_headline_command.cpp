@@ -17,6 +17,7 @@
 // Each figure is read from the programs' own output (--benchmark_format=json,
 // summary.json); a figure the other build lacks is shown as "-".
 #include <CLI/CLI.hpp>
+#include <boost/dll/runtime_symbol_info.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -119,12 +120,6 @@ struct Row {
 
 std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : "-"; }
 
-std::string self_path(const char* argv0) {
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string(argv0) : self.string();
-}
-
 }  // namespace
 
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& a) {
@@ -137,9 +132,9 @@ CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& a) {
   return head;
 }
 
-int bench_headline_command(const BenchHeadlineArgs& args, const char* argv0) {
+int bench_headline_command(const BenchHeadlineArgs& args) {
   return guarded([&]() -> int {
-    const std::string self = self_path(argv0);
+    const std::string self = boost::dll::program_location().string();
     if (!args.baseline.empty() && !fs::exists(args.baseline))
       throw ManifestError("--baseline", "no such executable: " + args.baseline);
     std::vector<std::pair<std::string, fs::path>> scenes = {
@@ -178,7 +173,7 @@ int bench_headline_command(const BenchHeadlineArgs& args, const char* argv0) {
     }
     fs::remove_all(scratch);
 
-    std::cout << "| figure | this build | " << (args.baseline.empty() ? "" : "baseline | this / baseline |") << "\n"
+    std::cout << "| figure | this build |" << (args.baseline.empty() ? "" : " baseline | this / baseline |") << "\n"
               << "|---|---|" << (args.baseline.empty() ? "" : "---|---|") << "\n";
     for (const auto& r : rows) {
       const double ours = median(r.ours), theirs = median(r.theirs);

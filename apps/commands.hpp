@@ -66,7 +66,7 @@ int bench_command(const char* program, const std::vector<std::string>& args);
 int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.
 CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& args);
-int bench_headline_command(const BenchHeadlineArgs& args, const char* argv0);
+int bench_headline_command(const BenchHeadlineArgs& args);
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
 
 // Runs `body`, turning each kind of failure into a message and an exit code.

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
-  if (*headline) return fibrodem::cli::bench_headline_command(headline_args, argv[0]);
+  if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
   return 0;
 }
