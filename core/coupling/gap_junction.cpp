@@ -45,19 +45,25 @@ void GapJunctionCoupler::current_into(const double* V, const int* cells, std::si
   for (std::size_t k = 0; k < count; ++k) current[cells[k]] = row_current(cells[k], V);
 }
 
+const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& GapJunctionCoupler::factorisation(double dt_ms) {
+  for (const auto& f : factorisations_)
+    if (f.dt_ms == dt_ms) return *f.ldlt;
+  if (factorisations_.size() >= kMaxFactorisations) factorisations_.erase(factorisations_.begin());
+  const Eigen::Index n = laplacian_.rows();
+  Eigen::SparseMatrix<double> system = laplacian_;
+  for (Eigen::Index i = 0; i < n; ++i) system.coeffRef(i, i) += capacitance_pF_[i] / dt_ms;
+  auto ldlt = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(system);
+  if (ldlt->info() != Eigen::Success) throw std::runtime_error("gap-junction coupling: factorising C/dt + L failed");
+  factorisations_.push_back({dt_ms, std::move(ldlt)});
+  return *factorisations_.back().ldlt;
+}
+
 void GapJunctionCoupler::implicit_step(double* V, double dt_ms) {
   const Eigen::Index n = laplacian_.rows();
-  if (factored_dt_ != dt_ms) {
-    Eigen::SparseMatrix<double> system = laplacian_;
-    for (Eigen::Index i = 0; i < n; ++i) system.coeffRef(i, i) += capacitance_pF_[i] / dt_ms;
-    solver_.compute(system);
-    if (solver_.info() != Eigen::Success)
-      throw std::runtime_error("gap-junction coupling: factorising C/dt + L failed");
-    factored_dt_ = dt_ms;
-  }
+  const auto& ldlt = factorisation(dt_ms);
   for (Eigen::Index i = 0; i < n; ++i) rhs_[i] = capacitance_pF_[i] / dt_ms * V[i];
-  const Eigen::VectorXd next = solver_.solve(rhs_);
-  std::copy(next.data(), next.data() + n, V);
+  solution_ = ldlt.solve(rhs_);  // (sized once: no allocation per step)
+  std::copy(solution_.data(), solution_.data() + n, V);
 }
 
 std::vector<double> GapJunctionCoupler::total_conductance_nS() const {

@@ -7,6 +7,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -32,10 +33,17 @@ class GapJunctionCoupler final : public Coupler {
   double row_current(Eigen::Index row, const double* V_mV) const;
   Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_;
   std::vector<double> capacitance_pF_;
-  // Factorisation of C/dt + L, reused while dt stays the same.
-  double factored_dt_ = 0;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
-  Eigen::VectorXd rhs_;
+  // Factorisations of C/dt + L, one per dt met (an adaptive run meets a
+  // dozen: its steps are powers of two times a quantum), the oldest dropped
+  // beyond kMaxFactorisations (a run whose steps are off any grid).
+  struct Factorisation {
+    double dt_ms = 0;
+    std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> ldlt;
+  };
+  static constexpr std::size_t kMaxFactorisations = 24;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& factorisation(double dt_ms);
+  std::vector<Factorisation> factorisations_;
+  Eigen::VectorXd rhs_, solution_;
 };
 
 }  // namespace fibrodem

@@ -51,6 +51,7 @@ struct CellSystem {
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
   std::vector<double> V_mV;                        // per global cell
   std::vector<double> i_ext_pA;                    // per global cell: the stimulus of the step
+  double last_step_ms = 0;                         // the integrator's last step (trace dt_ms)
   // Set by an integrator that checked every state against its population's
   // limits while updating it: the observer then need not scan them again
   // unless one was out (to find and name it).

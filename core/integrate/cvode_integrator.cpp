@@ -282,6 +282,7 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
       check(CVodeGetDky(g.mem, t, 1, g.dky), "GetDky", ctx);
       const double* dy = N_VGetArrayPointer(g.dky);
       for (std::size_t cell = 0; cell < system.cell_count(); ++cell) dVdt[cell] = dy[v_row[cell]];
+      system.last_step_ms = t - t_old;
       observer.on_step(t_old, t, dVdt.data());
     }
     t = stop;

@@ -161,6 +161,7 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
       system.seconds[CellSystem::kCoupling] +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
+    system.last_step_ms = h;
     observer.on_step(t, t_next, nullptr);
     while (observer.next_sample_ms() <= t_next + kTimeEpsilon_ms)
       observer.on_sample(observer.next_sample_ms());

@@ -32,6 +32,8 @@ class Integrator {
   virtual void advance(CellSystem& system, double t_start_ms, double t_end_ms,
                        StepObserver& observer) = 0;
   virtual std::string describe() const = 0;
+  // What the integrator did in the last advance(), for run.log (empty: nothing to say).
+  virtual std::string report() const { return {}; }
 };
 
 std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver);

@@ -57,6 +57,13 @@ class Cells {
     store(v_.a + k * ab_stride_, alpha);
     store(v_.b + k * ab_stride_, -(alpha + beta));
   }
+  // A stiff state that is not a gate: dy/dt with its slope d(dy/dt)/dy (or an
+  // approximation of it), written as the linear form a + b y with b = slope.
+  // The rate is unchanged; an exponential integrator (solver.method
+  // "adaptive") then takes the state stably at steps far beyond 1/|slope|.
+  FIBRODEM_LANE_INLINE void stiff_rate(int k, const R& dydt, const R& slope) const {
+    linear(k, dydt - slope * state(k), slope);
+  }
   // Any other linear form, dy/dt = a + b y (b of the model's own).
   FIBRODEM_LANE_INLINE void linear(int k, const R& a, const R& b) const {
     store(v_.a + k * ab_stride_, a);

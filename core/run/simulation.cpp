@@ -193,8 +193,14 @@ struct Simulation::Impl : StepObserver {
     system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.D_m_nS,
                                                           scene.coupling.D_f_nS, capacitance);
     system.coupled_pairs = tissue.cell_edges;
-    system.implicit_coupling = scene.coupling.scheme == "implicit" && scene.solver.method != "cvode";
-    if (scene.coupling.dt_ms > 0 && scene.solver.method != "cvode") {
+    // (CVODE takes the coupling into its implicit solve; the adaptive method
+    // takes each cell's own potential in it exponentially.)
+    system.implicit_coupling =
+        (scene.coupling.scheme == "implicit" && scene.solver.fixed_step()) || scene.solver.method == "adaptive";
+    if (scene.coupling.dt_ms > 0 && scene.solver.method == "adaptive")
+      throw ManifestError("coupling.dt_ms", "applies to the fixed-step methods only (solver.method \"adaptive\" "
+                                            "takes the coupling at every step)");
+    if (scene.coupling.dt_ms > 0 && scene.solver.fixed_step()) {
       const double ratio = scene.coupling.dt_ms / scene.solver.dt_ms;
       if (ratio < 1 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-6 * ratio)
         throw ManifestError("coupling.dt_ms", "expected a multiple of solver.dt_ms (" +
@@ -290,7 +296,7 @@ struct Simulation::Impl : StepObserver {
   }
 
   void check_explicit_stability() {
-    if (scene.solver.method == "cvode") return;
+    if (!scene.solver.fixed_step()) return;
     stability = estimate_explicit_stability(system, scene.solver.method == "euler",
                                             system.coupler && !system.implicit_coupling);
     const double dt = scene.solver.dt_ms;
@@ -342,9 +348,12 @@ struct Simulation::Impl : StepObserver {
       log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
                 system.sac.lambda_max);
     if (system.coupler)
-      log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}, updated every {} cell step(s)",
-                scene.coupling.D_m_nS, scene.coupling.D_f_nS,
-                system.implicit_coupling ? "backward Euler (split)" : "explicit", system.coupling_every);
+      log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS, scene.coupling.D_f_nS,
+                !scene.solver.fixed_step()     ? std::string("in the integrator's implicit solve")
+                : system.implicit_coupling     ? fmt::format("backward Euler (split), every {} cell step(s)",
+                                                             system.coupling_every)
+                                               : fmt::format("explicit, updated every {} cell step(s)",
+                                                             system.coupling_every));
     log->info("integrator: {}; {} threads", integrator->describe(), omp_get_max_threads());
     for (const auto& w : warnings) log->warn("{}", w);
   }
@@ -465,7 +474,7 @@ struct Simulation::Impl : StepObserver {
       << "' = " << format_number(value) << " " << pop.info().states[k].unit << ", expected within ["
       << format_number(pop.info().states[k].lower) << ", " << format_number(pop.info().states[k].upper)
       << "]";
-    if (scene.solver.method != "cvode") {
+    if (scene.solver.fixed_step()) {
       s << "; " << integrator->describe() << " may be unstable here";
       if (std::isfinite(stability.limit_ms()))
         s << fmt::format(" (estimated explicit stability limit {:.3g} ms, set by {}; a stable step: solver.dt_ms <= {:.3g})",
@@ -571,6 +580,7 @@ struct Simulation::Impl : StepObserver {
                   cell_type_name(pop.type), pop.info().name, pop.table->v_min(), pop.table->v_max(),
                   pop.table->clamp_count());
     if (mechanics) log->info("mechanics: {}", mechanics->report());
+    if (const auto report = integrator->report(); !report.empty()) log->info("integrator: {}", report);
     if (status == "failed") log->error("run failed: {}", error);
     else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
   }

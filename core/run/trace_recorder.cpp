@@ -17,6 +17,7 @@ namespace fibrodem {
 namespace {
 
 constexpr const char* kStrainNames[3] = {"eps_xx", "eps_yy", "eps_xy"};
+constexpr const char* kStepVariable = "dt_ms";
 
 std::string list_names(const std::vector<std::string>& names) {
   std::string s;
@@ -40,9 +41,12 @@ TraceRecorder::TraceRecorder(const Scene& scene, CellSystem& system, bool with_m
       until_ms_(scene.duration_ms) {
   if (with_mechanics)  // the tissue strain is always traced with mechanics
     for (int k = 0; k < 3; ++k) columns_.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k});
+  const auto& vars = scene.output.traces.variables;
+  if (std::find(vars.begin(), vars.end(), kStepVariable) != vars.end())
+    columns_.push_back({kStepVariable, 0, 0, 0, false, false, 0, -1, true});
   add_cell_columns(scene.output.traces, system, with_mechanics, contraction);
   samples_.assign(columns_.size(), {});
-  if (scene.solver.method != "cvode") check_sampling_grid(scene.output.traces, scene.solver);
+  if (scene.solver.fixed_step()) check_sampling_grid(scene.output.traces, scene.solver);
 }
 
 void TraceRecorder::add_cell_columns(const TraceSpec& spec, CellSystem& system, bool with_mechanics,
@@ -55,6 +59,7 @@ void TraceRecorder::add_cell_columns(const TraceSpec& spec, CellSystem& system, 
                               std::to_string(system.cell_count()) + " cells)");
     for (std::size_t j = 0; j < spec.variables.size(); ++j) {
       const std::string& var = spec.variables[j];
+      if (var == kStepVariable) continue;  // one column for the whole tissue
       if (is_strain_variable(var)) {
         if (!with_mechanics)
           throw ManifestError(index_path("output.traces.variables", j),
@@ -124,7 +129,8 @@ void TraceRecorder::sample(double t, CellSystem& system, const MechanicsSolver* 
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     const TraceColumn& c = columns_[i];
     const Population& pop = c.myofilament ? system.myofilaments[c.population].pop : system.populations[c.population];
-    const double value = c.strain >= 0 ? mechanics->strain()[c.strain]
+    const double value = c.step          ? system.last_step_ms
+                         : c.strain >= 0 ? mechanics->strain()[c.strain]
                          : c.is_output ? pop.outputs[c.index * pop.size() + c.local]
                                        : pop.y[c.index * pop.size() + c.local];
     samples_[i].push_back(value);

@@ -1,5 +1,6 @@
-// Traces (output.traces): chosen states and outputs of chosen cells, and the
-// tissue strain when mechanics runs, sampled during the run into memory and,
+// Traces (output.traces): chosen states and outputs of chosen cells, the
+// tissue strain when mechanics runs, and the integrator's step (variable
+// "dt_ms", once, not per cell) if listed, sampled during the run into memory and,
 // with an output directory, into traces.csv (one row per sample time).
 #pragma once
 
@@ -25,7 +26,8 @@ struct TraceColumn {
   bool myofilament = false;  // population indexes CellSystem::myofilaments
   int index = 0;
   int strain = -1;           // >= 0: the tissue strain component (no cell)
-  std::string name() const { return strain >= 0 ? variable : variable + "_" + std::to_string(cell); }
+  bool step = false;         // the integrator's last step, dt_ms (no cell)
+  std::string name() const { return strain >= 0 || step ? variable : variable + "_" + std::to_string(cell); }
 };
 
 class TraceRecorder {
@@ -53,7 +55,8 @@ class TraceRecorder {
   std::vector<std::string> column_names() const;
   const std::vector<double>& times() const { return times_; }
   const std::vector<std::vector<double>>& samples() const { return samples_; }
-  // Samples of a traced variable of a cell; throws std::out_of_range if it was not traced.
+  // Samples of a traced variable of a cell (the tissue-wide strain and dt_ms:
+  // cell 0); throws std::out_of_range if it was not traced.
   const std::vector<double>& trace(const std::string& variable, int cell) const;
 
  private:

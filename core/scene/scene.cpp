@@ -127,8 +127,12 @@ StimulusSpec read_stimulus(JsonReader r) {
 
 SolverSpec read_solver(JsonReader r) {
   SolverSpec s;
-  s.method = r.text("method", s.method, {"euler", "rush_larsen", "rush_larsen2", "cvode"});
+  s.method = r.text("method", s.method, {"euler", "rush_larsen", "rush_larsen2", "cvode", "adaptive"});
   s.dt_ms = r.number("dt_ms", s.dt_ms, 1e-7, 10.0);
+  if (s.method == "adaptive") {
+    s.rtol = SolverSpec::kAdaptiveRtol;
+    s.atol = SolverSpec::kAdaptiveAtol;
+  }
   s.rtol = r.number("rtol", s.rtol, 1e-14, 1e-1);
   s.atol = r.number("atol", s.atol, 1e-16, 1.0);
   s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);

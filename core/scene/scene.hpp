@@ -71,9 +71,13 @@ struct StimulusSpec {
 };
 
 struct SolverSpec {
-  std::string method = "rush_larsen";  // euler | rush_larsen | rush_larsen2 | cvode
-  double dt_ms = 0.01;                 // euler, rush_larsen
-  double rtol = 1e-6, atol = 1e-8;     // cvode
+  std::string method = "rush_larsen";  // euler | rush_larsen | rush_larsen2 | cvode | adaptive
+  double dt_ms = 0.01;                 // euler, rush_larsen, rush_larsen2
+  // cvode: CVODE's tolerances. adaptive: each state's local error per step
+  // stays below rtol |y| + atol * scale (scale: 1 for gates, else the state's
+  // magnitude at the start), with these defaults when unset.
+  double rtol = 1e-6, atol = 1e-8;
+  static constexpr double kAdaptiveRtol = 1e-3, kAdaptiveAtol = 1e-3;
   double max_step_ms = 0;              // cvode; 0: no cap (it stops at every stimulus edge anyway)
   std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
   // Threads over blocks of cells: -1 (the default, "auto"): every core when
@@ -86,6 +90,7 @@ struct SolverSpec {
   // the right-hand side only piecewise smooth).
   std::optional<bool> lookup_tables;
   bool use_lookup_tables() const { return lookup_tables.value_or(method != "cvode"); }
+  bool fixed_step() const { return method == "euler" || method == "rush_larsen" || method == "rush_larsen2"; }
   bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 

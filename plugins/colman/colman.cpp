@@ -555,12 +555,30 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     const double CSQN = P[k_CSQN_mM], KdCSQN = P[k_Kd_CSQN_mM];
     const R beta_SRi = 1.0 / (1.0 + CSQN * KdCSQN / ((CaSRi + KdCSQN) * (CaSRi + KdCSQN)));
     const R beta_SRss = 1.0 / (1.0 + CSQN * KdCSQN / ((CaSRss + KdCSQN) * (CaSRss + KdCSQN)));
-    cell.rate(k_Ca_SRi, P[k_SR_rate_factor] * beta_SRi *
-                            (DCaSR * ((CaSRss - 2.0 * CaSRi + CaSRi) / dx2 + (CaSRi - CaSRss) / (2.0 * 3.0 * dx2)) +
-                             JSRCai / VSRi));
-    cell.rate(k_Ca_SRss, P[k_SR_rate_factor] * beta_SRss *
-                             (DCaSR * ((CaSRss - 2.0 * CaSRss + CaSRi) / dx2 + (CaSRss - CaSRi) / (2.0 * 4.0 * dx2)) +
-                              JSRCass / VSRss));
+    // The SR compartments are the model's stiffest non-gate states (at rest
+    // d(dCa_SRi/dt)/dCa_SRi ~ -20/ms: SERCA's SR-side binding and SR
+    // diffusion, scaled by the x1000 rate factor), so each gives its slope:
+    // SERCA, diffusion, leak and release in their own concentration (the
+    // release's sigmoid and the buffer factor's own slopes left out; the slope
+    // only steadies an exponential integrator, the rate is exact).
+    const R dJSERCASR_dCaSRi = serca * (-2.0 * k3 * CaSRi * (cp - SERCACa)) * Vnj;
+    const R dJSERCASRss_dCaSRss = serca * (-2.0 * k3 * CaSRss * (cp - SERCACass)) * Vss;
+    const R dJreli_dCaSRi = P[k_g_rel_scale] * P[k_RyR_nu_i_per_ms] * Vnj * o_i * c_i * RyRSRCai;
+    const R dJrelss_dCaSRss = P[k_g_rel_scale] * P[k_RyR_nu_ss_per_ms] * Vss * o_ss * c_ss * RyRSRCass;
+    cell.stiff_rate(k_Ca_SRi,
+                    P[k_SR_rate_factor] * beta_SRi *
+                        (DCaSR * ((CaSRss - 2.0 * CaSRi + CaSRi) / dx2 + (CaSRi - CaSRss) / (2.0 * 3.0 * dx2)) +
+                         JSRCai / VSRi),
+                    P[k_SR_rate_factor] * beta_SRi *
+                        (DCaSR * (-1.0 + 1.0 / 6.0) / dx2 +
+                         (dJSERCASR_dCaSRi - leak * Vnj - dJreli_dCaSRi) / VSRi));
+    cell.stiff_rate(k_Ca_SRss,
+                    P[k_SR_rate_factor] * beta_SRss *
+                        (DCaSR * ((CaSRss - 2.0 * CaSRss + CaSRi) / dx2 + (CaSRss - CaSRi) / (2.0 * 4.0 * dx2)) +
+                         JSRCass / VSRss),
+                    P[k_SR_rate_factor] * beta_SRss *
+                        (DCaSR * (-1.0 + 1.0 / 8.0) / dx2 +
+                         (dJSERCASRss_dCaSRss - leak * Vss - dJrelss_dCaSRss) / VSRss));
 
     // Junctional subspace (sarcolemmal currents in pA: pA/(um^3 C/mmol) = mM/ms)
     const double SLlow = P[k_SL_low_mM], KdSLlow = P[k_Kd_SLlow_mM];

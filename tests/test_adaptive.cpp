@@ -1,0 +1,212 @@
+// solver.method "adaptive" (issue "Speed II"): error-controlled second-order
+// Rush-Larsen with the coupling implicit. Exact solutions where there are
+// some, CVODE at tight tolerance elsewhere, and the hard cases of the issue.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+std::vector<BeatBiomarkers> run(const json& m) {
+  Simulation sim(parse_scene(m));
+  sim.run();
+  return sim.biomarkers();
+}
+
+// A strand of courtemanche myocytes, D_m 1000 nS, stimulated at cell 0.
+json courtemanche_strand(int cells, double duration_ms) {
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "strand", "tissue": {"builder": "strand", "type": "myocyte"},
+    "cells": {"myocyte": {"model": "courtemanche", "variant": "paced_1hz"}},
+    "coupling": {"D_m_nS": 1000},
+    "stimulus": [{"target": [0], "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000}],
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+  m["tissue"]["cells"] = cells;
+  m["duration_ms"] = duration_ms;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("adaptive on a passive cell: the exact RC charging curve, to the tolerance") {
+  // passive_fibroblast: R = 10.7 GOhm, C = 6.3 pF, E = -49.6 mV (model defaults);
+  // 1 pA from t = 0: V = E + I R (1 - exp(-t / RC)).
+  json m = testing::passive_cell_manifest();
+  m["solver"] = {{"method", "adaptive"}, {"rtol", 1e-5}, {"atol", 1e-5}};
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const auto& V = sim.trace("V", 0);
+  const auto& t = sim.trace_times();
+  REQUIRE(V.size() == 101);
+  const double E = V[0], RC = 10.7 * 6.3;
+  for (std::size_t k = 0; k < V.size(); ++k) {
+    CAPTURE(t[k]);
+    CHECK(V[k] == doctest::Approx(E + 10.7 * (1 - std::exp(-t[k] / RC))).epsilon(1e-5));
+  }
+}
+
+TEST_CASE("adaptive never steps over a pulse: 0.1 ms pulses between 1 s quiet stretches deliver their charge") {
+  json m = testing::passive_cell_manifest();
+  m["duration_ms"] = 10000;
+  m["stimulus"] = json::array({{{"target", "fibroblast"}, {"start_ms", 500.05}, {"duration_ms", 0.1},
+                                {"amplitude_pA", 100}, {"period_ms", 1000}, {"count", 10}}});
+  m["solver"] = {{"method", "adaptive"}};
+  m["output"]["traces"] = {{"cells", json::array()}};
+  const auto beats = run(m);
+  REQUIRE(beats.size() == 10);
+  // Exact rise over the pulse from rest: I R (1 - exp(-0.1 / RC)).
+  const double rise = 100 * 10.7 * (1 - std::exp(-0.1 / (10.7 * 6.3)));
+  for (const auto& b : beats) {
+    CAPTURE(b.beat);
+    CHECK(b.apo_mV - b.rmp_mV == doctest::Approx(rise).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("adaptive and CVODE agree on the strand: activation within 0.1 ms, APD90 within 1 ms") {
+  const json strand = courtemanche_strand(20, 400);
+  json cvode = strand, adaptive = strand;
+  cvode["solver"] = {{"method", "cvode"}, {"rtol", 1e-7}, {"atol", 1e-9}};
+  adaptive["solver"] = {{"method", "adaptive"}};  // default tolerances
+  const auto reference = run(cvode);
+  const auto beats = run(adaptive);
+  REQUIRE(reference.size() == 20);
+  REQUIRE(beats.size() == 20);
+  for (std::size_t c = 0; c < 20; ++c) {
+    CAPTURE(c);
+    CHECK(std::abs(beats[c].activation_ms - reference[c].activation_ms) < 0.1);
+    CHECK(std::abs(beats[c].apd90_ms - reference[c].apd90_ms) < 1.0);
+  }
+}
+
+TEST_CASE("adaptive with D_m 1e5 nS: the coupling never caps the step, and it agrees with CVODE") {
+  // Explicit coupling would need dt < 5e-4 ms here (2/lambda).
+  json strand = courtemanche_strand(8, 350);
+  strand["coupling"]["D_m_nS"] = 100000;
+  strand["stimulus"][0]["amplitude_pA"] = 20000;
+  json cvode = strand;
+  strand["solver"] = {{"method", "adaptive"}};
+  strand["output"]["traces"]["variables"] = {"V", "dt_ms"};
+  Simulation sim(parse_scene(strand));
+  sim.run();
+  cvode["solver"] = {{"method", "cvode"}, {"rtol", 1e-7}, {"atol", 1e-9}};
+  const auto reference = run(cvode);
+  const auto& beats = sim.biomarkers();
+  REQUIRE(beats.size() == 8);
+  CHECK(std::abs(beats[7].apd90_ms - reference[7].apd90_ms) < 1.0);
+  CHECK(std::abs(beats[7].activation_ms - reference[7].activation_ms) < 0.1);
+  // At rest, after the beat, it steps far beyond the explicit limit.
+  const auto& dt = sim.trace("dt_ms", 0);
+  CHECK(dt.back() > 0.1);
+}
+
+TEST_CASE("adaptive: 100 beats at 1 Hz, Na_i and K_i drift within 1 % of CVODE") {
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "long", "duration_ms": 100000,
+    "tissue": {"builder": "single_cell", "type": "myocyte"},
+    "cells": {"myocyte": {"model": "courtemanche", "variant": "cellml"}},
+    "stimulus": [{"target": "myocyte", "start_ms": 50, "duration_ms": 2, "amplitude_pA": 2000, "period_ms": 1000}],
+    "output": {"traces": {"cells": [0], "variables": ["Na_i", "K_i"], "every_ms": 1000, "from_ms": 999}}
+  })");
+  auto traces = [&](const json& solver) {
+    m["solver"] = solver;
+    Simulation sim(parse_scene(m));
+    sim.run();
+    return std::make_pair(sim.trace("Na_i", 0), sim.trace("K_i", 0));
+  };
+  const auto [na_cvode, k_cvode] = traces({{"method", "cvode"}, {"rtol", 1e-7}, {"atol", 1e-9}});
+  const auto [na, k] = traces({{"method", "adaptive"}});
+  REQUIRE(na_cvode.size() == 100);
+  REQUIRE(na.size() == 100);
+  for (std::size_t b = 0; b < na.size(); ++b) {
+    CAPTURE(b);
+    // The drift itself (from the CellML start, 11.17 mM Na_i, 139 mM K_i) within 1 %.
+    CHECK(na[b] - 11.17 == doctest::Approx(na_cvode[b] - 11.17).epsilon(0.01));
+    CHECK(k[b] == doctest::Approx(k_cvode[b]).epsilon(0.01));
+  }
+}
+
+TEST_CASE("adaptive: fibroblast-only regions and D_f 0 stay at rest, no NaN") {
+  json pair = json::parse(R"({
+    "fibrodem": 1, "name": "pair", "duration_ms": 400,
+    "tissue": {"builder": "cell_pair", "fibroblasts": 4},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
+    "coupling": {"D_f_nS": 0},
+    "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 2000}],
+    "solver": {"method": "adaptive"},
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+  const auto beats = run(pair);
+  REQUIRE(beats.size() == 5);
+  CHECK(beats[0].apo_mV > 0);
+  for (int f = 1; f <= 4; ++f) {
+    CHECK(beats[f].rmp_mV == doctest::Approx(-47.4).epsilon(0.01));  // maleckar_active2's rest
+    CHECK(std::abs(beats[f].apo_mV - beats[f].rmp_mV) < 0.01);
+  }
+  json strand = json::parse(R"({
+    "fibrodem": 1, "name": "fibroblasts", "duration_ms": 300,
+    "tissue": {"builder": "strand", "type": "fibroblast", "cells": 10},
+    "cells": {"fibroblast": {"model": "maleckar_active2"}},
+    "coupling": {"D_f_nS": 2},
+    "stimulus": [{"target": [0], "start_ms": 10, "duration_ms": 5, "amplitude_pA": 50}],
+    "solver": {"method": "adaptive"},
+    "output": {"traces": {"cells": [0, 9], "variables": ["V"], "every_ms": 1}}
+  })");
+  for (const auto& b : run(strand)) {
+    CHECK(std::isfinite(b.apo_mV));
+    CHECK(b.rmp_mV == doctest::Approx(-47.4).epsilon(0.01));
+  }
+}
+
+TEST_CASE("adaptive: 2 nA into a 6.3 pF fibroblast stops with a named blow-up, not NaN") {
+  // 2000 pA / 6.3 pF drives V up at ~300 mV/ms: the solution itself leaves
+  // the model's range [-190, 200] mV within the pulse.
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "f2na", "duration_ms": 50,
+    "tissue": {"builder": "single_cell", "type": "fibroblast"},
+    "cells": {"fibroblast": {"model": "maleckar_active2"}},
+    "stimulus": [{"target": "fibroblast", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 2000}],
+    "solver": {"method": "adaptive"},
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+  Simulation sim(parse_scene(m));
+  try {
+    sim.run();
+    FAIL("expected a blow-up");
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    CAPTURE(message);
+    CHECK(message.find("blow-up at t = 10.") != std::string::npos);
+    CHECK(message.find("state 'V'") != std::string::npos);
+  }
+  // What was computed before stays: samples up to the blow-up.
+  CHECK(sim.trace_times().back() == doctest::Approx(10));
+}
+
+TEST_CASE("adaptive: same numbers for 1, 2 and 3 threads") {
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "threads", "seed": 3, "duration_ms": 40,
+    "tissue": {"builder": "in_series", "width_mm": 0.8, "height_mm": 2.5, "fm_ratio": 0.41},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
+    "coupling": {"D_m_nS": 1000, "D_f_nS": 0.3},
+    "stimulus": [{"target": {"type": "myocyte", "y_min_frac": 0.9}, "start_ms": 5, "duration_ms": 2,
+                  "amplitude_pA": 2000}],
+    "solver": {"method": "adaptive"},
+    "output": {"traces": {"cells": [0, 100, 500], "variables": ["V", "dt_ms"], "every_ms": 0.5}}
+  })");
+  std::vector<std::vector<double>> first;
+  for (int threads : {1, 2, 3}) {
+    CAPTURE(threads);
+    m["solver"]["threads"] = threads;
+    Simulation sim(parse_scene(m));
+    sim.run();
+    std::vector<std::vector<double>> traces{sim.trace("V", 0), sim.trace("V", 100), sim.trace("V", 500),
+                                            sim.trace("dt_ms", 0)};
+    if (first.empty()) first = traces;
+    else CHECK(traces == first);  // bit for bit
+  }
+}
