@@ -13,11 +13,7 @@
 
 namespace fibrodem {
 
-namespace {
-
-using simd::Real;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
+namespace adaptive_detail {
 // One state's row of a block, as the update sees it.
 struct Row {
   double* y;                  // the population's states (the block's cells)
@@ -27,6 +23,14 @@ struct Row {
   const double* b;
   bool exponential;           // gates, and other states with a linear form (stiff_rate)
 };
+}  // namespace adaptive_detail
+
+namespace {
+
+using simd::Real;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using adaptive_detail::Row;
 
 // Whether any cell of a block gives the state a slope b (a gate, or a stiff
 // state of the model's own choosing): its row is then taken exponentially.
@@ -39,6 +43,12 @@ Real exponential_update(const Real& y0, const Real& A, const Real& B, const Real
   const auto moving = B != 0.0;
   const Real y_inf = -A / simd::select(moving, B, 1.0);
   return simd::select(moving, y_inf + (y0 - y_inf) * E, y0 + dt * A);
+}
+
+double largest_lane(const Real& x) {
+  alignas(64) double lanes[simd::kLanes];
+  x.store_aligned(lanes);
+  return *std::max_element(lanes, lanes + simd::kLanes);
 }
 
 // Stage 1 on a row: save the start, write the first-order full step to
@@ -77,10 +87,48 @@ double second_stage(const Row& row, std::size_t count, double h, double rtol, do
     worst = simd::fmax(worst, simd::fabs(next - simd::load(row.first_order + c, n)) / tolerance);
     in_limits = in_limits & (next >= lo) & (next <= hi);  // NaN fails
   }
-  if (!xsimd::all(in_limits)) return kInf;
-  alignas(64) double lanes[simd::kLanes];
-  worst.store_aligned(lanes);
-  return *std::max_element(lanes, lanes + simd::kLanes);
+  return xsimd::all(in_limits) ? largest_lane(worst) : kInf;
+}
+
+// The one-evaluation step on a row: the linear form at the step's middle
+// extrapolated from this step's start (a, b) and the previous one's
+// (a_prev, b_prev; omega = h / (2 h_prev)), the state advanced from its start
+// with it (second order). The estimate is its difference to the step with the
+// start's own form (first order): for a linear form perturbed by (dA, dB) the
+// end moves by h phi1(B h) (dA + dB y_mean) to first order (variation of
+// constants; phi1(z) = (e^z - 1)/z, y_mean the mean of the two ends), which
+// costs no second exp. Keeps a, b in a_now, b_now for the next step; returns
+// the row's largest error in tolerances (inf out of [lo, hi] or NaN).
+double extrapolated_row(const Row& row, const double* a_prev, const double* b_prev, double* a_now, double* b_now,
+                        std::size_t count, double h, double omega, double rtol, double atol_scaled, double lo,
+                        double hi) {
+  Real worst(0.0);
+  Real::batch_bool_type in_limits(true);
+  for (std::size_t c = 0; c < count; c += simd::kLanes) {
+    const std::size_t n = std::min(simd::kLanes, count - c);
+    const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
+    simd::store(a_now + c, A, n);
+    simd::store(b_now + c, B, n);
+    simd::store(row.start + c, y0, n);
+    const Real A_mid = A + omega * (A - simd::load(a_prev + c, n));
+    const Real B_mid = B + omega * (B - simd::load(b_prev + c, n));
+    Real next, change;  // change: the end's difference to the first-order step
+    if (row.exponential) {
+      const Real Bh = B_mid * h, E = simd::exp(Bh);
+      next = exponential_update(y0, A_mid, B_mid, E, h);
+      const auto moving = Bh != 0.0;
+      const Real phi1 = simd::select(moving, (E - 1.0) / simd::select(moving, Bh, 1.0), Real(1.0));
+      change = h * phi1 * ((A_mid - A) + (B_mid - B) * (0.5 * (y0 + next)));
+    } else {
+      next = y0 + h * (A_mid + B_mid * y0);
+      change = h * ((A_mid - A) + (B_mid - B) * y0);
+    }
+    simd::store(row.y + c, next, n);
+    const Real tolerance = rtol * simd::fabs(next) + atol_scaled;
+    worst = simd::fmax(worst, simd::fabs(change) / tolerance);
+    in_limits = in_limits & (next >= lo) & (next <= hi);  // NaN fails
+  }
+  return xsimd::all(in_limits) ? largest_lane(worst) : kInf;
 }
 
 // Largest of `value` and the atomic's (a block's error into the step's).
@@ -107,6 +155,7 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     buf.pop = &pop;
     buf.start.resize(pop.y.size());
     buf.first_order.resize(pop.y.size());
+    for (auto* v : {&buf.a_prev, &buf.b_prev, &buf.a_now, &buf.b_now}) v->assign(pop.y.size(), 0.0);
     const auto& states = pop.info().states;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
@@ -121,6 +170,9 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
   v_half_.assign(system.cell_count(), 0.0);
   v_full_.assign(system.cell_count(), 0.0);
   gap_pA_.assign(system.cell_count(), 0.0);
+  F_prev_.assign(system.cell_count(), 0.0);
+  F_now_.assign(system.cell_count(), 0.0);
+  history_ = false;
 }
 
 AdaptiveIntegrator::Buffers& AdaptiveIntegrator::buffers_of(const Population& pop) {
@@ -129,39 +181,60 @@ AdaptiveIntegrator::Buffers& AdaptiveIntegrator::buffers_of(const Population& po
   throw std::logic_error("adaptive: a population the integrator was not prepared for");
 }
 
+// Calls each_row(row, k, buffers, offset) on the rows of a block's states,
+// and potential(population, row, offset, count) on a coupled population's
+// potential instead.
+template <class EachRow, class Potential>
+void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row,
+                                  Potential&& potential) {
+  Buffers& buf = buffers_of(pop);
+  const std::size_t n = pop.size();
+  const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
+  const auto& states = pop.info().states;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    const Row row{pop.y.data() + k * n + offset, buf.start.data() + k * n + offset,
+                  buf.first_order.data() + k * n + offset, block.a + k * block.ab_stride,
+                  block.b + k * block.ab_stride,
+                  states[k].gate || has_slope(block.b + k * block.ab_stride, block.end)};
+    if (coupled && static_cast<int>(k) == pop.voltage_state) potential(pop, row, offset, block.end);
+    else each_row(row, k, buf, offset);
+  }
+}
+
 double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
+  if (system.coupler) system.gather_voltage();  // V0, for the gap currents at the start
+  return history_ ? extrapolated_step(system, t, h) : midpoint_step(system, t, h);
+}
+
+// Keeps a block's a, b at the step's start (the next step extrapolates from them).
+void AdaptiveIntegrator::keep_linear_forms(Buffers& buf, const Row& row, std::size_t k, std::size_t offset,
+                                           std::size_t count) {
+  const std::size_t at = k * buf.pop->size() + offset;
+  std::copy_n(row.a, count, buf.a_now.begin() + static_cast<std::ptrdiff_t>(at));
+  std::copy_n(row.b, count, buf.b_now.begin() + static_cast<std::ptrdiff_t>(at));
+}
+
+double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h) {
   // The stimulus at the step's middle: steps never straddle a pulse edge.
   const double t_stim = t + 0.5 * h, theta = 0.5 * h;
   const bool coupled = system.coupler != nullptr;
-  if (coupled) system.gather_voltage();  // V0, for the gap currents at the start
-  // Calls each_row(row, k, buffers) on the rows of a block's states, and
-  // potential(offset) on a coupled population's potential instead.
-  auto rows_of = [&](Population& pop, const BlockView& block, auto&& each_row, auto&& potential) {
-    Buffers& buf = buffers_of(pop);
-    const std::size_t n = pop.size();
-    const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
-    const auto& states = pop.info().states;
-    for (std::size_t k = 0; k < states.size(); ++k) {
-      const Row row{pop.y.data() + k * n + offset, buf.start.data() + k * n + offset,
-                    buf.first_order.data() + k * n + offset, block.a + k * block.ab_stride,
-                    block.b + k * block.ab_stride,
-                    states[k].gate || has_slope(block.b + k * block.ab_stride, block.end)};
-      if (coupled && static_cast<int>(k) == pop.voltage_state) potential(pop, row, offset, block.end);
-      else each_row(row, k, buf);
-    }
-  };
   // Stage 1: gates and other states to the midpoint (and the first-order full
   // step); for V the right-hand sides V0 + theta F0 and V0 - theta K V0.
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
-    rows_of(
-        pop, block, [&](const Row& row, std::size_t, Buffers&) { first_stage(row, block.end, h); },
+    for_rows(
+        pop, block, coupled,
+        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t offset) {
+          keep_linear_forms(buf, row, k, offset, block.end);
+          first_stage(row, block.end, h);
+        },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           const int* cells = p.cells.data() + offset;
           system.coupler->current_into(system.V_mV.data(), cells, count, gap_pA_.data());
           for (std::size_t c = 0; c < count; ++c) {
-            const double V0 = row.y[c];
+            const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
             row.start[c] = V0;
-            v_half_[cells[c]] = V0 + theta * (row.a[c] + row.b[c] * V0);
+            F_now_[cells[c]] = F0;
+            v_half_[cells[c]] = V0 + theta * F0;
             v_full_[cells[c]] = V0 + theta * gap_pA_[cells[c]] / p.capacitance_pF;
           }
         });
@@ -175,6 +248,7 @@ double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
       for (std::size_t c = 0; c < n; ++c) {
         const double V_half = v_half_[pop.cells[c]];
         const_cast<Population&>(pop).y[row + c] = V_half;
+        // Crank-Nicolson with F at the start: V1's first-order companion.
         buf.first_order[row + c] = 2 * V_half - buf.start[row + c];
       }
     }
@@ -183,9 +257,9 @@ double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
   std::atomic<double> error{0.0};
   system.evaluate(t_stim, t + theta, [&](Population& pop, const BlockView& block) {
     double block_error = 0;
-    rows_of(
-        pop, block,
-        [&](const Row& row, std::size_t k, Buffers& buf) {
+    for_rows(
+        pop, block, coupled,
+        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
           block_error = std::max(block_error, second_stage(row, block.end, h, rtol_, atol_ * buf.scale[k],
                                                            limit(pop.lower_limit, k, -kInf),
                                                            limit(pop.upper_limit, k, kInf)));
@@ -196,9 +270,53 @@ double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
         });
     atomic_max(error, block_error);
   });
-  if (!coupled) return error.load();
-  system.coupler->implicit_step(v_full_.data(), theta);  // V1
-  double worst = error.load();
+  return coupled ? solve_potential(system, theta, error.load(), true) : error.load();
+}
+
+double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, double h) {
+  const double t_stim = t + 0.5 * h, theta = 0.5 * h, omega = h / (2 * h_prev_);
+  const bool coupled = system.coupler != nullptr;
+  std::atomic<double> error{0.0};
+  system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
+    double block_error = 0;
+    for_rows(
+        pop, block, coupled,
+        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t offset) {
+          const std::size_t at = k * pop.size() + offset;
+          block_error = std::max(
+              block_error, extrapolated_row(row, buf.a_prev.data() + at, buf.b_prev.data() + at,
+                                            buf.a_now.data() + at, buf.b_now.data() + at, block.end, h, omega, rtol_,
+                                            atol_ * buf.scale[k], limit(pop.lower_limit, k, -kInf),
+                                            limit(pop.upper_limit, k, kInf)));
+        },
+        [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
+          // CNAB2: (I + theta K) V1 = (I - theta K) V0 + h F_mid, F_mid
+          // extrapolated; h |F_mid - F0| bounds the difference to the
+          // first-order V1 ((I + theta K)^-1 has max norm 1).
+          const int* cells = p.cells.data() + offset;
+          const std::size_t k = static_cast<std::size_t>(p.voltage_state);
+          const double atol = atol_ * buffers_of(p).scale[k];
+          system.coupler->current_into(system.V_mV.data(), cells, count, gap_pA_.data());
+          for (std::size_t c = 0; c < count; ++c) {
+            const int cell = cells[c];
+            const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
+            const double F_mid = F0 + omega * (F0 - F_prev_[cell]);
+            row.start[c] = V0;
+            F_now_[cell] = F0;
+            v_full_[cell] = V0 + theta * gap_pA_[cell] / p.capacitance_pF + h * F_mid;
+            block_error = std::max(block_error, h * std::abs(F_mid - F0) / (rtol_ * std::abs(V0) + atol));
+          }
+        });
+    atomic_max(error, block_error);
+  });
+  return coupled ? solve_potential(system, theta, error.load(), false) : error.load();
+}
+
+// V1 from (I + theta K) V1 = v_full_, into the populations; the largest of
+// `error` and V's own (against the first-order companion in first_order, if
+// with_companion), inf if V left its range.
+double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, double error, bool with_companion) {
+  system.coupler->implicit_step(v_full_.data(), theta);
   for (Buffers& buf : buffers_) {
     Population& pop = const_cast<Population&>(*buf.pop);
     if (pop.voltage_state < 0) continue;
@@ -208,26 +326,41 @@ double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
     for (std::size_t c = 0; c < n; ++c) {
       const double V1 = v_full_[pop.cells[c]];
       pop.y[k * n + c] = V1;
-      if (!(V1 >= lo && V1 <= hi)) worst = kInf;
-      worst = std::max(worst, std::abs(V1 - buf.first_order[k * n + c]) / (rtol_ * std::abs(V1) + atol));
+      if (!(V1 >= lo && V1 <= hi)) error = kInf;
+      if (with_companion)
+        error = std::max(error, std::abs(V1 - buf.first_order[k * n + c]) / (rtol_ * std::abs(V1) + atol));
     }
   }
-  return worst;
+  return error;
+}
+
+// The step was accepted: its start's linear forms become the history.
+void AdaptiveIntegrator::accept(double h) {
+  for (Buffers& buf : buffers_) {
+    std::swap(buf.a_prev, buf.a_now);
+    std::swap(buf.b_prev, buf.b_now);
+  }
+  std::swap(F_prev_, F_now_);
+  h_prev_ = h;
+  history_ = true;
 }
 
 void AdaptiveIntegrator::restore() {
   for (auto& buf : buffers_) std::copy(buf.start.begin(), buf.start.end(), const_cast<Population*>(buf.pop)->y.begin());
 }
 
-// The largest step 2^k kStepQuantum_ms not above h (at least the quantum).
+// The largest step of the grid {1, 1.5} x 2^k x kStepQuantum_ms not above h
+// (h itself below the quantum). Consecutive sizes differ by 1.5 or 4/3, and
+// any stretch between stops that are multiples of the quantum is tiled by
+// grid steps (3 + 1 = 4 quanta, and so on).
 double AdaptiveIntegrator::on_grid(double h) {
   if (h <= kStepQuantum_ms) return h;
-  return kStepQuantum_ms * std::exp2(std::floor(std::log2(h / kStepQuantum_ms) + 1e-12));
+  const double power = kStepQuantum_ms * std::exp2(std::floor(std::log2(h / kStepQuantum_ms) + 1e-12));
+  return 1.5 * power <= h ? 1.5 * power : power;
 }
 
 void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_end, StepObserver& observer) {
   prepare(system);
-  system.states_checked = false;
   double t = t_start;
   while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
   double h = std::min(kFirstStep_ms, max_step_ms_);
@@ -242,21 +375,26 @@ void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_en
     const double err = try_step(system, t, step);
     const bool accepted = err <= 1.0;
     histogram_.add(step, accepted);
+    // (An accepted step had every new state in its range: try_step checked them.)
+    system.states_checked = system.states_in_limits = accepted;
     if (!accepted) {
       restore();
+      if (!std::isfinite(err)) history_ = false;  // start afresh with the two-evaluation step
       if (step <= kMinStep_ms) fail(system, t, step, err);
       h = std::isfinite(err) ? controller_.next_step(step, err, false) : 0.25 * step;
       h = std::max(h, 0.5 * kMinStep_ms);
       continue;
     }
+    accept(step);
     const double t_new = lands ? stop : t + step;
     system.last_step_ms = step;
     // The next step grows from the one wanted, not from a shorter one taken
     // to land on a stop or on the grid.
     h = std::max(controller_.next_step(step, err, true), step < wanted ? wanted : 0.0);
-    if (t_new >= edge - kTimeEpsilon_ms) {  // the right-hand side jumps here
+    if (t_new >= edge - kTimeEpsilon_ms) {  // the right-hand side jumps here: no extrapolating over it
       h = std::min(h, kFirstStep_ms);
       controller_.restart();
+      history_ = false;
     }
     observer.on_step(t, t_new, nullptr);
     while (observer.next_sample_ms() <= t_new + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
@@ -267,6 +405,7 @@ void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_en
 // A step at the smallest size still failed: take it once more to name the
 // cell and state with the largest error, then stop the run.
 void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err) {
+  history_ = false;  // the two-evaluation step leaves a first-order companion for every state
   try_step(system, t, h);
   std::string worst = "?";
   double worst_error = -1;

@@ -1,35 +1,42 @@
 // solver.method "adaptive": error-controlled second-order Rush-Larsen for
-// tissue.
+// tissue, with the gap-junction coupling implicit.
 //
-// Each step is the exponential midpoint scheme (gates, and any other state
-// whose model gives it a slope b, are taken exponentially) of FixedStepIntegrator's
-// rush_larsen2 (Perego & Veneziani 2009, ETNA 35:234): a first-order
-// Rush-Larsen half step, the linear forms a + b y re-evaluated at the
-// midpoint, then the full step from the start with the midpoint's a, b. The
-// first-order full step from the start (the same first evaluation, one more
-// update) is the embedded estimate: |y2 - y1| is the local error of the
-// first-order step, O(h^2), and the second-order result is kept (local
-// extrapolation). A step is accepted when, for every cell and state,
+// States: gates, and any other state whose model gives it a slope b
+// (Cells::stiff_rate), are advanced exponentially from their linear form
+// dy/dt = a + b y over the step, y' = y_inf + (y - y_inf) exp(b h); the rest
+// by y' = y + h (a + b y). Second order comes from taking the linear form at
+// the step's middle (the exponential midpoint scheme of Perego & Veneziani
+// 2009, ETNA 35:234), found in one of two ways:
+// - extrapolated (one model evaluation per step): a_mid = a_n + omega (a_n -
+//   a_{n-1}), omega = h / (2 h_{n-1}), likewise b (an exponential
+//   Adams-Bashforth 2 step);
+// - evaluated (two evaluations: a first-order half step, then the forms at
+//   the midpoint), where there is no history to extrapolate from: at the
+//   start, after a stimulus edge (the right-hand side jumps), after a step
+//   that left a state's range.
+// The potential: with K = C^-1 L the coupling (seed paper eq. 4-5), F the
+// membrane term (all of dV/dt but the coupling), theta = h/2,
+//   (I + theta K) V1 = (I - theta K) V0 + h F_mid
+// (Crank-Nicolson on the coupling, CNAB2 with F_mid extrapolated; with F_mid
+// evaluated, V_half from (I + theta K) V_half = V0 + theta F0). So the
+// coupling never caps the step. Its matrix C + theta L is factorised (sparse
+// LDLT) once per step size: steps are 1 or 1.5 times a power of two times
+// kStepQuantum_ms, so a run needs a couple of dozen.
+//
+// Error: the step with the start's own linear forms (a_n, b_n; F0) is first
+// order, and its difference to the second-order step estimates the local
+// error of the first; the second-order result is kept (local extrapolation).
+// A step is accepted when, for every cell and state,
 //   |y2 - y1| <= rtol |y2| + atol * scale,
 // scale = 1 for gates and each other state's magnitude at the start of the run
 // (so that V, in mV, and Ca_i, in mM, are held to the same relative accuracy).
-// Rejected steps are retried from the saved states; StepController (PI)
-// chooses the next step.
+// For V in the extrapolated step, h |F_mid - F0| bounds the difference
+// ((I + theta K)^-1 has max norm 1). Rejected steps are retried from the saved
+// states; StepController (PI) chooses the next step.
 //
-// Coupling never caps the step: the gap-junction term of V, -K V with
-// K = C^-1 L (seed paper eq. 4-5), is taken implicitly. With theta = h/2,
-//   midpoint:  (I + theta K) V_half = V0 + theta F0             (backward Euler)
-//   full step: (I + theta K) V1 = (I - theta K) V0 + h F_half    (Crank-Nicolson
-//              on the coupling, the membrane term F at the midpoint)
-// and the first-order companion of V1 is 2 V_half - V0 (Crank-Nicolson with
-// F taken at the start), so V1 - V_hat = h (I + theta K)^-1 (F_half - F0).
-// Both solves share one matrix, C + theta L (sparse LDLT, kept per step size:
-// steps are powers of two times kStepQuantum_ms, so a run needs a dozen).
-// Without coupling V is advanced like any other non-gate state.
-//
-// Steps land exactly on stimulus edges (restarting the controller with a small
-// step there, so that a 0.1 ms pulse is never stepped over), on sample times
-// and at the end.
+// Steps land exactly on stimulus edges (restarting the controller with a
+// small step there, so that a 0.1 ms pulse is never stepped over), on sample
+// times and at the end.
 #pragma once
 
 #include <string>
@@ -40,6 +47,10 @@
 
 namespace fibrodem {
 
+namespace adaptive_detail {
+struct Row;  // one state's row of a block (adaptive.cpp)
+}
+
 class AdaptiveIntegrator final : public Integrator {
  public:
   explicit AdaptiveIntegrator(const SolverSpec& solver);
@@ -49,9 +60,9 @@ class AdaptiveIntegrator final : public Integrator {
 
   static constexpr double kFirstStep_ms = 0.01;  // at the start and after each stimulus edge
   static constexpr double kMinStep_ms = 1e-7;     // below it, a step that still fails stops the run
-  // Steps are 2^k times this (k an integer; it lands on every stimulus edge
-  // and sample time that is a multiple of a power of two of it, such as
-  // 0.5 ms and 100 ms); only a step to an off-grid stop is not.
+  // Steps are 1 or 1.5 times 2^k times this (k an integer), so that they tile
+  // the stretch to every stimulus edge and sample time on the quantum's grid
+  // (such as 0.5 ms or 100.25 ms); only a step to an off-grid stop is not.
   static constexpr double kStepQuantum_ms = 1.0 / 1024;
 
  private:
@@ -60,13 +71,23 @@ class AdaptiveIntegrator final : public Integrator {
   struct Buffers {
     const Population* pop = nullptr;
     std::vector<double> start, first_order, scale;
+    // Linear forms a, b at the last accepted step's start, and at this one's.
+    std::vector<double> a_prev, b_prev, a_now, b_now;
   };
   void prepare(CellSystem& system);
   // One trial step from t over h: the error in tolerances (inf if a state
   // left its range or is NaN). The populations then hold the new states.
   double try_step(CellSystem& system, double t, double h);
+  double midpoint_step(CellSystem& system, double t, double h);      // two evaluations
+  double extrapolated_step(CellSystem& system, double t, double h);  // one evaluation, needs history_
+  double solve_potential(CellSystem& system, double theta, double error, bool with_companion);
+  void accept(double h);
+  template <class EachRow, class Potential>
+  void for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row, Potential&& potential);
+  static void keep_linear_forms(Buffers& buf, const adaptive_detail::Row& row, std::size_t k, std::size_t offset,
+                                std::size_t count);
   void restore();
-  static double on_grid(double h_ms);  // the states at the step's start, back in place
+  static double on_grid(double h_ms);
   Buffers& buffers_of(const Population& pop);
   [[noreturn]] void fail(CellSystem& system, double t, double h, double err);
 
@@ -77,6 +98,11 @@ class AdaptiveIntegrator final : public Integrator {
   // Coupled V, per global cell: the right-hand sides of the two solves (then
   // their solutions) and the gap-junction current at the step's start.
   std::vector<double> v_half_, v_full_, gap_pA_;
+  // The membrane term F of V (all but the coupling) at the last accepted
+  // step's start and at this one's, per global cell.
+  std::vector<double> F_prev_, F_now_;
+  bool history_ = false;  // the last step's linear forms are valid to extrapolate from
+  double h_prev_ = 0;
 };
 
 }  // namespace fibrodem
