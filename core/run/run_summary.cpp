@@ -70,6 +70,9 @@ json run_summary(const RunFacts& f) {
   s["notes"] = f.plan.notes;
   s["warnings"] = f.warnings;
   s["integrator"] = f.integrator;
+  if (!f.solver_choice.empty())
+    s["solver_choice"] = {{"method", f.scene.solver.method}, {"rtol", f.scene.solver.rtol},
+                          {"atol", f.scene.solver.atol}, {"why", f.solver_choice}};
   s["wall_time_s"] = f.wall_s;
   s["steps"] = f.steps;
   s["simulated_ms"] = f.trace_times.empty() ? 0.0 : f.trace_times.back();

@@ -34,6 +34,7 @@ struct RunFacts {
   const ProcessPlan& plan;
   const std::vector<std::string>& warnings;  // found at set-up
   std::string integrator;                    // Integrator::describe()
+  std::string solver_choice;                 // solver.method "auto": what it chose and why (else empty)
   const std::string& status;                 // set up | running | completed | failed
   const std::string& error;                  // empty unless failed
   double wall_s;

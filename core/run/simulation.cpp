@@ -18,6 +18,7 @@
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
+#include "integrate/method_choice.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
@@ -79,6 +80,7 @@ struct Simulation::Impl : StepObserver {
   std::array<double, 3> peak_strain{0, 0, 0};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
+  std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
   BackgroundWriter writer;  // the tissue picture and the snapshots
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
@@ -88,6 +90,7 @@ struct Simulation::Impl : StepObserver {
     make_logger();
     tissue = scene.tissue->build(scene.seed);
     plan = plan_processes(scene, tissue);
+    choose_solver();
     use_threads();
     build_populations();
     derive_contraction_from_traces();
@@ -104,6 +107,16 @@ struct Simulation::Impl : StepObserver {
     set_state_limits();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
+  }
+
+  // solver.method "auto": the method and its settings for the scene's size
+  // and solver.accuracy_ms; everything after sees the method chosen.
+  void choose_solver() {
+    if (scene.solver.method != "auto") return;
+    const MethodChoice choice = choose_method(scene.solver, tissue.cell_count());
+    scene.solver = choice.solver;
+    solver_choice = choice.why;
+    plan.notes.push_back("solver.method auto: " + choice.why);
   }
 
   // solver.threads: as asked, or ("auto") every core once the tissue has
@@ -593,6 +606,7 @@ struct Simulation::Impl : StepObserver {
                         .plan = plan,
                         .warnings = warnings,
                         .integrator = integrator->describe(),
+                        .solver_choice = solver_choice,
                         .status = status,
                         .error = error,
                         .wall_s = wall_s,

@@ -127,7 +127,16 @@ StimulusSpec read_stimulus(JsonReader r) {
 
 SolverSpec read_solver(JsonReader r) {
   SolverSpec s;
-  s.method = r.text("method", s.method, {"euler", "rush_larsen", "rush_larsen2", "cvode", "adaptive"});
+  s.method = r.text("method", s.method, {"auto", "euler", "rush_larsen", "rush_larsen2", "cvode", "adaptive"});
+  // auto chooses the step or the tolerances itself: a manifest gives one or the other.
+  for (const char* key : {"dt_ms", "rtol", "atol"}) {
+    if (s.method == "auto" && r.has(key))
+      throw ManifestError(r.path_of(key), std::string("solver.method \"auto\" chooses ") + key +
+                                              " itself (set solver.accuracy_ms, or name a method)");
+  }
+  if (s.method != "auto" && r.has("accuracy_ms"))
+    throw ManifestError(r.path_of("accuracy_ms"), "applies to solver.method \"auto\" only (got \"" + s.method + "\")");
+  s.accuracy_ms = r.number("accuracy_ms", s.accuracy_ms, 1e-4, 100.0);
   s.dt_ms = r.number("dt_ms", s.dt_ms, 1e-7, 10.0);
   if (s.method == "adaptive") {
     s.rtol = SolverSpec::kAdaptiveRtol;
