@@ -1,11 +1,13 @@
 // `fibrodem bench accuracy MANIFEST [--out DIR] [--set P=V]... [--methods ...]
-//  [--dt LIST] [--rtol LIST] [--atol-ratio R] [--reference-rtol X] [--every MS]
-//  [--repeat N]`: what accuracy costs in time (REFERENCES.md 4.4: Cooper,
-// Spiteri & Mirams 2015 rank integrators by the largest step within an error).
+//  [--dt LIST] [--rtol LIST] [--tol LIST] [--accuracy LIST] [--atol-ratio R]
+//  [--reference-rtol X] [--every MS] [--repeat N]`: what accuracy costs in
+// time (REFERENCES.md 4.4: Cooper, Spiteri & Mirams 2015 rank integrators by
+// the largest step within an error).
 //
 // The scene is run with each integrator over a ladder: fixed-step methods
 // (euler, rush_larsen, rush_larsen2) over steps dt, CVODE over relative
-// tolerances (atol = ratio x rtol). Each run is measured against a reference:
+// tolerances (atol = ratio x rtol), adaptive over tolerances (rtol = atol =
+// tol), auto over the APD90 accuracy asked (solver.accuracy_ms). Each run is measured against a reference:
 // CVODE at a relative tolerance two orders of magnitude tighter than the
 // tightest on the ladder (core/measure/accuracy.hpp says how: V RMS and max over
 // the traced cells and common sample times, APD90 and activation time max over
@@ -42,9 +44,13 @@ namespace fibrodem::cli {
 
 namespace {
 
-const std::vector<std::string> kAllMethods = {"euler", "rush_larsen", "rush_larsen2", "cvode"};
+const std::vector<std::string> kAllMethods = {"euler", "rush_larsen", "rush_larsen2", "cvode", "adaptive", "auto"};
 const std::vector<double> kDefaultDt_ms = {0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.25};
 const std::vector<double> kDefaultRtol = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+const std::vector<double> kDefaultTol = {1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4};
+const std::vector<double> kDefaultAccuracy_ms = {1, 0.5, 0.1, 0.01};
+
+bool fixed_step(const std::string& method) { return method != "cvode" && method != "adaptive" && method != "auto"; }
 // Error levels of the "cheapest" table, in ms for APD90 and mV for V RMS.
 constexpr double kLevels[] = {10, 1, 0.1, 0.01};
 
@@ -53,6 +59,7 @@ struct Outcome {
   std::string error;
   double wall_s = 0;
   long long steps = 0, cells = 0;
+  std::string chosen;  // auto: the method it chose, with its settings
   RunRecord record;
 };
 
@@ -60,9 +67,15 @@ json solver_of(const json& base, const std::string& method, double setting, doub
   json s = base.contains("solver") && base["solver"].is_object() ? base["solver"] : json::object();
   s["method"] = method;
   s["threads"] = 1;
+  for (const char* key : {"dt_ms", "rtol", "atol", "accuracy_ms"}) s.erase(key);  // each method its own
   if (method == "cvode") {
     s["rtol"] = setting;
     s["atol"] = setting * atol_ratio;
+  } else if (method == "adaptive") {
+    s["rtol"] = setting;
+    s["atol"] = setting;
+  } else if (method == "auto") {
+    s["accuracy_ms"] = setting;
   } else {
     s["dt_ms"] = setting;
   }
@@ -86,6 +99,10 @@ Outcome run_once(const json& base, const json& solver, const std::shared_ptr<Plu
   o.wall_s = summary.value("wall_time_s", 0.0);
   o.steps = summary.value("steps", 0LL);
   o.cells = static_cast<long long>(simulation.tissue().cell_count());
+  if (summary.contains("solver_choice")) {
+    const json& c = summary["solver_choice"];
+    o.chosen = c.value("method", std::string()) + " rtol " + fmt::format("{:.2g}", c.value("rtol", 0.0));
+  }
   if (o.completed) o.record = record_of(simulation);
   return o;
 }
@@ -97,7 +114,11 @@ std::string num(double v, const char* spec = "{:.3g}") {
 }
 
 std::string setting_text(const LadderRun& r) {
-  return r.method == "cvode" ? fmt::format("rtol {:g}", r.setting) : fmt::format("dt {:g} ms", r.setting);
+  if (r.method == "cvode") return fmt::format("rtol {:g}", r.setting);
+  if (r.method == "adaptive") return fmt::format("tol {:g}", r.setting);
+  if (r.method == "auto")
+    return fmt::format("accuracy {:g} ms", r.setting) + (r.chosen.empty() ? "" : " (" + r.chosen + ")");
+  return fmt::format("dt {:g} ms", r.setting);
 }
 
 // Whether t is a whole multiple of dt (samples then fall on step ends).
@@ -120,10 +141,15 @@ CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& a) {
   acc->add_option("manifest", a.manifest, "experiment manifest (JSON)")->required();
   acc->add_option("--out", a.out, "output directory (default out/accuracy_NAME)");
   acc->add_option("--set", a.overrides, "override a manifest value: PATH=VALUE (repeatable)");
-  acc->add_option("--methods", a.methods, "integrators (default euler,rush_larsen,rush_larsen2,cvode)")->delimiter(',');
+  acc->add_option("--methods", a.methods, "integrators (default euler,rush_larsen,rush_larsen2,cvode,adaptive,auto)")
+      ->delimiter(',');
   acc->add_option("--dt", a.dt_ms, "fixed-step ladder [ms] (default 0.001,0.002,0.005,0.01,0.02,0.05,0.1,0.25)")
       ->delimiter(',');
   acc->add_option("--rtol", a.rtol, "CVODE ladder (default 1e-3,1e-4,1e-5,1e-6,1e-7)")->delimiter(',');
+  acc->add_option("--tol", a.tol, "adaptive ladder, rtol = atol (default 0.1,0.03,0.01,0.003,0.001,1e-4)")
+      ->delimiter(',');
+  acc->add_option("--accuracy", a.accuracy_ms, "auto ladder, solver.accuracy_ms (default 1,0.5,0.1,0.01)")
+      ->delimiter(',');
   acc->add_option("--atol-ratio", a.atol_ratio, "CVODE atol = ratio x rtol (default 1e-2)");
   acc->add_option("--reference-rtol", a.reference_rtol, "reference CVODE rtol (default: the tightest rtol / 100)");
   acc->add_option("--every", a.every_ms, "V sample interval [ms] (default: the manifest's output.traces.every_ms)");
@@ -146,13 +172,16 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
     const std::vector<std::string> methods = args.methods.empty() ? kAllMethods : args.methods;
     for (const auto& m : methods)
       if (std::find(kAllMethods.begin(), kAllMethods.end(), m) == kAllMethods.end())
-        throw ManifestError("--methods", "unknown method '" + m + "' (expected euler, rush_larsen, rush_larsen2 or cvode)");
+        throw ManifestError("--methods", "unknown method '" + m +
+                                             "' (expected euler, rush_larsen, rush_larsen2, cvode, adaptive or auto)");
     const std::vector<double> dts = args.dt_ms.empty() ? kDefaultDt_ms : args.dt_ms;
     const std::vector<double> rtols = args.rtol.empty() ? kDefaultRtol : args.rtol;
-    for (double v : dts)
-      if (!(v > 0)) throw ManifestError("--dt", "steps must be positive");
-    for (double v : rtols)
-      if (!(v > 0)) throw ManifestError("--rtol", "tolerances must be positive");
+    const std::vector<double> tols = args.tol.empty() ? kDefaultTol : args.tol;
+    const std::vector<double> accuracies = args.accuracy_ms.empty() ? kDefaultAccuracy_ms : args.accuracy_ms;
+    for (const auto& [values, option] : {std::pair{&dts, "--dt"}, std::pair{&rtols, "--rtol"},
+                                         std::pair{&tols, "--tol"}, std::pair{&accuracies, "--accuracy"}})
+      for (double v : *values)
+        if (!(v > 0)) throw ManifestError(option, "expected positive values, got " + num(v));
     const double ref_rtol =
         args.reference_rtol > 0 ? args.reference_rtol : *std::min_element(rtols.begin(), rtols.end()) / 100;
     const double ref_atol = ref_rtol * args.atol_ratio;
@@ -170,7 +199,7 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
     checked["solver"] = ref_solver;
     const Scene scene = parse_scene(checked);
     // Fixed steps must land on the sample times (as a run checks): say so before running anything.
-    if (std::any_of(methods.begin(), methods.end(), [](const std::string& m) { return m != "cvode"; }))
+    if (std::any_of(methods.begin(), methods.end(), fixed_step))
       for (double dt : dts)
         for (double t : {scene.output.traces.every_ms, scene.output.traces.from_ms})
           if (!multiple_of(t, dt))
@@ -192,7 +221,10 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
 
     std::vector<LadderRun> runs;
     for (const auto& method : methods) {
-      const auto& settings = method == "cvode" ? rtols : dts;
+      const auto& settings = method == "cvode"      ? rtols
+                             : method == "adaptive" ? tols
+                             : method == "auto"     ? accuracies
+                                                    : dts;
       for (double setting : settings) {
         LadderRun r;
         r.method = method;
@@ -206,6 +238,7 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
             r.wall_s = o.wall_s;
             r.steps = o.steps;
             r.cells = o.cells;
+            r.chosen = o.chosen;
             if (o.completed) r.errors = compare_runs(reference.record, o.record);
           } else {
             r.wall_s = std::min(r.wall_s, o.wall_s);
@@ -227,17 +260,24 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
       CsvWriter csv(dir / "accuracy.csv",
                     {"method", "dt_ms", "rtol", "atol", "status", "wall_s", "steps", "cells", "cell_steps",
                      "v_rms_mV", "v_max_mV", "v_samples", "apd90_err_ms", "activation_err_ms", "beats_compared",
-                     "beats_mismatched", "cv_cm_per_s_reference", "cv_err_cm_per_s", "cv_rel_err", "error"});
+                     "beats_mismatched", "cv_cm_per_s_reference", "cv_err_cm_per_s", "cv_rel_err", "error",
+                     "accuracy_ms", "chosen"});
       auto row = [&](const std::string& method, double setting, const std::string& status, double wall,
-                     long long steps, long long cells, const AccuracyErrors& e, const std::string& error) {
+                     long long steps, long long cells, const AccuracyErrors& e, const std::string& error,
+                     const std::string& chosen = "") {
         const bool cvode = method.rfind("cvode", 0) == 0;
         csv.cell(method);
         if (cvode) csv.cell(std::string()).cell(setting).cell(setting * args.atol_ratio);
+        else if (method == "adaptive") csv.cell(std::string()).cell(setting).cell(setting);
+        else if (method == "auto") csv.cell(std::string()).cell(std::string()).cell(std::string());
         else csv.cell(setting).cell(std::string()).cell(std::string());
         csv.cell(status).cell(wall).cell(steps).cell(cells).cell(steps * cells);
         csv.cell(e.v_rms_mV).cell(e.v_max_mV).cell(e.v_samples).cell(e.apd90_max_ms).cell(e.activation_max_ms);
         csv.cell(static_cast<long long>(e.beats_compared)).cell(static_cast<long long>(e.beats_mismatched));
         csv.cell(ref_cv).cell(e.cv_abs_cm_per_s).cell(e.cv_rel).cell(error);
+        if (method == "auto") csv.cell(setting);
+        else csv.cell(std::string());
+        csv.cell(chosen);
         csv.end_row();
       };
       AccuracyErrors zero = compare_runs(reference.record, reference.record);
@@ -245,7 +285,8 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
       row("cvode_reference_check", 10 * ref_rtol, check.completed ? "completed" : "failed", check.wall_s, check.steps,
           check.cells, check_errors, check.error);
       for (const auto& r : runs)
-        row(r.method, r.setting, r.completed ? "completed" : "failed", r.wall_s, r.steps, r.cells, r.errors, r.error);
+        row(r.method, r.setting, r.completed ? "completed" : "failed", r.wall_s, r.steps, r.cells, r.errors, r.error,
+            r.chosen);
     }
 
     // ---- accuracy.md --------------------------------------------------------
@@ -282,11 +323,14 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
                         has_cv ? ", CV " + num(check_errors.cv_abs_cm_per_s) + " cm/s" : std::string());
     else
       md << "- Reference check: CVODE at rtol " << num(10 * ref_rtol) << " failed: " << check.error << "\n";
-    md << fmt::format("- Ladders: dt {} ms (euler, rush_larsen, rush_larsen2 as asked); CVODE rtol {} with atol = "
-                      "{:g} x rtol.\n",
-                      [&] { std::string s; for (double v : dts) s += (s.empty() ? "" : ", ") + fmt::format("{:g}", v); return s; }(),
-                      [&] { std::string s; for (double v : rtols) s += (s.empty() ? "" : ", ") + fmt::format("{:g}", v); return s; }(),
-                      args.atol_ratio);
+    auto list = [](const std::vector<double>& values) {
+      std::string s;
+      for (double v : values) s += (s.empty() ? "" : ", ") + fmt::format("{:g}", v);
+      return s;
+    };
+    md << fmt::format("- Ladders (of the methods asked): fixed steps dt {} ms; CVODE rtol {} with atol = {:g} x rtol; "
+                      "adaptive tol {} (rtol = atol); auto accuracy_ms {}.\n",
+                      list(dts), list(rtols), args.atol_ratio, list(tols), list(accuracies));
     md << "- Errors: V RMS and max over the compared cells and the sample times both runs share; APD90 and "
           "activation time: max |difference| over (cell, beat); `inf`: a beat (or its repolarisation, or the CV) "
           "present in the reference is missing in the run. Activation (max dV/dt) is located at the integrator's "

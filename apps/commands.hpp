@@ -40,9 +40,11 @@ struct BenchAccuracyArgs {
   std::string manifest;
   std::string out;
   std::vector<std::string> overrides;
-  std::vector<std::string> methods;  // empty: euler, rush_larsen, rush_larsen2, cvode
+  std::vector<std::string> methods;  // empty: all (euler, rush_larsen, rush_larsen2, cvode, adaptive, auto)
   std::vector<double> dt_ms;         // empty: the default ladder
   std::vector<double> rtol;          // empty: the default ladder
+  std::vector<double> tol;           // adaptive's rtol = atol; empty: the default ladder
+  std::vector<double> accuracy_ms;   // auto's solver.accuracy_ms; empty: the default ladder
   double atol_ratio = 1e-2;          // atol = ratio * rtol
   double reference_rtol = 0;         // 0: the tightest rtol / 100
   double every_ms = 0;               // 0: the manifest's trace interval

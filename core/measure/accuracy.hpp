@@ -42,8 +42,9 @@ AccuracyErrors compare_runs(const RunRecord& reference, const RunRecord& candida
 
 // One run of an accuracy ladder: a method at a step (dt [ms]) or tolerance (rtol).
 struct LadderRun {
-  std::string method;        // euler | rush_larsen | rush_larsen2 | cvode
-  double setting = 0;        // dt_ms, or rtol for cvode
+  std::string method;        // euler | rush_larsen | rush_larsen2 | cvode | adaptive | auto
+  double setting = 0;        // dt_ms; rtol for cvode; rtol = atol for adaptive; accuracy_ms for auto
+  std::string chosen;        // auto: what it chose
   bool completed = false;
   std::string error;         // why it failed
   double wall_s = 0;         // run only (setup excluded); min over repeats
@@ -55,7 +56,7 @@ struct LadderRun {
 
 // The completed run of least wall time whose metric is <= threshold and stays
 // so for every finer run of its method (smaller dt or rtol; all of them must
-// have completed), so that a lucky cancellation of errors at one step does not
+// have completed; finer: a smaller setting, whatever the method), so that a lucky cancellation of errors at one step does not
 // count. NaN metrics never qualify; `method` non-empty restricts to that method.
 std::optional<std::size_t> cheapest_meeting(const std::vector<LadderRun>& runs,
                                             const std::function<double(const AccuracyErrors&)>& metric,

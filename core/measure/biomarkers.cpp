@@ -120,15 +120,23 @@ void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, cons
   if (slope > s.dvdt_max) {
     s.dvdt_max = slope;
     s.t_act = t_slope;
-    // With the integrator's own dV/dt the samples are exact values at step
-    // ends, so the peak between them is refined once the next one is in.
-    s.refine_max = dVdt != nullptr;
-    s.max_left_t = t_old;
-    s.max_left_dvdt = s.dvdt_prev;
+    // The peak between samples is refined once the next one is in, from its
+    // neighbours on the adjacent steps (the integrator's dV/dt at step ends,
+    // or difference quotients, second order at step middles). A rising
+    // upstroke reaches this function at every step (its slope keeps growing,
+    // then V keeps rising to the peak), so both neighbours are seen.
+    s.refine_max = s.slope_step_end == t_old;  // the left neighbour is the step just before
+    s.max_left_t = s.t_slope_prev;
+    s.max_left_dvdt = s.slope_prev;
+    s.max_step_end = t_new;
   } else if (s.refine_max) {
     s.refine_max = false;
-    refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
+    if (s.max_step_end == t_old)  // the right neighbour is the step just after
+      refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
   }
+  s.slope_prev = slope;
+  s.t_slope_prev = t_slope;
+  s.slope_step_end = t_new;
   if (V[c] > s.peak) {
     s.peak = V[c];
     s.t_peak = t_new;

@@ -8,9 +8,11 @@
 //                    placed within the step by the cubic through V and dV/dt at
 //                    both ends when the integrator gives dV/dt (CVODE), else by
 //                    the chord
-//   max dV/dt        from the integrator's own steps (with the integrator's
-//                    dV/dt, CVODE, the activation time is refined to the vertex
-//                    of the parabola through the largest sample and its neighbours)
+//   max dV/dt        from the integrator's own steps: its dV/dt at step ends
+//                    (CVODE), else the difference quotient over each step, taken
+//                    at the step's middle; the activation time is refined to the
+//                    vertex of the parabola through the largest sample and its
+//                    neighbours on the steps either side
 // A beat runs from one stimulus onset to the next (or to the end of the run);
 // without stimulus the whole run is one beat.
 #pragma once
@@ -54,6 +56,10 @@ class BiomarkerTracker {
     // The sample before the largest dV/dt so far, while its right neighbour is awaited.
     double max_left_t = 0, max_left_dvdt = 0;
     bool refine_max = false;
+    // The last dV/dt sample (the integrator's at a step end, or a difference
+    // quotient at a step's middle), its time, and the end of its step.
+    double slope_prev = std::numeric_limits<double>::quiet_NaN(), t_slope_prev = 0, slope_step_end = -1;
+    double max_step_end = -1;  // the end of the step of the largest sample
   };
   void open_beat(double onset, double t_old, double t_new, const double* V);
   void close_beat();

@@ -76,7 +76,10 @@ struct Simulation::Impl : StepObserver {
   long long snapshots_taken = 0;
   std::unique_ptr<MechanicsSolver> mechanics;
   double mechanics_step_ms = 0, mechanics_time_ms = 0, mechanics_seconds = 0;
-  std::vector<double> length_ratio;
+  // Cells' lengths relative to rest (SL / SL_rest) at the last cell step's
+  // start and end, and as handed to a DEM step between them.
+  std::vector<double> length_ratio_from, length_ratio_to, length_ratio;
+  double length_ratio_from_ms = 0;
   std::array<double, 3> peak_strain{0, 0, 0};
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
@@ -306,6 +309,7 @@ struct Simulation::Impl : StepObserver {
     }
     mechanics_step_ms = mechanics->step_ms();
     length_ratio.assign(tissue.cell_count(), 1.0);
+    length_ratio_from = length_ratio_to = length_ratio;
   }
 
   void check_explicit_stability() {
@@ -428,13 +432,19 @@ struct Simulation::Impl : StepObserver {
     }
   }
 
-  // Mechanics at its own step up to t, each step with the cells' present lengths.
+  // Mechanics at its own step up to t (the end of a cell step). Each DEM step
+  // takes the cells' lengths interpolated linearly in time across the cell
+  // step: a cell step of the adaptive method may span many DEM steps.
   void advance_mechanics(double t) {
     if (!mechanics) return;
     const auto start = std::chrono::steady_clock::now();
+    for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
+      length_ratio_to[cell] = system.stretch(system.where[cell].first, system.where[cell].second);
+    const double span = t - length_ratio_from_ms;
     for (double h = mechanics->step_ms(); mechanics_time_ms + h <= t + kTimeEpsilon_ms; h = mechanics->step_ms()) {
+      const double w = span > 0 ? std::clamp((mechanics_time_ms + h - length_ratio_from_ms) / span, 0.0, 1.0) : 1.0;
       for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
-        length_ratio[cell] = system.stretch(system.where[cell].first, system.where[cell].second);
+        length_ratio[cell] = length_ratio_from[cell] + w * (length_ratio_to[cell] - length_ratio_from[cell]);
       mechanics->set_cell_length_ratios(length_ratio);
       mechanics->step(h);
       mechanics_time_ms += h;
@@ -443,6 +453,8 @@ struct Simulation::Impl : StepObserver {
       for (int k = 0; k < 3; ++k)
         if (std::abs(strain[k]) > std::abs(peak_strain[k])) peak_strain[k] = strain[k];
     }
+    std::swap(length_ratio_from, length_ratio_to);
+    length_ratio_from_ms = t;
     mechanics_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 

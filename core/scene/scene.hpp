@@ -81,7 +81,7 @@ struct SolverSpec {
   // stays below rtol |y| + atol * scale (scale: 1 for gates, else the state's
   // magnitude at the start), with these defaults when unset.
   double rtol = 1e-6, atol = 1e-8;
-  static constexpr double kAdaptiveRtol = 1e-3, kAdaptiveAtol = 1e-3;
+  static constexpr double kAdaptiveRtol = 1e-2, kAdaptiveAtol = 1e-2;
   double max_step_ms = 0;              // cvode; 0: no cap (it stops at every stimulus edge anyway)
   std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
   // Threads over blocks of cells: -1 (the default, "auto"): every core when
