@@ -210,3 +210,45 @@ TEST_CASE("adaptive: same numbers for 1, 2 and 3 threads") {
     else CHECK(traces == first);  // bit for bit
   }
 }
+
+TEST_CASE("solver.method auto (the default): CVODE for a cell pair, adaptive for tissue, and says why") {
+  json pair = json::parse(R"({
+    "fibrodem": 1, "name": "pair", "duration_ms": 50,
+    "tissue": {"builder": "cell_pair", "fibroblasts": 2},
+    "cells": {"myocyte": {"model": "courtemanche"}, "fibroblast": {"model": "passive_fibroblast"}},
+    "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 2000}],
+    "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
+  })");
+  {
+    Simulation sim(parse_scene(pair));  // no solver at all: auto, accuracy 0.5 ms
+    sim.run();
+    const json choice = sim.summary()["solver_choice"];
+    CHECK(choice["method"] == "cvode");
+    CHECK(choice["rtol"].get<double>() == doctest::Approx(0.5 / 500));
+    CHECK(choice["why"].get<std::string>().find("3 cell(s)") != std::string::npos);
+  }
+  json strand = courtemanche_strand(40, 50);
+  strand["solver"] = {{"method", "auto"}, {"accuracy_ms", 0.1}};
+  Simulation sim(parse_scene(strand));
+  sim.run();
+  const json summary = sim.summary();
+  CHECK(summary["solver_choice"]["method"] == "adaptive");
+  CHECK(summary["solver_choice"]["rtol"].get<double>() == doctest::Approx(0.1 / 25));
+  CHECK(summary["integrator"].get<std::string>().find("adaptive") != std::string::npos);
+  // A named method: no choice made, none reported.
+  strand["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};
+  Simulation named(parse_scene(strand));
+  CHECK_FALSE(named.summary().contains("solver_choice"));
+}
+
+TEST_CASE("solver.method auto sets dt_ms, rtol and atol itself: giving them is an error naming the key") {
+  json m = courtemanche_strand(4, 10);
+  m["solver"] = {{"dt_ms", 0.01}};  // method unset: auto
+  CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.dt_ms"));
+  m["solver"] = {{"method", "auto"}, {"rtol", 1e-4}};
+  CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.rtol"));
+  m["solver"] = {{"method", "cvode"}, {"accuracy_ms", 0.1}};
+  CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.accuracy_ms"));
+  m["solver"] = {{"method", "adaptive"}, {"coupling_dt", 1}};
+  CHECK_THROWS(parse_scene(m));
+}
