@@ -7,7 +7,7 @@
 // The scene is run with each integrator over a ladder: fixed-step methods
 // (euler, rush_larsen, rush_larsen2) over steps dt, CVODE over relative
 // tolerances (atol = ratio x rtol), adaptive over tolerances (rtol = atol =
-// tol), auto over the APD90 accuracy asked (solver.accuracy_ms). Each run is measured against a reference:
+// tol), auto over the APD90 accuracy asked (solver.accuracy). Each run is measured against a reference:
 // CVODE at a relative tolerance two orders of magnitude tighter than the
 // tightest on the ladder (core/measure/accuracy.hpp says how: V RMS and max over
 // the traced cells and common sample times, APD90 and activation time max over
@@ -67,7 +67,7 @@ json solver_of(const json& base, const std::string& method, double setting, doub
   json s = base.contains("solver") && base["solver"].is_object() ? base["solver"] : json::object();
   s["method"] = method;
   s["threads"] = 1;
-  for (const char* key : {"dt_ms", "rtol", "atol", "accuracy_ms"}) s.erase(key);  // each method its own
+  for (const char* key : {"dt_ms", "rtol", "atol", "accuracy"}) s.erase(key);  // each method its own
   if (method == "cvode") {
     s["rtol"] = setting;
     s["atol"] = setting * atol_ratio;
@@ -75,7 +75,7 @@ json solver_of(const json& base, const std::string& method, double setting, doub
     s["rtol"] = setting;
     s["atol"] = setting;
   } else if (method == "auto") {
-    s["accuracy_ms"] = setting;
+    s["accuracy"] = setting;
   } else {
     s["dt_ms"] = setting;
   }
@@ -148,7 +148,7 @@ CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& a) {
   acc->add_option("--rtol", a.rtol, "CVODE ladder (default 1e-3,1e-4,1e-5,1e-6,1e-7)")->delimiter(',');
   acc->add_option("--tol", a.tol, "adaptive ladder, rtol = atol (default 0.1,0.03,0.01,0.003,0.001,1e-4)")
       ->delimiter(',');
-  acc->add_option("--accuracy", a.accuracy_ms, "auto ladder, solver.accuracy_ms (default 1,0.5,0.1,0.01)")
+  acc->add_option("--accuracy", a.accuracy_ms, "auto ladder, solver.accuracy (default 1,0.5,0.1,0.01)")
       ->delimiter(',');
   acc->add_option("--atol-ratio", a.atol_ratio, "CVODE atol = ratio x rtol (default 1e-2)");
   acc->add_option("--reference-rtol", a.reference_rtol, "reference CVODE rtol (default: the tightest rtol / 100)");
@@ -329,7 +329,7 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
       return s;
     };
     md << fmt::format("- Ladders (of the methods asked): fixed steps dt {} ms; CVODE rtol {} with atol = {:g} x rtol; "
-                      "adaptive tol {} (rtol = atol); auto accuracy_ms {}.\n",
+                      "adaptive tol {} (rtol = atol); auto accuracy {} ms.\n",
                       list(dts), list(rtols), args.atol_ratio, list(tols), list(accuracies));
     md << "- Errors: V RMS and max over the compared cells and the sample times both runs share; APD90 and "
           "activation time: max |difference| over (cell, beat); `inf`: a beat (or its repolarisation, or the CV) "

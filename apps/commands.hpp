@@ -44,7 +44,7 @@ struct BenchAccuracyArgs {
   std::vector<double> dt_ms;         // empty: the default ladder
   std::vector<double> rtol;          // empty: the default ladder
   std::vector<double> tol;           // adaptive's rtol = atol; empty: the default ladder
-  std::vector<double> accuracy_ms;   // auto's solver.accuracy_ms; empty: the default ladder
+  std::vector<double> accuracy_ms;   // auto's solver.accuracy; empty: the default ladder
   double atol_ratio = 1e-2;          // atol = ratio * rtol
   double reference_rtol = 0;         // 0: the tightest rtol / 100
   double every_ms = 0;               // 0: the manifest's trace interval

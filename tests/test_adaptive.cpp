@@ -228,7 +228,7 @@ TEST_CASE("solver.method auto (the default): CVODE for a cell pair, adaptive for
     CHECK(choice["why"].get<std::string>().find("3 cell(s)") != std::string::npos);
   }
   json strand = courtemanche_strand(40, 50);
-  strand["solver"] = {{"method", "auto"}, {"accuracy_ms", 0.1}};
+  strand["solver"] = {{"method", "auto"}, {"accuracy", 0.1}};
   Simulation sim(parse_scene(strand));
   sim.run();
   const json summary = sim.summary();
@@ -247,8 +247,8 @@ TEST_CASE("solver.method auto sets dt_ms, rtol and atol itself: giving them is a
   CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.dt_ms"));
   m["solver"] = {{"method", "auto"}, {"rtol", 1e-4}};
   CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.rtol"));
-  m["solver"] = {{"method", "cvode"}, {"accuracy_ms", 0.1}};
-  CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.accuracy_ms"));
+  m["solver"] = {{"method", "cvode"}, {"accuracy", 0.1}};
+  CHECK_THROWS_WITH(parse_scene(m), doctest::Contains("solver.accuracy"));
   m["solver"] = {{"method", "adaptive"}, {"coupling_dt", 1}};
   CHECK_THROWS(parse_scene(m));
 }

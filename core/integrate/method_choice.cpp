@@ -15,7 +15,7 @@ MethodChoice choose_method(const SolverSpec& solver, std::size_t cells) {
     choice.solver.method = "cvode";
     choice.solver.rtol = std::clamp(accuracy / 500, 1e-9, 1e-3);
     choice.solver.atol = 1e-2 * choice.solver.rtol;
-    choice.why = fmt::format("{} cell(s) <= {}: CVODE, rtol {:.2g}, atol {:.2g} (solver.accuracy_ms {} ms of APD90)",
+    choice.why = fmt::format("{} cell(s) <= {}: CVODE, rtol {:.2g}, atol {:.2g} (solver.accuracy {} ms of APD90)",
                              cells, kMostCellsForCvode, choice.solver.rtol, choice.solver.atol, accuracy);
   } else {
     // The adaptive method's largest APD90 error over the cells of the Fig. 3
@@ -24,7 +24,7 @@ MethodChoice choose_method(const SolverSpec& solver, std::size_t cells) {
     choice.solver.method = "adaptive";
     choice.solver.rtol = std::clamp(accuracy / 25, 1e-6, 3e-2);
     choice.solver.atol = choice.solver.rtol;
-    choice.why = fmt::format("{} cells > {}: adaptive, rtol = atol = {:.2g} (solver.accuracy_ms {} ms of APD90)",
+    choice.why = fmt::format("{} cells > {}: adaptive, rtol = atol = {:.2g} (solver.accuracy {} ms of APD90)",
                              cells, kMostCellsForCvode, choice.solver.rtol, accuracy);
   }
   return choice;

@@ -113,7 +113,7 @@ struct Simulation::Impl : StepObserver {
   }
 
   // solver.method "auto": the method and its settings for the scene's size
-  // and solver.accuracy_ms; everything after sees the method chosen.
+  // and solver.accuracy; everything after sees the method chosen.
   void choose_solver() {
     if (scene.solver.method != "auto") return;
     const MethodChoice choice = choose_method(scene.solver, tissue.cell_count());

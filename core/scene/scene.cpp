@@ -132,11 +132,12 @@ SolverSpec read_solver(JsonReader r) {
   for (const char* key : {"dt_ms", "rtol", "atol"}) {
     if (s.method == "auto" && r.has(key))
       throw ManifestError(r.path_of(key), std::string("solver.method \"auto\" chooses ") + key +
-                                              " itself (set solver.accuracy_ms, or name a method)");
+                                              " itself (set solver.accuracy, or name a method; on the command "
+                                              "line, replace the whole solver: --set 'solver={\"method\":\"auto\"}')");
   }
-  if (s.method != "auto" && r.has("accuracy_ms"))
-    throw ManifestError(r.path_of("accuracy_ms"), "applies to solver.method \"auto\" only (got \"" + s.method + "\")");
-  s.accuracy_ms = r.number("accuracy_ms", s.accuracy_ms, 1e-4, 100.0);
+  if (s.method != "auto" && r.has("accuracy"))
+    throw ManifestError(r.path_of("accuracy"), "applies to solver.method \"auto\" only (got \"" + s.method + "\")");
+  s.accuracy_ms = r.number("accuracy", s.accuracy_ms, 1e-4, 100.0);
   s.dt_ms = r.number("dt_ms", s.dt_ms, 1e-7, 10.0);
   if (s.method == "adaptive") {
     s.rtol = SolverSpec::kAdaptiveRtol;

@@ -75,7 +75,7 @@ struct SolverSpec {
   // auto: the simulation picks the method and its settings for accuracy_ms
   // (integrate/method_choice.hpp) once the tissue is built.
   std::string method = "auto";
-  double accuracy_ms = 0.5;            // auto: the APD90 error to aim below
+  double accuracy_ms = 0.5;            // auto ("accuracy" in the manifest): the APD90 error [ms] to aim below
   double dt_ms = 0.01;                 // euler, rush_larsen, rush_larsen2
   // cvode: CVODE's tolerances. adaptive: each state's local error per step
   // stays below rtol |y| + atol * scale (scale: 1 for gates, else the state's
