@@ -11,9 +11,11 @@
 //     simulated second of one CRN cell under CVODE at (rtol, atol) = (1e-6,
 //     1e-8) and (1e-4, 1e-6) (ms), one DEM step of the Fig. 3 in-series tissue
 //     (particle-steps/s, one thread);
-//   - whole runs of the paper's Fig. 3 scenes at their default settings
-//     (examples/fig3_in_series_ep.json and _em.json, 500 ms): wall time and
-//     where it went (summary.json wall_time_by_process_s).
+//   - whole runs of the paper's Fig. 3 scenes at their manifests' settings
+//     (examples/fig3_in_series_ep.json and _em.json, 500 ms, Rush-Larsen
+//     0.01 ms) and with solver.method "auto" (which a build without it
+//     cannot run): wall time and where it went (summary.json
+//     wall_time_by_process_s).
 // Each figure is read from the programs' own output (--benchmark_format=json,
 // summary.json); a figure the other build lacks is shown as "-".
 #include <CLI/CLI.hpp>
@@ -93,11 +95,18 @@ std::map<std::string, double> micro_figures(const std::string& program, const fs
   return figures;
 }
 
-// summary.json of one run of `manifest` by `program` (empty if it failed).
-json scene_summary(const std::string& program, const fs::path& manifest, const fs::path& scratch) {
+struct Scene {
+  std::string label;
+  fs::path manifest;
+  std::string options;  // more command-line options of the run
+};
+
+// summary.json of one run of a scene by `program` (empty if it failed).
+json scene_summary(const std::string& program, const Scene& scene, const fs::path& scratch) {
   const fs::path out = scratch / "run";
   fs::remove_all(out);
-  if (!run_to_file(quoted(program) + " run " + quoted(manifest.string()) + " --quiet --out " + quoted(out.string()),
+  if (!run_to_file(quoted(program) + " run " + quoted(scene.manifest.string()) + " " + scene.options +
+                       " --quiet --out " + quoted(out.string()),
                    scratch / "run.txt"))
     return json();
   try {
@@ -137,17 +146,24 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     const std::string self = boost::dll::program_location().string();
     if (!args.baseline.empty() && !fs::exists(args.baseline))
       throw ManifestError("--baseline", "no such executable: " + args.baseline);
-    std::vector<std::pair<std::string, fs::path>> scenes = {
-        {"Fig. 3 in-series EP, 500 ms", fs::path(args.examples) / "fig3_in_series_ep.json"}};
-    if (!args.skip_em) scenes.push_back({"Fig. 3 in-series EM, 500 ms", fs::path(args.examples) / "fig3_in_series_em.json"});
-    for (const auto& [label, file] : scenes)
-      if (!fs::exists(file)) throw ManifestError("--examples", "no " + file.string() + " (run from the repository root)");
+    const std::string automatic = "--set 'solver={\"method\":\"auto\"}'";
+    const fs::path ep = fs::path(args.examples) / "fig3_in_series_ep.json",
+                   em = fs::path(args.examples) / "fig3_in_series_em.json";
+    std::vector<Scene> scenes = {{"Fig. 3 in-series EP, 500 ms", ep, ""},
+                                 {"Fig. 3 in-series EP, 500 ms, solver auto", ep, automatic}};
+    if (!args.skip_em) {
+      scenes.push_back({"Fig. 3 in-series EM, 500 ms", em, ""});
+      scenes.push_back({"Fig. 3 in-series EM, 500 ms, solver auto", em, automatic});
+    }
+    for (const auto& scene : scenes)
+      if (!fs::exists(scene.manifest))
+        throw ManifestError("--examples", "no " + scene.manifest.string() + " (run from the repository root)");
 
     const fs::path scratch = fs::temp_directory_path() / fmt::format("fibrodem_headline_{}", getpid());
     fs::create_directories(scratch);
     std::vector<Row> rows;
     for (const auto& m : kMicro) rows.push_back({m.label, {}, {}});
-    for (const auto& [label, file] : scenes) rows.push_back({label + ": wall time [s]", {}, {}});
+    for (const auto& scene : scenes) rows.push_back({scene.label + ": wall time [s]", {}, {}});
     std::map<std::string, std::map<std::string, std::vector<double>>> breakdown;  // scene -> process -> s (ours)
 
     const int rounds = std::max(1, args.repeat);
@@ -161,13 +177,13 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
           if (it != figures.end()) (side == 0 ? rows[i].ours : rows[i].theirs).push_back(it->second);
         }
         for (std::size_t s = 0; s < scenes.size(); ++s) {
-          const json summary = scene_summary(program, scenes[s].second, scratch);
+          const json summary = scene_summary(program, scenes[s], scratch);
           if (!summary.is_object() || summary.value("status", "") != "completed") continue;
           (side == 0 ? rows[kMicro.size() + s].ours : rows[kMicro.size() + s].theirs)
               .push_back(summary["wall_time_s"].get<double>());
           if (side == 0)
             for (const auto& [process, seconds] : summary["wall_time_by_process_s"].items())
-              breakdown[scenes[s].first][process].push_back(seconds.get<double>());
+              breakdown[scenes[s].label][process].push_back(seconds.get<double>());
         }
       }
     }
