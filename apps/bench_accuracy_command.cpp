@@ -306,6 +306,22 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
     md << "# Accuracy against cost: " << scene.name << "\n\n";
     md << "`fibrodem bench accuracy " << args.manifest;
     for (const auto& o : args.overrides) md << " --set " << o;
+    auto option = [&](const char* name, const std::vector<double>& values) {
+      if (values.empty()) return;
+      md << " " << name << " ";
+      for (std::size_t i = 0; i < values.size(); ++i) md << (i ? "," : "") << fmt::format("{:g}", values[i]);
+    };
+    if (!args.methods.empty()) {
+      md << " --methods ";
+      for (std::size_t i = 0; i < args.methods.size(); ++i) md << (i ? "," : "") << args.methods[i];
+    }
+    option("--dt", args.dt_ms);
+    option("--rtol", args.rtol);
+    option("--tol", args.tol);
+    option("--accuracy", args.accuracy_ms);
+    if (args.reference_rtol > 0) md << fmt::format(" --reference-rtol {:g}", args.reference_rtol);
+    if (args.every_ms > 0) md << fmt::format(" --every {:g}", args.every_ms);
+    if (repeat > 1) md << " --repeat " << repeat;
     md << "`\n\n";
     md << fmt::format("- Scene: {} ms simulated, {} cells; V compared on cells [{}] every {:g} ms from {:g} ms; "
                       "biomarkers from {:g} ms.\n",
