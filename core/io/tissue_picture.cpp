@@ -94,6 +94,7 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
   }
   // Disks of a few pixels: a coarser arc tolerance (0.25 px) is invisible.
   cairo_set_tolerance(c, 0.25);
+  if (!options.antialias) cairo_set_antialias(c, CAIRO_ANTIALIAS_NONE);
   // Consecutive particles of one colour (a myocyte's seven) are filled as one
   // path: one rasterisation instead of seven.
   for (std::size_t i = 0; i < tissue.particles.size();) {

@@ -57,6 +57,7 @@ void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, 
     picture.value_max = 40;
     picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, frame.t_ms);
     picture.pixels_per_um = frame.pixels_per_um;
+    picture.antialias = false;  // one picture per frame: the cheap kind
     write_tissue_png(*frame.now, dir / (std::string(stem) + ".png"), &frame.V_mV, picture);
   }
   if (spec.vtk)
