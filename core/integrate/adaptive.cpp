@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "integrate/rush_larsen_update.hpp"
 #include "model/simd.hpp"
 
 namespace fibrodem {
@@ -38,13 +39,6 @@ bool has_slope(const double* b, std::size_t count) {
   return std::any_of(b, b + count, [](double x) { return x != 0.0; });
 }
 
-// y_inf + (y0 - y_inf) * E, E = exp(B dt); where B = 0, Euler from y0.
-Real exponential_update(const Real& y0, const Real& A, const Real& B, const Real& E, double dt) {
-  const auto moving = B != 0.0;
-  const Real y_inf = -A / simd::select(moving, B, 1.0);
-  return simd::select(moving, y_inf + (y0 - y_inf) * E, y0 + dt * A);
-}
-
 double largest_lane(const Real& x) {
   alignas(64) double lanes[simd::kLanes];
   x.store_aligned(lanes);
@@ -60,8 +54,8 @@ void first_stage(const Row& row, std::size_t count, double h) {
     simd::store(row.start + c, y0, n);
     if (row.exponential) {
       const Real half = simd::exp(B * (0.5 * h));  // exp(B h) = half^2: one exp
-      simd::store(row.first_order + c, exponential_update(y0, A, B, half * half, h), n);
-      simd::store(row.y + c, exponential_update(y0, A, B, half, 0.5 * h), n);
+      simd::store(row.first_order + c, rush_larsen_update(y0, A, B, half * half, h), n);
+      simd::store(row.y + c, rush_larsen_update(y0, A, B, half, 0.5 * h), n);
     } else {
       const Real slope = A + B * y0;
       simd::store(row.first_order + c, y0 + h * slope, n);
@@ -80,7 +74,7 @@ double second_stage(const Row& row, std::size_t count, double h, double rtol, do
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.start + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
-    const Real next = row.exponential ? exponential_update(y0, A, B, simd::exp(B * h), h)
+    const Real next = row.exponential ? rush_larsen_update(y0, A, B, simd::exp(B * h), h)
                                       : y0 + h * (A + B * simd::load(row.y + c, n));
     simd::store(row.y + c, next, n);
     const Real tolerance = rtol * simd::fabs(next) + atol_scaled;
@@ -115,7 +109,7 @@ double extrapolated_row(const Row& row, const double* a_prev, const double* b_pr
     Real next, change;  // change: the end's difference to the first-order step
     if (row.exponential) {
       const Real Bh = B_mid * h, E = simd::exp(Bh);
-      next = exponential_update(y0, A_mid, B_mid, E, h);
+      next = rush_larsen_update(y0, A_mid, B_mid, E, h);
       const auto moving = Bh != 0.0;
       const Real phi1 = simd::select(moving, (E - 1.0) / simd::select(moving, Bh, 1.0), Real(1.0));
       change = h * phi1 * ((A_mid - A) + (B_mid - B) * (0.5 * (y0 + next)));

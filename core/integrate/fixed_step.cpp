@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "integrate/rush_larsen_update.hpp"
 #include "model/simd.hpp"
 
 namespace fibrodem {
@@ -26,9 +27,7 @@ bool update_row(double* y, const double* y0, const double* ys, const double* a, 
     const Real A = simd::load(a + c, n), B = simd::load(b + c, n), Y0 = simd::load(y0 + c, n);
     Real next;
     if (exponential) {
-      const auto moving = B != 0.0;
-      const Real y_inf = -A / simd::select(moving, B, 1.0);
-      next = simd::select(moving, y_inf + (Y0 - y_inf) * simd::exp(B * dt), Y0 + dt * A);
+      next = rush_larsen_update(Y0, A, B, simd::exp(B * dt), dt);
     } else {
       next = Y0 + dt * (A + B * simd::load(ys + c, n));
     }
