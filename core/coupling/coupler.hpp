@@ -13,8 +13,9 @@ class Coupler {
   virtual ~Coupler() = default;
   // Adds the current into each cell [pA, + depolarising] for potentials V [mV].
   virtual void add_current(const double* V_mV, double* i_ext_pA) const = 0;
-  // The current into each of `count` cells [pA], written to current_pA[cells[k]]
-  // (one call per block of cells; the same sums as add_current, cell by cell).
+  // The current into each of `count` cells [pA], written to current_pA[k] for
+  // cell cells[k] (one call per block of cells, into the block's own array:
+  // threads on other blocks write elsewhere; the same sums as add_current).
   virtual void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const = 0;
   // Advances C dV/dt = I_gap(V) alone over dt by backward Euler, in place.
   virtual void implicit_step(double* V_mV, double dt_ms) = 0;

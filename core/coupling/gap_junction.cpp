@@ -42,7 +42,7 @@ void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
 }
 
 void GapJunctionCoupler::current_into(const double* V, const int* cells, std::size_t count, double* current) const {
-  for (std::size_t k = 0; k < count; ++k) current[cells[k]] = row_current(cells[k], V);
+  for (std::size_t k = 0; k < count; ++k) current[k] = row_current(cells[k], V);
 }
 
 const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& GapJunctionCoupler::factorisation(double dt_ms) {

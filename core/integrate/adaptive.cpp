@@ -136,6 +136,15 @@ double limit(const std::vector<double>& limits, std::size_t k, double fallback) 
   return limits.empty() ? fallback : limits[k];
 }
 
+// The gap-junction current [pA] into a block's cells at the potentials of
+// system.V_mV, in the calling thread's scratch (valid until its next call).
+const double* gap_current(const CellSystem& system, const Population& pop, std::size_t offset, std::size_t count) {
+  thread_local std::vector<double> current;
+  current.resize(kCellsPerBlock);  // no allocation once grown
+  system.coupler->current_into(system.V_mV.data(), pop.cells.data() + offset, count, current.data());
+  return current.data();
+}
+
 }  // namespace
 
 AdaptiveIntegrator::AdaptiveIntegrator(const SolverSpec& solver)
@@ -150,6 +159,8 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     buf.start.resize(pop.y.size());
     buf.first_order.resize(pop.y.size());
     for (auto* v : {&buf.a_prev, &buf.b_prev, &buf.a_now, &buf.b_now}) v->assign(pop.y.size(), 0.0);
+    if (system.coupler && pop.voltage_state >= 0)
+      for (auto* v : {&buf.F_prev, &buf.F_now, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
     const auto& states = pop.info().states;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
@@ -161,11 +172,7 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
   // CellSystem::implicit_coupling, set by the simulation.)
   if (system.coupler && !system.implicit_coupling)
     throw std::logic_error("adaptive: the coupling must not also be an explicit current");
-  v_half_.assign(system.cell_count(), 0.0);
-  v_full_.assign(system.cell_count(), 0.0);
-  gap_pA_.assign(system.cell_count(), 0.0);
-  F_prev_.assign(system.cell_count(), 0.0);
-  F_now_.assign(system.cell_count(), 0.0);
+  v_global_.assign(system.cell_count(), 0.0);
   history_ = false;
 }
 
@@ -222,25 +229,25 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
           first_stage(row, block.end, h);
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
-          const int* cells = p.cells.data() + offset;
-          system.coupler->current_into(system.V_mV.data(), cells, count, gap_pA_.data());
+          Buffers& buf = buffers_of(p);
+          const double* gap = gap_current(system, p, offset, count);
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
             row.start[c] = V0;
-            F_now_[cells[c]] = F0;
-            v_half_[cells[c]] = V0 + theta * F0;
-            v_full_[cells[c]] = V0 + theta * gap_pA_[cells[c]] / p.capacitance_pF;
+            buf.F_now[offset + c] = F0;
+            buf.v_half[offset + c] = V0 + theta * F0;
+            buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF;
           }
         });
   });
   if (coupled) {
-    system.coupler->implicit_step(v_half_.data(), theta);  // V_half
+    solve(system, theta, &Buffers::v_half);  // V_half
     for (Buffers& buf : buffers_) {
       const Population& pop = *buf.pop;
       if (pop.voltage_state < 0) continue;
       const std::size_t n = pop.size(), row = static_cast<std::size_t>(pop.voltage_state) * n;
       for (std::size_t c = 0; c < n; ++c) {
-        const double V_half = v_half_[pop.cells[c]];
+        const double V_half = v_global_[pop.cells[c]];
         const_cast<Population&>(pop).y[row + c] = V_half;
         // Crank-Nicolson with F at the start: V1's first-order companion.
         buf.first_order[row + c] = 2 * V_half - buf.start[row + c];
@@ -259,8 +266,8 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
                                                            limit(pop.upper_limit, k, kInf)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
-          const int* cells = p.cells.data() + offset;
-          for (std::size_t c = 0; c < count; ++c) v_full_[cells[c]] += h * (row.a[c] + row.b[c] * row.y[c]);
+          double* v_full = buffers_of(p).v_full.data() + offset;
+          for (std::size_t c = 0; c < count; ++c) v_full[c] += h * (row.a[c] + row.b[c] * row.y[c]);
         });
     atomic_max(error, block_error);
   });
@@ -287,17 +294,15 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
           // CNAB2: (I + theta K) V1 = (I - theta K) V0 + h F_mid, F_mid
           // extrapolated; h |F_mid - F0| bounds the difference to the
           // first-order V1 ((I + theta K)^-1 has max norm 1).
-          const int* cells = p.cells.data() + offset;
-          const std::size_t k = static_cast<std::size_t>(p.voltage_state);
-          const double atol = atol_ * buffers_of(p).scale[k];
-          system.coupler->current_into(system.V_mV.data(), cells, count, gap_pA_.data());
+          Buffers& buf = buffers_of(p);
+          const double atol = atol_ * buf.scale[static_cast<std::size_t>(p.voltage_state)];
+          const double* gap = gap_current(system, p, offset, count);
           for (std::size_t c = 0; c < count; ++c) {
-            const int cell = cells[c];
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
-            const double F_mid = F0 + omega * (F0 - F_prev_[cell]);
+            const double F_mid = F0 + omega * (F0 - buf.F_prev[offset + c]);
             row.start[c] = V0;
-            F_now_[cell] = F0;
-            v_full_[cell] = V0 + theta * gap_pA_[cell] / p.capacitance_pF + h * F_mid;
+            buf.F_now[offset + c] = F0;
+            buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF + h * F_mid;
             block_error = std::max(block_error, h * std::abs(F_mid - F0) / (rtol_ * std::abs(V0) + atol));
           }
         });
@@ -306,11 +311,18 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
   return coupled ? solve_potential(system, theta, error.load(), false) : error.load();
 }
 
-// V1 from (I + theta K) V1 = v_full_, into the populations; the largest of
+void AdaptiveIntegrator::solve(CellSystem& system, double theta, std::vector<double> Buffers::*rhs) {
+  for (const Buffers& buf : buffers_)
+    if (!(buf.*rhs).empty())
+      for (std::size_t c = 0; c < buf.pop->size(); ++c) v_global_[buf.pop->cells[c]] = (buf.*rhs)[c];
+  system.coupler->implicit_step(v_global_.data(), theta);
+}
+
+// V1 from (I + theta K) V1 = v_full, into the populations; the largest of
 // `error` and V's own (against the first-order companion in first_order, if
 // with_companion), inf if V left its range.
 double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, double error, bool with_companion) {
-  system.coupler->implicit_step(v_full_.data(), theta);
+  solve(system, theta, &Buffers::v_full);
   for (Buffers& buf : buffers_) {
     Population& pop = const_cast<Population&>(*buf.pop);
     if (pop.voltage_state < 0) continue;
@@ -318,7 +330,7 @@ double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, dou
     const double lo = limit(pop.lower_limit, k, -kInf), hi = limit(pop.upper_limit, k, kInf);
     const double atol = atol_ * buf.scale[k];
     for (std::size_t c = 0; c < n; ++c) {
-      const double V1 = v_full_[pop.cells[c]];
+      const double V1 = v_global_[pop.cells[c]];
       pop.y[k * n + c] = V1;
       if (!(V1 >= lo && V1 <= hi)) error = kInf;
       if (with_companion)
@@ -333,8 +345,8 @@ void AdaptiveIntegrator::accept(double h) {
   for (Buffers& buf : buffers_) {
     std::swap(buf.a_prev, buf.a_now);
     std::swap(buf.b_prev, buf.b_now);
+    std::swap(buf.F_prev, buf.F_now);
   }
-  std::swap(F_prev_, F_now_);
   h_prev_ = h;
   history_ = true;
 }

@@ -73,6 +73,10 @@ class AdaptiveIntegrator final : public Integrator {
     std::vector<double> start, first_order, scale;
     // Linear forms a, b at the last accepted step's start, and at this one's.
     std::vector<double> a_prev, b_prev, a_now, b_now;
+    // A coupled potential, per local cell (each block writes its own stretch):
+    // the membrane term F at the last accepted step's start and at this one's,
+    // and the right-hand sides of the two solves.
+    std::vector<double> F_prev, F_now, v_half, v_full;
   };
   void prepare(CellSystem& system);
   // One trial step from t over h: the error in tolerances (inf if a state
@@ -81,6 +85,9 @@ class AdaptiveIntegrator final : public Integrator {
   double midpoint_step(CellSystem& system, double t, double h);      // two evaluations
   double extrapolated_step(CellSystem& system, double t, double h);  // one evaluation, needs history_
   double solve_potential(CellSystem& system, double theta, double error, bool with_companion);
+  // Solves (I + theta K) V = rhs, rhs the populations' `rhs` member
+  // (v_half or v_full), into v_global_.
+  void solve(CellSystem& system, double theta, std::vector<double> Buffers::*rhs);
   void accept(double h);
   template <class EachRow, class Potential>
   void for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row, Potential&& potential);
@@ -95,12 +102,8 @@ class AdaptiveIntegrator final : public Integrator {
   StepController controller_{1};
   StepHistogram histogram_;
   std::vector<Buffers> buffers_;
-  // Coupled V, per global cell: the right-hand sides of the two solves (then
-  // their solutions) and the gap-junction current at the step's start.
-  std::vector<double> v_half_, v_full_, gap_pA_;
-  // The membrane term F of V (all but the coupling) at the last accepted
-  // step's start and at this one's, per global cell.
-  std::vector<double> F_prev_, F_now_;
+  // Coupled V, per global cell: the right-hand side of a solve, then its solution.
+  std::vector<double> v_global_;
   bool history_ = false;  // the last step's linear forms are valid to extrapolate from
   double h_prev_ = 0;
 };

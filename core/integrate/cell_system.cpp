@@ -44,7 +44,8 @@ void CellSystem::block_inputs(std::size_t p, std::size_t begin, std::size_t end)
   Population& pop = populations[p];
   const int* cells = pop.cells.data();
   const bool gap = coupler && !implicit_coupling;
-  if (refresh_gap_current_) coupler->current_into(V_mV.data(), cells + begin, end - begin, gap_current_pA.data());
+  double* held = gap_current_pA.empty() ? nullptr : gap_current_pA[p].data();
+  if (refresh_gap_current_) coupler->current_into(V_mV.data(), cells + begin, end - begin, held + begin);
   const Myofilament* stretch_source = nullptr;
   if (sac.on)
     for (const auto& m : myofilaments)
@@ -52,7 +53,7 @@ void CellSystem::block_inputs(std::size_t p, std::size_t begin, std::size_t end)
   double* in = pop.i_ext();
   for (std::size_t c = begin; c < end; ++c) {
     double current = i_ext_pA[cells[c]];
-    if (gap) current += gap_current_pA[cells[c]];
+    if (gap) current += held[c];
     if (stretch_source) current -= stretch_activated_pA(*stretch_source, pop, c);
     in[c] = current;
   }
@@ -116,9 +117,10 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
   stimulus.add_current(t_stim_ms, i_ext_pA.data());
   refresh_gap_current_ = false;
-  if (coupler && !implicit_coupling && (refresh_coupling || gap_current_pA.size() != V_mV.size())) {
+  if (coupler && !implicit_coupling && (refresh_coupling || gap_current_pA.size() != populations.size())) {
     gather_voltage();
-    gap_current_pA.resize(V_mV.size());
+    gap_current_pA.resize(populations.size());
+    for (std::size_t p = 0; p < populations.size(); ++p) gap_current_pA[p].resize(populations[p].size());
     refresh_gap_current_ = true;
   }
   // 3. Troponin flux back into the host's Ca balance (calcium feedback).

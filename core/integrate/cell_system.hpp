@@ -45,7 +45,9 @@ struct CellSystem {
   // coupling_every cell steps; in between an explicit current is held.
   int coupling_every = 1;
   bool refresh_coupling = true;          // set by the integrator for each step
-  std::vector<double> gap_current_pA;    // the explicit coupling current last computed
+  // The explicit coupling current last computed, per ionic population and
+  // local cell (each block writes its own stretch).
+  std::vector<std::vector<double>> gap_current_pA;
   Stimulus stimulus;
   StretchActivatedCurrent sac;
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
