@@ -118,11 +118,12 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   stimulus.add_current(t_stim_ms, i_ext_pA.data());
   refresh_gap_current_ = false;
   if (coupler && !implicit_coupling && (refresh_coupling || gap_current_pA.size() != populations.size())) {
-    gather_voltage();
+    if (!voltage_fresh) gather_voltage();
     gap_current_pA.resize(populations.size());
     for (std::size_t p = 0; p < populations.size(); ++p) gap_current_pA[p].resize(populations[p].size());
     refresh_gap_current_ = true;
   }
+  voltage_fresh = false;  // the states are about to change
   // 3. Troponin flux back into the host's Ca balance (calcium feedback).
   for (auto& m : myofilaments) {
     if (m.host_trpn_input < 0) continue;

@@ -52,6 +52,13 @@ struct CellSystem {
   StretchActivatedCurrent sac;
   std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
   std::vector<double> V_mV;                        // per global cell
+  // Set by the fixed-step integrator when its update has left every cell's
+  // new V in V_mV (written to next_V_mV on the way, then swapped): the
+  // observer and the next evaluation need not gather it. The evaluation that
+  // next runs clears it; a gather never sets it, since other integrators
+  // (CVODE, adaptive) change states between gathers.
+  bool voltage_fresh = false;
+  std::vector<double> next_V_mV;
   std::vector<double> i_ext_pA;                    // per global cell: the stimulus of the step
   double last_step_ms = 0;                         // the integrator's last step (trace dt_ms)
   // Set by an integrator that checked every state against its population's

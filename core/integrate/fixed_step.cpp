@@ -103,14 +103,25 @@ void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
       pop.table_advances_gates = pop.table && std::abs(pop.table->rush_larsen_step_ms() - h) <= 1e-9 * h;
     });
     // (One pointer captured: std::function keeps it without a heap allocation.)
+    // Each block also leaves its cells' new V in next_V_mV (V_mV, which the
+    // other blocks read for their gap currents, holds the step's start).
+    system.next_V_mV.resize(system.cell_count());
     struct Update {
       const FixedStepIntegrator* integrator;
       double h;
       std::atomic<bool>* out_of_limits;
-    } update{this, h, &out_of_limits};
+      double* next_V_mV;
+    } update{this, h, &out_of_limits, system.next_V_mV.data()};
     system.evaluate(t, t, [u = &update](Population& pop, const BlockView& block) {
       if (!u->integrator->update_view(pop, block, u->h)) u->out_of_limits->store(true, std::memory_order_relaxed);
+      if (pop.voltage_state < 0) return;
+      const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());
+      const double* V = block.y + static_cast<std::size_t>(pop.voltage_state) * block.stride;
+      const int* cells = pop.cells.data() + offset;
+      for (std::size_t c = 0; c < block.end; ++c) u->next_V_mV[cells[c]] = V[c];
     });
+    std::swap(system.V_mV, system.next_V_mV);
+    system.voltage_fresh = true;
     system.for_each_population([](Population& pop) { pop.table_advances_gates = false; });
     system.states_checked = all_checked;
     system.states_in_limits = !out_of_limits.load();

@@ -387,7 +387,7 @@ struct Simulation::Impl : StepObserver {
     // Few clock readings per step: a single cell steps in about a microsecond.
     const auto start = Clock::now();
     check_states(t_new);
-    system.gather_voltage();
+    if (!system.voltage_fresh) system.gather_voltage();
     tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
     auto measured = Clock::now();
     measurement_seconds += std::chrono::duration<double>(measured - start).count();
