@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "model/plugin_registry.hpp"
+#include "run/interrupt.hpp"
 #include "scene/manifest_error.hpp"
 
 namespace CLI {
@@ -76,6 +77,9 @@ template <class Body>
 int guarded(Body body) {
   try {
     return body();
+  } catch (const InterruptedError& e) {
+    std::cerr << "stopped: " << e.what() << " (outputs written)\n";
+    return 128 + e.signal();  // as a shell reports a process killed by the signal
   } catch (const ManifestError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

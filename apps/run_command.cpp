@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "apps/commands.hpp"
+#include "run/interrupt.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {
@@ -29,6 +30,7 @@ int run_command(const RunArgs& args) {
     // A progress line only for a person at a terminal, never in logs or CI.
     options.progress = !args.quiet && isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
     Simulation simulation(scene, nullptr, options);
+    install_interrupt_handlers();  // SIGINT / SIGTERM end the run at the end of a step, outputs kept
     simulation.run();
     std::cout << "outputs: " << scene.output.dir << "/{summary.json,biomarkers.csv,traces.csv,run.log}\n";
     return 0;

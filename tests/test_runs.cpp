@@ -3,7 +3,10 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <csignal>
+#include <tuple>
 
+#include "run/interrupt.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -154,5 +157,47 @@ TEST_CASE("results do not depend on the thread count") {
     const std::string traces = testing::read_file(dir / "traces.csv") + testing::read_file(dir / "biomarkers.csv");
     if (first.empty()) first = traces;
     CHECK(traces == first);
+  }
+}
+
+TEST_CASE("SIGTERM or SIGINT ends a run at the end of a step: outputs written, status interrupted, exit 143 / 130") {
+  // In the library: as if the signal had come during the run.
+  const auto dir = testing::scratch_dir("interrupted");
+  json m = testing::passive_cell_manifest();
+  m["output"]["dir"] = (dir / "lib").string();
+  Simulation sim(parse_scene(m));
+  request_interrupt(SIGTERM);
+  try {
+    sim.run();
+    request_interrupt(0);
+    FAIL("expected the run to stop");
+  } catch (const InterruptedError& e) {
+    request_interrupt(0);
+    CHECK(e.signal() == SIGTERM);
+    CHECK(std::string(e.what()).find("interrupted by SIGTERM at t = 0.01 ms") != std::string::npos);
+  }
+  const json summary = json::parse(testing::read_file(dir / "lib" / "summary.json"));
+  CHECK(summary["status"] == "interrupted");
+  CHECK(summary["simulated_ms"].get<double>() == doctest::Approx(0.01));
+  CHECK(testing::read_file(dir / "lib" / "run.log").find("run interrupted: 0.01 of 100 ms") != std::string::npos);
+
+  // The command line, killed while it runs: exit 128 + signal, files complete.
+  for (const auto& [signal, name, code] : {std::tuple{SIGTERM, "TERM", 143}, std::tuple{SIGINT, "INT", 130}}) {
+    CAPTURE(name);
+    json slow = testing::passive_cell_manifest();
+    slow["duration_ms"] = 1e7;  // far longer than the test waits
+    slow["solver"]["dt_ms"] = 0.001;
+    const auto out = dir / name;
+    std::ofstream(dir / "slow.json") << slow.dump();
+    const std::string command = "timeout --preserve-status -s " + std::string(name) + " 1 " + std::string(FIBRODEM_BINARY_DIR) +
+                                "/fibrodem run --quiet " + (dir / "slow.json").string() + " --out " + out.string() +
+                                " > /dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    CHECK(WEXITSTATUS(status) == code);
+    const json s = json::parse(testing::read_file(out / "summary.json"));
+    CHECK(s["status"] == "interrupted");
+    CHECK(s["simulated_ms"].get<double>() > 0);
+    CHECK(testing::read_file(out / "run.log").find("run interrupted") != std::string::npos);
+    CHECK(testing::read_file(out / "traces.csv").find("t_ms") == 0);
   }
 }

@@ -35,11 +35,11 @@ struct RunFacts {
   const std::vector<std::string>& warnings;  // found at set-up
   std::string integrator;                    // Integrator::describe()
   std::string solver_choice;                 // solver.method "auto": what it chose and why (else empty)
-  const std::string& status;                 // set up | running | completed | failed
+  double simulated_ms = 0;                   // how far the run got (the end of its last step)
+  const std::string& status;                 // set up | running | completed | failed | interrupted
   const std::string& error;                  // empty unless failed
   double wall_s;
   long long steps;
-  const std::vector<double>& trace_times;    // the last one is how far the run got
   const Tissue& tissue;
   const CellSystem& system;                  // its stimulus and wall time per part
   const std::vector<BeatBiomarkers>& beats;

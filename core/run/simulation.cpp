@@ -19,6 +19,7 @@
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
 #include "integrate/method_choice.hpp"
+#include "run/interrupt.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
@@ -84,6 +85,8 @@ struct Simulation::Impl : StepObserver {
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
   std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
+  double t_reached_ms = 0;    // the end of the last step taken
+  int interrupted_by = 0;     // the signal that stopped the run, if one did
   BackgroundWriter writer;  // the tissue picture and the snapshots
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
@@ -169,6 +172,7 @@ struct Simulation::Impl : StepObserver {
     if (sinks.empty()) sinks.push_back(std::make_shared<spdlog::sinks::null_sink_mt>());
     log = std::make_shared<spdlog::logger>("fibrodem", sinks.begin(), sinks.end());
     log->set_pattern("[%H:%M:%S.%e] [%l] %v");
+    log->flush_on(spdlog::level::warn);  // a warning reaches run.log at once (and once a second: on_step)
     log->set_level(spdlog::level::info);
   }
 
@@ -384,6 +388,7 @@ struct Simulation::Impl : StepObserver {
 
   void on_step(double t_old, double t_new, const double* dVdt) override {
     ++steps;
+    t_reached_ms = t_new;
     // Few clock readings per step: a single cell steps in about a microsecond.
     const auto start = Clock::now();
     check_states(t_new);
@@ -398,10 +403,14 @@ struct Simulation::Impl : StepObserver {
     snapshot_if_due(t_new);
     if (measured - last_flush > std::chrono::seconds(1)) {
       traces.flush_csv();
+      log->flush();
       last_flush = measured;
     }
     report_progress(measured, t_new);
     output_seconds += seconds_since(measured);
+    // SIGINT / SIGTERM: stop here, at the end of a step (run() writes everything).
+    if (const int signal = interrupt_signal())
+      throw InterruptedError(signal, fmt::format("interrupted by {} at t = {} ms", signal_name(signal), t_new));
   }
 
   void snapshot_if_due(double t) {
@@ -544,12 +553,19 @@ struct Simulation::Impl : StepObserver {
       system.record_rest_lengths();
       system.gather_voltage();
       tracker->start(0.0, system.V_mV.data());
-      advance_and_time_integrator();
+      try {
+        advance_and_time_integrator();
+      } catch (const InterruptedError& e) {
+        status = "interrupted";
+        error = e.what();
+        interrupted_by = e.signal();
+        log->warn("{}: stopping with every output written", error);
+      }
       tracker->finish();
       ScopeTimer timer(output_seconds);
       if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats);
       writer.finish();
-      status = "completed";
+      if (status == "running") status = "completed";
     } catch (const std::exception& e) {
       status = "failed";
       error = e.what();
@@ -565,6 +581,7 @@ struct Simulation::Impl : StepObserver {
     }
     log->flush();
     if (status == "failed") throw std::runtime_error(error);
+    if (status == "interrupted") throw InterruptedError(interrupted_by, error);
   }
 
   // A failed run keeps what was written: the pictures already taken are
@@ -607,6 +624,9 @@ struct Simulation::Impl : StepObserver {
     if (mechanics) log->info("mechanics: {}", mechanics->report());
     if (const auto report = integrator->report(); !report.empty()) log->info("integrator: {}", report);
     if (status == "failed") log->error("run failed: {}", error);
+    else if (status == "interrupted")
+      log->warn("run interrupted: {} of {} ms simulated in {:.3f} s wall, {} steps", t_reached_ms, scene.duration_ms,
+                wall_s, steps);
     else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
   }
 
@@ -619,11 +639,11 @@ struct Simulation::Impl : StepObserver {
                         .warnings = warnings,
                         .integrator = integrator->describe(),
                         .solver_choice = solver_choice,
+                        .simulated_ms = t_reached_ms,
                         .status = status,
                         .error = error,
                         .wall_s = wall_s,
                         .steps = steps,
-                        .trace_times = traces.times(),
                         .tissue = tissue,
                         .system = system,
                         .beats = beats,

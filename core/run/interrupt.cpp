@@ -1,0 +1,34 @@
+#include "run/interrupt.hpp"
+
+#include <csignal>
+
+namespace fibrodem {
+
+namespace {
+volatile std::sig_atomic_t received = 0;
+
+extern "C" void record_signal(int signal) { received = signal; }
+}  // namespace
+
+void install_interrupt_handlers() {
+  struct sigaction action {};
+  action.sa_handler = record_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // a write in progress is not cut short
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+int interrupt_signal() { return received; }
+
+void request_interrupt(int signal) { received = signal; }
+
+std::string signal_name(int signal) {
+  switch (signal) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    default: return "signal " + std::to_string(signal);
+  }
+}
+
+}  // namespace fibrodem
