@@ -21,6 +21,7 @@ struct RunArgs {
   std::string out;
   std::vector<std::string> overrides;
   bool quiet = false;
+  bool overwrite = false;  // replace another run's files in the output folder
 };
 
 struct CompareArgs {
@@ -28,11 +29,13 @@ struct CompareArgs {
   std::string out;
   std::vector<std::string> overrides, a_overrides, b_overrides;
   bool quiet = false;
+  bool overwrite = false;
 };
 
 struct SweepArgs {
   std::string sweep;
   std::string out;
+  bool overwrite = false;
   unsigned jobs = 0;  // 0: one per core
 };
 

@@ -11,9 +11,11 @@ namespace fibrodem::cli {
 
 namespace {
 
-RunRecord run_variant(const std::string& label, json manifest, const std::filesystem::path& dir, bool quiet) {
+RunRecord run_variant(const std::string& label, json manifest, const std::filesystem::path& dir, bool quiet,
+                      bool overwrite) {
   Scene scene = parse_scene(manifest);
   scene.output.dir = (dir / label).string();
+  scene.output.overwrite = overwrite;
   RunOptions options;
   options.console_log = !quiet;
   Simulation simulation(scene, nullptr, options);
@@ -37,8 +39,8 @@ int compare_command(const CompareArgs& args) {
     for (const auto& s : args.b_overrides) apply_override(b, s);
     const std::string name = a.value("name", std::string("scene"));
     const std::filesystem::path dir = args.out.empty() ? "out/compare_" + name : args.out;
-    const RunRecord ra = run_variant("A", a, dir, args.quiet);
-    const RunRecord rb = run_variant("B", b, dir, args.quiet);
+    const RunRecord ra = run_variant("A", a, dir, args.quiet, args.overwrite);
+    const RunRecord rb = run_variant("B", b, dir, args.quiet, args.overwrite);
     write_comparison(ra, rb, dir);
     std::cout << "A: " << args.manifests.front();
     for (const auto& s : args.a_overrides) std::cout << " " << s;

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   run->add_option("--out", run_args.out, "output directory (default: the manifest's output.dir, else out/NAME)");
   run->add_option("--set", run_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
   run->add_flag("--quiet", run_args.quiet, "log to run.log only");
+  run->add_flag("--overwrite", run_args.overwrite, "replace another run's files in the output directory");
 
   fibrodem::cli::RunArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check a manifest (and build its scene) without running it");
@@ -52,12 +53,14 @@ int main(int argc, char** argv) {
   compare->add_option("--a", compare_args.a_overrides, "override for A only: PATH=VALUE (repeatable)");
   compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
   compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
+  compare->add_flag("--overwrite", compare_args.overwrite, "replace earlier runs' files in the output directory");
 
   fibrodem::cli::SweepArgs sweep_args;
   auto* sweep = app.add_subcommand("sweep", "Run a manifest over a grid of parameter values and tabulate the results");
   sweep->add_option("sweep", sweep_args.sweep, "sweep file (JSON: manifest, set, grid)")->required();
   sweep->add_option("--out", sweep_args.out, "output directory (default out/sweep_NAME)");
   sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core)");
+  sweep->add_flag("--overwrite", sweep_args.overwrite, "replace earlier runs' files in the output directory");
 
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");

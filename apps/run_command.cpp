@@ -25,6 +25,7 @@ int run_command(const RunArgs& args) {
     Scene scene = load_scene(args);
     if (!args.out.empty()) scene.output.dir = args.out;
     if (scene.output.dir.empty()) scene.output.dir = "out/" + scene.name;
+    scene.output.overwrite = args.overwrite;
     RunOptions options;
     options.console_log = !args.quiet;
     // A progress line only for a person at a terminal, never in logs or CI.
@@ -40,6 +41,7 @@ int run_command(const RunArgs& args) {
 int validate_command(const RunArgs& args) {
   return guarded([&] {
     Scene scene = load_scene(args);
+    scene.output.dir.clear();      // validating writes nothing
     Simulation simulation(scene);  // builds tissue, loads plugins, checks names; does not run
     const Tissue& tissue = simulation.tissue();
     std::cout << args.manifest << ": valid. " << tissue.cell_count() << " cells ("

@@ -51,12 +51,13 @@ std::vector<SweepPoint> expand_grid(const json& grid) {
 
 std::string assignment(const std::string& path, const json& value) { return path + "=" + value.dump(); }
 
-void run_point(const json& base, SweepPoint& point, const std::filesystem::path& dir) {
+void run_point(const json& base, SweepPoint& point, const std::filesystem::path& dir, bool overwrite) {
   try {
     json manifest = base;
     for (const auto& [path, value] : point.values) apply_override(manifest, assignment(path, value));
     Scene scene = parse_scene(manifest);
     scene.output.dir = dir.string();
+    scene.output.overwrite = overwrite;
     scene.solver.threads = 1;
     Simulation simulation(scene);
     simulation.run();
@@ -97,7 +98,7 @@ int sweep_command(const SweepArgs& args) {
     for (unsigned w = 0; w < jobs; ++w)
       workers.emplace_back([&] {
         for (std::size_t k; (k = next++) < points.size();) {
-          run_point(base, points[k], dir / ("run_" + std::to_string(k)));
+          run_point(base, points[k], dir / ("run_" + std::to_string(k)), args.overwrite);
           std::lock_guard<std::mutex> lock(print);
           std::cerr << "run " << k + 1 << "/" << points.size() << (points[k].error.empty() ? " done" : " FAILED: " + points[k].error) << "\n";
         }

@@ -3,5 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-build/fibrodem run examples/default.json --out out/default "$@"
+build/fibrodem run examples/default.json --out out/default --overwrite "$@"  # (replaces its own earlier output)
 echo "Outputs of the default scene are in $(pwd)/out/default (summary.json, biomarkers.csv, traces.csv, run.log)"

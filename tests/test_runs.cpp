@@ -201,3 +201,38 @@ TEST_CASE("SIGTERM or SIGINT ends a run at the end of a step: outputs written, s
     CHECK(testing::read_file(out / "traces.csv").find("t_ms") == 0);
   }
 }
+
+TEST_CASE("output folder problems are found before any computation, naming the folder and the reason") {
+  const auto dir = testing::scratch_dir("output_problems");
+  json m = testing::passive_cell_manifest();
+  auto set_up = [&](const std::filesystem::path& out, bool overwrite = false) {
+    Scene scene = parse_scene(m);
+    scene.output.dir = out.string();
+    scene.output.overwrite = overwrite;
+    return std::make_unique<Simulation>(scene);
+  };
+  // A file where the folder should be.
+  std::ofstream(dir / "a_file") << "x";
+  CHECK_THROWS_WITH_AS(set_up(dir / "a_file"), doctest::Contains("cannot create the output folder"), ManifestError);
+  CHECK_THROWS_WITH_AS(set_up(dir / "a_file" / "below"), doctest::Contains((dir / "a_file").string().c_str()), ManifestError);
+  // A folder nobody can write into, not even root (procfs).
+  CHECK_THROWS_WITH_AS(set_up("/proc/self"), doctest::Contains("cannot write into the output folder"), ManifestError);
+  // Another run's files: refused unless overwriting is asked for.
+  set_up(dir / "done")->run();
+  CHECK_THROWS_WITH_AS(set_up(dir / "done"), doctest::Contains("holds another run's files"), ManifestError);
+  CHECK_NOTHROW(set_up(dir / "done", true)->run());
+}
+
+TEST_CASE("a write that fails (a full disk) stops the run as failed, with the files written so far kept") {
+  const auto dir = testing::scratch_dir("disk_full");
+  // traces.csv on /dev/full: every write to it fails with ENOSPC.
+  std::filesystem::create_symlink("/dev/full", dir / "traces.csv");
+  json m = testing::passive_cell_manifest();
+  m["duration_ms"] = 3000;  // long enough for the once-a-second flush... or the final one
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  CHECK_THROWS_WITH(sim.run(), doctest::Contains("traces.csv failed (is the disk full?)"));
+  const json summary = json::parse(testing::read_file(dir / "summary.json"));
+  CHECK(summary["status"] == "failed");
+  CHECK(testing::read_file(dir / "run.log").find("run failed") != std::string::npos);
+}

@@ -15,7 +15,7 @@ std::string format_number(double value) {
 }
 
 CsvWriter::CsvWriter(const std::filesystem::path& file, const std::vector<std::string>& header)
-    : out_(file, std::ios::trunc) {
+    : file_(file), out_(file, std::ios::trunc) {
   if (!out_) throw std::runtime_error("cannot write " + file.string());
   for (const auto& h : header) cell(h);
   end_row();
@@ -30,6 +30,11 @@ CsvWriter& CsvWriter::cell(const std::string& value) {
 
 CsvWriter& CsvWriter::cell(double value) { return cell(format_number(value)); }
 CsvWriter& CsvWriter::cell(long long value) { return cell(std::to_string(value)); }
+
+void CsvWriter::flush() {
+  out_.flush();
+  if (!out_) throw std::runtime_error("writing " + file_.string() + " failed (is the disk full?)");
+}
 
 void CsvWriter::end_row() {
   out_ << '\n';

@@ -21,9 +21,12 @@ class CsvWriter {
   CsvWriter& cell(long long value);
   CsvWriter& cell(const std::string& value);
   void end_row();
-  void flush() { out_.flush(); }
+  // Throws std::runtime_error naming the file if anything written so far
+  // could not be (a full disk): the run then stops as failed.
+  void flush();
 
  private:
+  std::filesystem::path file_;
   std::ofstream out_;
   bool first_in_row_ = true;
 };

@@ -20,6 +20,7 @@
 #include "integrate/stability.hpp"
 #include "integrate/method_choice.hpp"
 #include "run/interrupt.hpp"
+#include "run/output_dir.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
@@ -92,6 +93,8 @@ struct Simulation::Impl : StepObserver {
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
       : scene(s), options(o), registry(std::move(r)) {
     ScopeTimer timer(set_up_seconds);
+    // Before any computation: a folder that cannot take the outputs stops here.
+    if (!scene.output.dir.empty()) prepare_output_dir(scene.output.dir, scene.output.overwrite);
     if (!registry) registry = std::make_shared<PluginRegistry>();
     make_logger();
     tissue = scene.tissue->build(scene.seed);
@@ -573,7 +576,11 @@ struct Simulation::Impl : StepObserver {
     }
     if (options.progress) std::fprintf(stderr, "\n");
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    traces.flush_csv();
+    try {
+      traces.flush_csv();  // the last rows: a full disk shows here at the latest
+    } catch (const std::exception& e) {
+      if (status != "failed") status = "failed", error = e.what();
+    }
     log_run_end();
     if (!out.empty()) {
       write_summary(out, summary());

@@ -115,6 +115,7 @@ struct SnapshotSpec {
 
 struct OutputSpec {
   std::string dir;  // empty: write nothing (library use); the CLI sets a default
+  bool overwrite = false;  // replace another run's files in dir (the CLI's --overwrite)
   TraceSpec traces;
   bool tissue_picture = false;  // tissue.png (by cell type) and tissue.vtk at the start
   bool maps = false;            // activation_map.png and maps.vtk (last beat) at the end
