@@ -71,3 +71,57 @@ TEST_CASE("a model outlives the registry that loaded it (its library stays loade
   // dV/dt = -(V - E)/(R C) = -(9.6)/(67.41) mV/ms
   CHECK(a[0] == doctest::Approx(-9.6 / (10.7 * 6.3)));
 }
+
+TEST_CASE("inconsistent metadata is refused at load, naming the plugin and the fault") {
+  PluginRegistry registry({kBadPlugins});
+  CHECK_THROWS_WITH_AS(registry.load("duplicate_states"), doctest::Contains("two states are named 'V'"), PluginError);
+  CHECK_THROWS_WITH_AS(registry.load("duplicate_states"), doctest::Contains("libfibrodem_duplicate_states.so"),
+                       PluginError);
+  // Each rule on its own, without a plugin per case.
+  auto info_with = [](auto change) {
+    ModelInfo info;
+    info.name = "m";
+    info.states = {{"V", "mV", -50.0, -200.0, 200.0, false}};
+    info.parameters = {{"C_pF", "pF", 10.0, ""}};
+    info.voltage_state = 0;
+    info.capacitance_parameter = 0;
+    change(info);
+    return info;
+  };
+  const std::filesystem::path file = "libfibrodem_m.so";
+  CHECK_NOTHROW(check_model_info(info_with([](ModelInfo&) {}), file));
+  CHECK_THROWS_WITH(check_model_info(info_with([](ModelInfo& i) { i.states.clear(); }), file),
+                    doctest::Contains("declares no states"));
+  CHECK_THROWS_WITH(check_model_info(info_with([](ModelInfo& i) { i.states[0].name = ""; }), file),
+                    doctest::Contains("state 0 has no name"));
+  CHECK_THROWS_WITH(check_model_info(info_with([](ModelInfo& i) { i.states[0].lower = 300; }), file),
+                    doctest::Contains("bounds reversed"));
+  CHECK_THROWS_WITH(check_model_info(info_with([](ModelInfo& i) { i.states[0].initial = 250; }), file),
+                    doctest::Contains("outside its bounds"));
+  CHECK_THROWS_WITH(check_model_info(info_with([](ModelInfo& i) { i.parameters[0].default_value = 0; }), file),
+                    doctest::Contains("expected > 0 pF"));
+  CHECK_THROWS_WITH(check_model_info(info_with([](ModelInfo& i) { i.voltage_state = 3; }), file),
+                    doctest::Contains("voltage_state 3"));
+}
+
+TEST_CASE("a model that throws from evaluate() stops the run naming it, outputs kept (fixed step, adaptive, CVODE)") {
+  for (const char* method : {"euler", "adaptive", "cvode"}) {
+    CAPTURE(method);
+    const auto dir = testing::scratch_dir(std::string("throws_") + method);
+    auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
+    json m = testing::passive_cell_manifest();
+    m["cells"]["fibroblast"]["model"] = "throws";
+    m["duration_ms"] = 20;
+    m["solver"] = {{"method", method}};
+    if (std::string(method) == "euler") m["solver"]["dt_ms"] = 0.01;
+    m["output"]["dir"] = dir.string();
+    Simulation sim(parse_scene(m), registry);
+    CHECK_THROWS_WITH(sim.run(), doctest::Contains("model throws (fibroblast) threw from evaluate(): lookup out of range"));
+    const json summary = json::parse(testing::read_file(dir / "summary.json"));
+    CHECK(summary["status"] == "failed");
+    // It stops at the first evaluation past 5 ms (CVODE tries far ahead at once).
+    CHECK(summary["simulated_ms"].get<double>() <= 6);
+    if (std::string(method) != "cvode")  // the samples before it are kept
+      CHECK(testing::read_file(dir / "traces.csv").find("\n5,") != std::string::npos);
+  }
+}

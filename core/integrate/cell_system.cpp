@@ -90,6 +90,7 @@ void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) 
     if (!after) pop.evaluate_block(blocks_[i].second, t_ms);
     else pop.evaluate_block(blocks_[i].second, t_ms, [&](const BlockView& block) { after(pop, block); }, false);
   });
+  for (const auto& pop : populations) pop.rethrow_model_fault();
 }
 
 void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after) {

@@ -93,6 +93,9 @@ struct Context {
   const StateMap* map = nullptr;
   double t_stimulus = 0;  // the stimulus is evaluated here for the whole interval
   std::string error;
+  // What a callback caught (a model that threw): exceptions must not cross
+  // CVODE's C frames, so the callback returns -1 and check() throws this.
+  std::string fault;
   std::unique_ptr<BlockPreconditioner> preconditioner;  // Krylov solver only
 };
 
@@ -113,18 +116,28 @@ bool evaluate_rhs(Context& ctx, double t, const double* y, double* f) {
 
 int right_hand_side(double t, N_Vector y, N_Vector ydot, void* user) {
   auto& ctx = *static_cast<Context*>(user);
-  // 1: recoverable, CVODE retries with a smaller step.
-  return evaluate_rhs(ctx, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot)) ? 0 : 1;
+  try {
+    // 1: recoverable, CVODE retries with a smaller step.
+    return evaluate_rhs(ctx, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot)) ? 0 : 1;
+  } catch (const std::exception& e) {
+    ctx.fault = e.what();
+    return -1;  // unrecoverable: CVODE stops
+  }
 }
 
 int preconditioner_setup(double t, N_Vector y, N_Vector fy, sunbooleantype jok, sunbooleantype* jcur,
                          double gamma, void* user) {
   auto& ctx = *static_cast<Context*>(user);
-  const bool ok = ctx.preconditioner->setup(
-      N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jok, gamma,
-      [&](const double* yp, double* fp) { return evaluate_rhs(ctx, t, yp, fp); });
-  *jcur = jok ? SUNFALSE : SUNTRUE;
-  return ok ? 0 : 1;
+  try {
+    const bool ok = ctx.preconditioner->setup(
+        N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jok, gamma,
+        [&](const double* yp, double* fp) { return evaluate_rhs(ctx, t, yp, fp); });
+    *jcur = jok ? SUNFALSE : SUNTRUE;
+    return ok ? 0 : 1;
+  } catch (const std::exception& e) {
+    ctx.fault = e.what();
+    return -1;
+  }
 }
 
 int preconditioner_solve(double, N_Vector, N_Vector, N_Vector r, N_Vector z, double, double, int, void* user) {
@@ -179,6 +192,7 @@ void record_error(int /*code*/, const char* module, const char* function, char* 
 }
 
 void check(int flag, const char* what, const Context& ctx) {
+  if (flag < 0 && !ctx.fault.empty()) throw std::runtime_error(ctx.fault);
   if (flag < 0)
     throw std::runtime_error(std::string("CVODE ") + what + " failed (flag " + std::to_string(flag) +
                              ")" + (ctx.error.empty() ? "" : ": " + ctx.error));

@@ -116,10 +116,48 @@ std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
   if (model->info().name != name)
     throw PluginError("plugin " + file.string() + " calls its model '" + model->info().name +
                       "', expected '" + name + "'");
+  check_model_info(model->info(), file);
 
   records_[name] = PluginRecord{name, model->info().version, file, sha256_of_file(file)};
   models_[name] = model;
   return model;
+}
+
+// A model's metadata must be consistent before anything relies on it: names
+// present and unique, bounds in order around the initial value, indices in range.
+void check_model_info(const ModelInfo& info, const fs::path& file) {
+  const std::string who = "plugin " + file.string() + " (model " + info.name + "): ";
+  if (info.states.empty()) throw PluginError(who + "declares no states");
+  auto check_names = [&](const auto& list, const char* what) {
+    std::set<std::string> seen;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      if (list[k].name.empty()) throw PluginError(who + what + " " + std::to_string(k) + " has no name");
+      if (!seen.insert(list[k].name).second) throw PluginError(who + "two " + what + "s are named '" + list[k].name + "'");
+    }
+  };
+  check_names(info.states, "state");
+  check_names(info.parameters, "parameter");
+  check_names(info.inputs, "input");
+  check_names(info.outputs, "output");
+  for (const StateInfo& s : info.states) {
+    if (!(s.lower <= s.upper))
+      throw PluginError(who + "state '" + s.name + "' has its bounds reversed (lower " + std::to_string(s.lower) +
+                        " > upper " + std::to_string(s.upper) + ")");
+    if (!(s.initial >= s.lower && s.initial <= s.upper))
+      throw PluginError(who + "state '" + s.name + "' starts at " + std::to_string(s.initial) +
+                        ", outside its bounds [" + std::to_string(s.lower) + ", " + std::to_string(s.upper) + "]");
+  }
+  const auto n_states = static_cast<int>(info.states.size()), n_params = static_cast<int>(info.parameters.size());
+  if (info.voltage_state >= n_states)
+    throw PluginError(who + "voltage_state " + std::to_string(info.voltage_state) + " is not one of its " +
+                      std::to_string(n_states) + " states");
+  if (info.capacitance_parameter >= n_params)
+    throw PluginError(who + "capacitance_parameter " + std::to_string(info.capacitance_parameter) +
+                      " is not one of its " + std::to_string(n_params) + " parameters");
+  if (info.capacitance_parameter >= 0 && !(info.parameters[info.capacitance_parameter].default_value > 0))
+    throw PluginError(who + "its capacitance parameter '" + info.parameters[info.capacitance_parameter].name +
+                      "' defaults to " + std::to_string(info.parameters[info.capacitance_parameter].default_value) +
+                      ", expected > 0 pF");
 }
 
 std::vector<PluginRecord> PluginRegistry::loaded() const {

@@ -23,6 +23,11 @@ class PluginError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Throws PluginError naming `file` and the fault if a model's metadata is
+// inconsistent: no states, an empty or repeated name, bounds reversed or not
+// around the initial value, an index out of range, a capacitance <= 0.
+void check_model_info(const ModelInfo& info, const std::filesystem::path& file);
+
 struct PluginRecord {
   std::string name;
   std::string version;

@@ -2,7 +2,20 @@
 
 #include <algorithm>
 
+#include "model/plugin_registry.hpp"
+
 namespace fibrodem {
+
+void ModelFault::record(const std::string& what) {
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!raised.exchange(true)) message = what;  // the first one
+}
+
+void Population::rethrow_model_fault() const {
+  if (fault->raised.load())
+    throw PluginError("model " + info().name + " (" + cell_type_name(type) + ") threw from evaluate(): " +
+                      fault->message + " (a model must not throw; the run stops here)");
+}
 
 void Population::reset() {
   const std::size_t n = size();
@@ -36,6 +49,7 @@ void Population::evaluate(double t_ms, const AfterBlock& after, bool with_output
   // state and inputs, so the result does not depend on the thread count.
   for_each_block(static_cast<long>(block_count()),
                  [&](long k) { evaluate_block(static_cast<std::size_t>(k), t_ms, after, with_outputs); });
+  rethrow_model_fault();
 }
 
 void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& after, bool with_outputs) {
@@ -57,13 +71,17 @@ void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& af
     block.begin = begin;
     block.end = end;
   }
-  if (table) {
-    block.skip_voltage_only_gates = true;
+  // An exception must not leave an OpenMP region (that would terminate the
+  // process): it is recorded and re-thrown after the loop.
+  try {
+    block.skip_voltage_only_gates = table != nullptr;
     model->evaluate(block, t_ms);
-    if (!table_advances_gates) table->fill(block, voltage_state);
-  } else {
-    model->evaluate(block, t_ms);
+  } catch (const std::exception& e) {
+    return fault->record(e.what());
+  } catch (...) {
+    return fault->record("an exception that is not a std::exception");
   }
+  if (table && !table_advances_gates) table->fill(block, voltage_state);
   if (after) after(block);
 }
 

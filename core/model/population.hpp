@@ -3,8 +3,10 @@
 // layout, and one parameter vector for the block.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,15 @@ namespace fibrodem {
 // cells [0, end - begin) of it are the population's [begin, end); its a and b
 // are a scratch tile of the thread (ab_stride), not the population's arrays.
 using AfterBlock = std::function<void(const BlockView& block)>;
+
+// What a model's evaluate() threw, if it did (the contract says it must not):
+// recorded on the thread that caught it, re-thrown after the parallel loop.
+struct ModelFault {
+  std::atomic<bool> raised{false};
+  std::mutex mutex;
+  std::string message;
+  void record(const std::string& what);
+};
 
 struct Population {
   CellType type = CellType::myocyte;
@@ -69,6 +80,10 @@ struct Population {
   // Builds the table from the current parameters and initial state; false
   // (and no table) when the model has no voltage_only gates.
   bool use_lookup_table();
+  // Throws PluginError naming the model and its message if its evaluate()
+  // threw since the population was made (call after a parallel evaluation).
+  void rethrow_model_fault() const;
+  std::shared_ptr<ModelFault> fault = std::make_shared<ModelFault>();
 };
 
 // Index of a named state / parameter / output, or -1.
