@@ -48,7 +48,7 @@ int validate_command(const RunArgs& args) {
               << tissue.count(CellType::myocyte) << " myocytes, " << tissue.count(CellType::fibroblast)
               << " fibroblasts); processes:";
     for (const auto& p : simulation.processes().built) std::cout << " " << p.name;
-    std::cout << "; " << simulation.integrator_description() << "\n";
+    std::cout << "; " << simulation.integrator_description() << "; " << simulation.resource_estimate() << "\n";
     return 0;
   });
 }

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "run/interrupt.hpp"
+#include "run/resource_estimate.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -235,4 +236,32 @@ TEST_CASE("a write that fails (a full disk) stops the run as failed, with the fi
   const json summary = json::parse(testing::read_file(dir / "summary.json"));
   CHECK(summary["status"] == "failed");
   CHECK(testing::read_file(dir / "run.log").find("run failed") != std::string::npos);
+}
+
+TEST_CASE("a scene too large for the machine is refused at set-up with the estimate and what to change") {
+  json m = testing::passive_cell_manifest();
+  // 10^4 s traced every 10^-4 ms: 10^11 samples, far beyond any memory.
+  m["duration_ms"] = 1e7;
+  m["output"]["traces"]["every_ms"] = 1e-4;
+  m["solver"]["dt_ms"] = 1e-4;
+  try {
+    Simulation sim(parse_scene(m));
+    FAIL("expected the scene to be refused");
+  } catch (const ManifestError& e) {
+    const std::string message = e.what();
+    CAPTURE(message);
+    CHECK(message.find("resources") != std::string::npos);
+    CHECK(message.find("traces: 1 columns x") != std::string::npos);
+    CHECK(message.find("a larger every_ms") != std::string::npos);
+  }
+  // The rule itself, with given amounts: the largest part and its remedy.
+  ResourceEstimate estimate;
+  estimate.memory = {{"cell states", 1e6, "a smaller tissue"}, {"CVODE dense Jacobian", 8e9, "a band solver"}};
+  estimate.output = {{"traces.csv", 5e9, "fewer cells"}};
+  CHECK_NOTHROW(check_resources(estimate, 1e11, 1e11));
+  CHECK_THROWS_WITH(check_resources(estimate, 4e9, 1e11), doctest::Contains("CVODE dense Jacobian (8 GB): try a band solver"));
+  CHECK_THROWS_WITH(check_resources(estimate, 1e11, 1e9), doctest::Contains("more than the 1 GB free on the output disk"));
+  // A scene that fits says what it needs.
+  Simulation fits(parse_scene(testing::passive_cell_manifest()));
+  CHECK(fits.resource_estimate().find("memory ~") == 0);
 }

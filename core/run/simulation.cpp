@@ -21,6 +21,7 @@
 #include "integrate/method_choice.hpp"
 #include "run/interrupt.hpp"
 #include "run/output_dir.hpp"
+#include "run/resource_estimate.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
@@ -87,6 +88,7 @@ struct Simulation::Impl : StepObserver {
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
   std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
   double t_reached_ms = 0;    // the end of the last step taken
+  ResourceEstimate resources;
   int interrupted_by = 0;     // the signal that stopped the run, if one did
   BackgroundWriter writer;  // the tissue picture and the snapshots
 
@@ -116,6 +118,17 @@ struct Simulation::Impl : StepObserver {
     set_state_limits();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
+    guard_resources();
+  }
+
+  // Before anything large is allocated (integrator buffers, traces, CVODE's
+  // matrices): a scene that cannot fit is refused with the estimate.
+  void guard_resources() {
+    resources = estimate_resources(scene, tissue, system, mechanics != nullptr);
+    check_resources(resources, available_memory_bytes(),
+                    scene.output.dir.empty() ? std::numeric_limits<double>::infinity()
+                                             : available_disk_bytes(scene.output.dir));
+    plan.notes.push_back("resources: " + resources.describe());
   }
 
   // solver.method "auto": the method and its settings for the scene's size
@@ -676,6 +689,8 @@ const std::vector<BeatBiomarkers>& Simulation::biomarkers() const { return impl_
 const std::vector<double>& Simulation::trace_times() const { return impl_->traces.times(); }
 json Simulation::summary() const { return impl_->summary(); }
 std::string Simulation::integrator_description() const { return impl_->integrator->describe(); }
+
+std::string Simulation::resource_estimate() const { return impl_->resources.describe(); }
 
 std::vector<std::string> Simulation::trace_column_names() const { return impl_->traces.column_names(); }
 const std::vector<std::vector<double>>& Simulation::trace_samples() const { return impl_->traces.samples(); }

@@ -53,6 +53,8 @@ class Simulation {
   const std::vector<std::vector<double>>& trace_samples() const;
   json summary() const;
   std::string integrator_description() const;
+  // Memory and output size the scene was estimated to need (checked at set-up).
+  std::string resource_estimate() const;
 
  private:
   struct Impl;

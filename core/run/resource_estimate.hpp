@@ -1,0 +1,43 @@
+// Memory and output size of a scene, estimated before it runs (issue "Nothing
+// lost", resource guard): a scene that would not fit in the machine's memory
+// or on the output disk is refused with the estimate and what to change.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "integrate/cell_system.hpp"
+#include "scene/scene.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+struct ResourceEstimate {
+  struct Part {
+    std::string what;   // "traces: 2 cells x 1 variable x 10001 samples"
+    double bytes = 0;
+    std::string remedy;  // what would shrink it
+  };
+  std::vector<Part> memory, output;
+  double memory_bytes() const;
+  double output_bytes() const;
+  std::string describe() const;  // "memory ~12 MB (...), output ~3 MB (...)"
+};
+
+// The estimate for a scene whose cells, models and coupling are built.
+ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, const CellSystem& system,
+                                    bool mechanics);
+
+// Throws ManifestError naming the largest part and its remedy if the memory
+// estimate exceeds `available_memory_bytes` or the output estimate exceeds
+// `available_disk_bytes`.
+void check_resources(const ResourceEstimate& estimate, double available_memory_bytes, double available_disk_bytes);
+
+// This machine's available memory (MemAvailable), and the space free where
+// `dir` is (infinity if unknown).
+double available_memory_bytes();
+double available_disk_bytes(const std::filesystem::path& dir);
+
+}  // namespace fibrodem
