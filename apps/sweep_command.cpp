@@ -9,10 +9,22 @@
 //
 // Runs go to DIR/run_<k>/; DIR/sweep.csv and DIR/sweep.md have one row per run:
 // the grid values, per-cell-type mean biomarkers, CV, peak strain and status. Runs are
-// spread over N worker threads (each run single-threaded, so the numbers are
-// those of a lone run).
+// spread over N workers, each point a `fibrodem run` process of its own
+// (single-threaded, so the numbers are those of a lone run): a point that
+// crashes (a segfault in a user's plugin) cannot take the others down; its
+// status is "crashed" with the signal, or "failed" with its error.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/dll/runtime_symbol_info.hpp>
+
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <sstream>
@@ -29,6 +41,7 @@ namespace {
 struct SweepPoint {
   std::vector<std::pair<std::string, json>> values;  // grid path -> value
   json summary;
+  std::string status;  // completed | failed | interrupted | crashed
   std::string error;
 };
 
@@ -51,18 +64,50 @@ std::vector<SweepPoint> expand_grid(const json& grid) {
 
 std::string assignment(const std::string& path, const json& value) { return path + "=" + value.dump(); }
 
+// Runs one point as `fibrodem run` in a process of its own: its manifest goes
+// to dir/manifest.json, its summary.json comes back.
 void run_point(const json& base, SweepPoint& point, const std::filesystem::path& dir, bool overwrite) {
   try {
     json manifest = base;
     for (const auto& [path, value] : point.values) apply_override(manifest, assignment(path, value));
-    Scene scene = parse_scene(manifest);
-    scene.output.dir = dir.string();
-    scene.output.overwrite = overwrite;
-    scene.solver.threads = 1;
-    Simulation simulation(scene);
-    simulation.run();
-    point.summary = simulation.summary();
+    parse_scene(manifest);  // a bad point is named here, before a process is spent on it
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path file = dir / "manifest.json";
+    std::ofstream(file) << manifest.dump(2);
+    const std::string self = boost::dll::program_location().string();
+    std::vector<std::string> args = {self, "run", file.string(), "--quiet", "--out", dir.string(),
+                                     "--set", "solver.threads=1"};
+    if (overwrite) args.push_back("--overwrite");
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;  // its console quiet: its run.log says it all
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, (dir / "stderr.txt").c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = 0;
+    const int spawned = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) throw std::runtime_error("cannot start " + self + ": " + std::strerror(spawned));
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (std::filesystem::exists(dir / "summary.json"))
+      point.summary = json::parse(std::ifstream(dir / "summary.json"));
+    if (WIFSIGNALED(status)) {
+      point.status = "crashed";
+      point.error = "the run's process died of signal " + std::to_string(WTERMSIG(status)) + " (" +
+                    strsignal(WTERMSIG(status)) + "); see " + (dir / "run.log").string();
+      return;
+    }
+    point.status = point.summary.is_object() ? point.summary.value("status", "failed") : "failed";
+    if (point.status != "completed")
+      point.error = point.summary.is_object() ? point.summary.value("error", std::string("exit status ") +
+                                                                                std::to_string(WEXITSTATUS(status)))
+                                              : "exit status " + std::to_string(WEXITSTATUS(status));
   } catch (const std::exception& e) {
+    point.status = "failed";
     point.error = e.what();
   }
 }
@@ -100,7 +145,7 @@ int sweep_command(const SweepArgs& args) {
         for (std::size_t k; (k = next++) < points.size();) {
           run_point(base, points[k], dir / ("run_" + std::to_string(k)), args.overwrite);
           std::lock_guard<std::mutex> lock(print);
-          std::cerr << "run " << k + 1 << "/" << points.size() << (points[k].error.empty() ? " done" : " FAILED: " + points[k].error) << "\n";
+          std::cerr << "run " << k + 1 << "/" << points.size() << (points[k].status == "completed" ? " done" : " " + points[k].status + ": " + points[k].error) << "\n";
         }
       });
     for (auto& t : workers) t.join();
@@ -133,7 +178,7 @@ int sweep_command(const SweepArgs& args) {
       for (const char* component : {"xx", "yy"})
         row.push_back(points[k].summary.is_null() || points[k].summary["peak_strain"].is_null()
                           ? "" : cell_text(points[k].summary["peak_strain"][component]));
-      row.push_back(points[k].error.empty() ? "completed" : "failed");
+      row.push_back(points[k].status);
       for (const auto& c : row) {
         csv.cell(c);
         std::string shown = c;
@@ -143,11 +188,16 @@ int sweep_command(const SweepArgs& args) {
       csv.end_row();
       md << "|\n";
     }
+    bool any_failed = false;
+    for (std::size_t k = 0; k < points.size(); ++k)
+      if (points[k].status != "completed") {
+        if (!any_failed) md << "\nPoints that did not complete:\n\n";
+        any_failed = true;
+        md << "- run " << k << ", " << points[k].status << ": " << points[k].error << "\n";
+      }
     std::ofstream(dir / "sweep.md") << md.str();
     std::cout << md.str() << "\noutputs: " << dir.string() << "/{sweep.csv,sweep.md,run_*/}\n";
-    for (const auto& p : points)
-      if (!p.error.empty()) return 4;
-    return 0;
+    return any_failed ? 4 : 0;
   });
 }
 

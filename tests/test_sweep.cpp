@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdio>
+#include <sys/wait.h>
 
 #include "support/scenes.hpp"
 
@@ -38,4 +39,29 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
   CHECK(apo[3] == doctest::Approx(2 * apo[2]).epsilon(1e-6));
   CHECK(apo[2] > apo[0]);
   CHECK(std::filesystem::exists(dir / "out" / "run_3" / "summary.json"));
+}
+
+TEST_CASE("a sweep point that crashes its process (a segfaulting plugin) leaves the other points to finish") {
+  const auto dir = testing::scratch_dir("sweep_crash");
+  json m = testing::passive_cell_manifest();
+  m["duration_ms"] = 5;
+  m["cells"]["fibroblast"]["model"] = "crashes";
+  std::ofstream(dir / "base.json") << m.dump();
+  std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",
+      "grid": {"cells.fibroblast.parameters.crash": [0, 1, 0]}})";
+  const std::string command = "FIBRODEM_PLUGIN_PATH=" + std::string(FIBRODEM_BINARY_DIR) + "/test_plugins " +
+                              std::string(FIBRODEM_BINARY_DIR) + "/fibrodem sweep " + (dir / "sweep.json").string() +
+                              " --out " + (dir / "out").string() + " --jobs 2 > /dev/null 2>&1";
+  const int exit_status = std::system(command.c_str());
+  CHECK(WEXITSTATUS(exit_status) == 4);  // the sweep completes, saying a point did not
+  const std::string csv = testing::read_file(dir / "out" / "sweep.csv");
+  CAPTURE(csv);
+  std::istringstream rows(csv);
+  std::string header, line;
+  std::getline(rows, header);
+  std::vector<std::string> status;
+  while (std::getline(rows, line)) status.push_back(line.substr(line.rfind(',') + 1));
+  CHECK(status == std::vector<std::string>{"completed", "crashed", "completed"});
+  const std::string md = testing::read_file(dir / "out" / "sweep.md");
+  CHECK(md.find("signal 11") != std::string::npos);
 }
