@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Installs what fibrodem needs from Debian 12 packages (only what is missing)
 # and builds it in ./build (Release). Safe to run again.
+#   scripts/setup.sh [--deps-only]   (--deps-only: install, do not build;
+#   FIBRODEM_EXTRA_PACKAGES="...": more packages, e.g. scripts/fuzz.sh's clang)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libboost-dev
           nlohmann-json3-dev libspdlog-dev doctest-dev libcli11-dev libbenchmark-dev libssl-dev
-          libcairo2-dev libpng-dev libxsimd-dev)
+          libcairo2-dev libpng-dev libxsimd-dev ${FIBRODEM_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -19,6 +21,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+[ "${1:-}" = "--deps-only" ] && exit 0
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$jobs"
