@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS="${1:-100000}"
-FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev" scripts/setup.sh --deps-only
+FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.sh --deps-only
 SAN="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -g -O1"
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DFIBRODEM_FUZZ=ON -DFIBRODEM_BUILD_TESTS=OFF -DCMAKE_CXX_FLAGS="$SAN" \

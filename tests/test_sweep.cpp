@@ -61,7 +61,12 @@ TEST_CASE("a sweep point that crashes its process (a segfaulting plugin) leaves 
   std::getline(rows, header);
   std::vector<std::string> status;
   while (std::getline(rows, line)) status.push_back(line.substr(line.rfind(',') + 1));
-  CHECK(status == std::vector<std::string>{"completed", "crashed", "completed"});
+  REQUIRE(status.size() == 3);
+  CHECK(status[0] == "completed");
+  CHECK(status[2] == "completed");
+  // Killed by SIGSEGV; under AddressSanitizer its handler reports the fault
+  // and exits instead, and the point is "failed" with that exit status.
   const std::string md = testing::read_file(dir / "out" / "sweep.md");
-  CHECK(md.find("signal 11") != std::string::npos);
+  if (status[1] == "crashed") CHECK(md.find("signal 11") != std::string::npos);
+  else CHECK(status[1] == "failed");
 }
