@@ -65,7 +65,8 @@ TEST_CASE("colman: model description and variants") {
   CHECK(info.variants[1].name == "ni2017");
   // The default variant is the parameter defaults (one source of truth).
   for (const auto& [name, value] : info.variants[0].parameters) {
-    CAPTURE(name);
+    const std::string parameter = name;  // (clang 14 cannot capture a structured binding)
+    CAPTURE(parameter);
     bool found = false;
     for (const auto& p : info.parameters)
       if (p.name == name) {

@@ -216,7 +216,8 @@ TEST_CASE("rice: the CellML protocol at 24 C reproduces gotran's reference SL(t)
   REQUIRE(b.finite);
   CHECK(b.in_bounds);
   for (const auto& [t, SL_ref] : reference) {
-    CAPTURE(t);
+    const double t_ms = t;  // (clang 14 cannot capture a structured binding)
+    CAPTURE(t_ms);
     // Rush-Larsen is first order: at dt 0.001 ms its error is <= 6e-6 um over the
     // twitch (measured against RK4; 4.5e-6 at these samples); REFERENCES.md: a
     // faithful transcription agrees to ~1e-5 um.

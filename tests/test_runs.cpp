@@ -184,7 +184,8 @@ TEST_CASE("SIGTERM or SIGINT ends a run at the end of a step: outputs written, s
 
   // The command line, killed while it runs: exit 128 + signal, files complete.
   for (const auto& [signal, name, code] : {std::tuple{SIGTERM, "TERM", 143}, std::tuple{SIGINT, "INT", 130}}) {
-    CAPTURE(name);
+    const std::string signal_text = name;  // (clang 14 cannot capture a structured binding)
+    CAPTURE(signal_text);
     json slow = testing::passive_cell_manifest();
     slow["duration_ms"] = 1e7;  // far longer than the test waits
     slow["solver"]["dt_ms"] = 0.001;

@@ -48,7 +48,8 @@ TEST_CASE("SIMD lanes and the scalar reference path agree to round-off") {
       {"colman", "myocyte"}, {"courtemanche", "myocyte"}, {"maleckar_active2", "fibroblast"},
       {"passive_fibroblast", "fibroblast"}};
   for (const auto& [model, type] : models) {
-    CAPTURE(model);
+    const std::string model_name = model;  // (clang 14 cannot capture a structured binding)
+    CAPTURE(model_name);
     Simulation lanes(parse_scene(strand(model, type, true)));
     Simulation scalar(parse_scene(strand(model, type, false)));
     lanes.run();
