@@ -110,13 +110,13 @@ TEST_CASE("a model that throws from evaluate() stops the run naming it, outputs 
     const auto dir = testing::scratch_dir(std::string("throws_") + method);
     auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
     json m = testing::passive_cell_manifest();
-    m["cells"]["fibroblast"]["model"] = "throws";
+    m["cells"]["fibroblast"] = {{"model", "misbehaves"}, {"parameters", {{"fault", 1}}}};
     m["duration_ms"] = 20;
     m["solver"] = {{"method", method}};
     if (std::string(method) == "euler") m["solver"]["dt_ms"] = 0.01;
     m["output"]["dir"] = dir.string();
     Simulation sim(parse_scene(m), registry);
-    CHECK_THROWS_WITH(sim.run(), doctest::Contains("model throws (fibroblast) threw from evaluate(): lookup out of range"));
+    CHECK_THROWS_WITH(sim.run(), doctest::Contains("model misbehaves (fibroblast) threw from evaluate(): lookup out of range"));
     const json summary = json::parse(testing::read_file(dir / "summary.json"));
     CHECK(summary["status"] == "failed");
     // It stops at the first evaluation past 5 ms (CVODE tries far ahead at once).

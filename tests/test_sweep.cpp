@@ -45,10 +45,10 @@ TEST_CASE("a sweep point that crashes its process (a segfaulting plugin) leaves 
   const auto dir = testing::scratch_dir("sweep_crash");
   json m = testing::passive_cell_manifest();
   m["duration_ms"] = 5;
-  m["cells"]["fibroblast"]["model"] = "crashes";
+  m["cells"]["fibroblast"]["model"] = "misbehaves";
   std::ofstream(dir / "base.json") << m.dump();
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",
-      "grid": {"cells.fibroblast.parameters.crash": [0, 1, 0]}})";
+      "grid": {"cells.fibroblast.parameters.fault": [0, 2, 0]}})";
   const std::string command = "FIBRODEM_PLUGIN_PATH=" + std::string(FIBRODEM_BINARY_DIR) + "/test_plugins " +
                               std::string(FIBRODEM_BINARY_DIR) + "/fibrodem sweep " + (dir / "sweep.json").string() +
                               " --out " + (dir / "out").string() + " --jobs 2 > /dev/null 2>&1";
