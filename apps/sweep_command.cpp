@@ -62,7 +62,9 @@ std::vector<SweepPoint> expand_grid(const json& grid) {
   return points;
 }
 
-std::string assignment(const std::string& path, const json& value) { return path + "=" + value.dump(); }
+std::string assignment(const std::string& path, const json& value) {
+  return path + "=" + value.dump(-1, ' ', false, json::error_handler_t::replace);
+}
 
 // Runs one point as `fibrodem run` in a process of its own: its manifest goes
 // to dir/manifest.json, its summary.json comes back.
@@ -73,7 +75,7 @@ void run_point(const json& base, SweepPoint& point, const std::filesystem::path&
     parse_scene(manifest);  // a bad point is named here, before a process is spent on it
     std::filesystem::create_directories(dir);
     const std::filesystem::path file = dir / "manifest.json";
-    std::ofstream(file) << manifest.dump(2);
+    std::ofstream(file) << manifest.dump(2, ' ', false, json::error_handler_t::replace);
     const std::string self = boost::dll::program_location().string();
     std::vector<std::string> args = {self, "run", file.string(), "--quiet", "--out", dir.string(),
                                      "--set", "solver.threads=1"};
@@ -114,7 +116,7 @@ void run_point(const json& base, SweepPoint& point, const std::filesystem::path&
 
 std::string cell_text(const json& v) {
   if (v.is_number_float()) return format_number(v.get<double>());
-  return v.is_string() ? v.get<std::string>() : v.dump();
+  return v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 }  // namespace

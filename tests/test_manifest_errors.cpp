@@ -137,3 +137,11 @@ TEST_CASE("the command line exits non-zero and names the path") {
   CHECK(output.find("solver.dt_ms") != std::string::npos);
   CHECK(output.find("expected a number") != std::string::npos);
 }
+
+TEST_CASE("invalid UTF-8 in a manifest's strings is a ManifestError, not a JSON exception (found by fuzzing)") {
+  json m = testing::passive_cell_manifest();
+  // A list of effects whose first string is not UTF-8: the error shows it.
+  m["effects"] = json::array({std::string("\xde\x9a\x93\xa2") + "ctrophysiology", "coupling"});
+  CHECK_THROWS_AS(parse_scene(m), ManifestError);
+  CHECK_NOTHROW(describe_json(m["effects"]));
+}

@@ -108,7 +108,7 @@ void write_summary(const std::filesystem::path& dir, const json& summary) {
   const std::filesystem::path tmp = dir / "summary.json.tmp";
   {
     std::ofstream f(tmp, std::ios::trunc);
-    f << summary.dump(2) << '\n';
+    f << summary.dump(2, ' ', false, json::error_handler_t::replace) << '\n';  // (the manifest's strings as given)
   }
   std::filesystem::rename(tmp, dir / "summary.json");  // atomic: never a half-written summary
 }

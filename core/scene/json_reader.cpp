@@ -19,7 +19,8 @@ std::string range_text(double min, double max) {
 }  // namespace
 
 std::string describe_json(const json& value) {
-  std::string s = value.dump();
+  // (Invalid UTF-8 in a string is shown replaced, not thrown: found by fuzzing.)
+  std::string s = value.dump(-1, ' ', false, json::error_handler_t::replace);
   if (s.size() > 60) s = s.substr(0, 57) + "...";
   return s;
 }
