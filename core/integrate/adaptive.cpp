@@ -132,10 +132,6 @@ void atomic_max(std::atomic<double>& target, double value) {
   }
 }
 
-double limit(const std::vector<double>& limits, std::size_t k, double fallback) {
-  return limits.empty() ? fallback : limits[k];
-}
-
 // The gap-junction current [pA] into a block's cells at the potentials of
 // system.V_mV, in the calling thread's scratch (valid until its next call).
 const double* gap_current(const CellSystem& system, const Population& pop, std::size_t offset, std::size_t count) {
@@ -262,8 +258,8 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
         pop, block, coupled,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
           block_error = std::max(block_error, second_stage(row, block.end, h, rtol_, atol_ * buf.scale[k],
-                                                           limit(pop.lower_limit, k, -kInf),
-                                                           limit(pop.upper_limit, k, kInf)));
+                                                           pop.lower_limit_of(k),
+                                                           pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           double* v_full = buffers_of(p).v_full.data() + offset;
@@ -287,8 +283,8 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
           block_error = std::max(
               block_error, extrapolated_row(row, buf.a_prev.data() + at, buf.b_prev.data() + at,
                                             buf.a_now.data() + at, buf.b_now.data() + at, block.end, h, omega, rtol_,
-                                            atol_ * buf.scale[k], limit(pop.lower_limit, k, -kInf),
-                                            limit(pop.upper_limit, k, kInf)));
+                                            atol_ * buf.scale[k], pop.lower_limit_of(k),
+                                            pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           // CNAB2: (I + theta K) V1 = (I - theta K) V0 + h F_mid, F_mid
@@ -327,7 +323,7 @@ double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, dou
     Population& pop = const_cast<Population&>(*buf.pop);
     if (pop.voltage_state < 0) continue;
     const std::size_t k = static_cast<std::size_t>(pop.voltage_state), n = pop.size();
-    const double lo = limit(pop.lower_limit, k, -kInf), hi = limit(pop.upper_limit, k, kInf);
+    const double lo = pop.lower_limit_of(k), hi = pop.upper_limit_of(k);
     const double atol = atol_ * buf.scale[k];
     for (std::size_t c = 0; c < n; ++c) {
       const double V1 = v_global_[pop.cells[c]];
@@ -422,7 +418,7 @@ void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err
       for (std::size_t c = 0; c < n; ++c) {
         const double y = pop.y[k * n + c];
         double e = std::abs(y - buf.first_order[k * n + c]) / (rtol_ * std::abs(y) + atol_ * buf.scale[k]);
-        if (!(y >= limit(pop.lower_limit, k, -kInf) && y <= limit(pop.upper_limit, k, kInf))) e = kInf;
+        if (!(y >= pop.lower_limit_of(k) && y <= pop.upper_limit_of(k))) e = kInf;
         if (e > worst_error) {
           const StateInfo& state = pop.info().states[k];
           worst_error = e;

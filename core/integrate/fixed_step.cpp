@@ -37,13 +37,6 @@ bool update_row(double* y, const double* y0, const double* ys, const double* a, 
   return xsimd::all(in_limits);
 }
 
-// A population's limits for state k (none if it has not been given any).
-double lower_limit(const Population& pop, std::size_t k) {
-  return pop.lower_limit.empty() ? -std::numeric_limits<double>::infinity() : pop.lower_limit[k];
-}
-double upper_limit(const Population& pop, std::size_t k) {
-  return pop.upper_limit.empty() ? std::numeric_limits<double>::infinity() : pop.upper_limit[k];
-}
 
 }  // namespace
 
@@ -57,7 +50,7 @@ bool FixedStepIntegrator::update_block(Population& pop, const std::vector<double
   for (std::size_t k = 0; k < states.size(); ++k)
     in_limits &= update_row(pop.y.data() + k * n, from.data() + k * n, slope_at.data() + k * n,
                             pop.a.data() + k * n, pop.b.data() + k * n, begin, end, dt,
-                            exponential_gates && states[k].gate, lower_limit(pop, k), upper_limit(pop, k));
+                            exponential_gates && states[k].gate, pop.lower_limit_of(k), pop.upper_limit_of(k));
   return in_limits;
 }
 
@@ -76,8 +69,8 @@ bool FixedStepIntegrator::update_view(const Population& pop, const BlockView& bl
     if (by_table && states[k].voltage_only) continue;
     double* row = y + k * block.stride;
     in_limits &= update_row(row, row, row, block.a + k * block.ab_stride, block.b + k * block.ab_stride, 0,
-                            block.end, dt, exponential_gates && states[k].gate, lower_limit(pop, k),
-                            upper_limit(pop, k));
+                            block.end, dt, exponential_gates && states[k].gate, pop.lower_limit_of(k),
+                            pop.upper_limit_of(k));
   }
   return in_limits;
 }

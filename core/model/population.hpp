@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -56,6 +57,13 @@ struct Population {
   // round-off), for integrators that check states as they update them; empty:
   // not checked there.
   std::vector<double> lower_limit, upper_limit;
+  // State k's limits, unbounded where none were given.
+  double lower_limit_of(std::size_t k) const {
+    return lower_limit.empty() ? -std::numeric_limits<double>::infinity() : lower_limit[k];
+  }
+  double upper_limit_of(std::size_t k) const {
+    return upper_limit.empty() ? std::numeric_limits<double>::infinity() : upper_limit[k];
+  }
 
   const ModelInfo& info() const { return model->info(); }
   std::size_t size() const { return cells.size(); }
