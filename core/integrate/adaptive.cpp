@@ -239,12 +239,12 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   if (coupled) {
     solve(system, theta, &Buffers::v_half);  // V_half
     for (Buffers& buf : buffers_) {
-      const Population& pop = *buf.pop;
+      Population& pop = *buf.pop;
       if (pop.voltage_state < 0) continue;
       const std::size_t n = pop.size(), row = static_cast<std::size_t>(pop.voltage_state) * n;
       for (std::size_t c = 0; c < n; ++c) {
         const double V_half = v_global_[pop.cells[c]];
-        const_cast<Population&>(pop).y[row + c] = V_half;
+        pop.y[row + c] = V_half;
         // Crank-Nicolson with F at the start: V1's first-order companion.
         buf.first_order[row + c] = 2 * V_half - buf.start[row + c];
       }
@@ -320,7 +320,7 @@ void AdaptiveIntegrator::solve(CellSystem& system, double theta, std::vector<dou
 double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, double error, bool with_companion) {
   solve(system, theta, &Buffers::v_full);
   for (Buffers& buf : buffers_) {
-    Population& pop = const_cast<Population&>(*buf.pop);
+    Population& pop = *buf.pop;
     if (pop.voltage_state < 0) continue;
     const std::size_t k = static_cast<std::size_t>(pop.voltage_state), n = pop.size();
     const double lo = pop.lower_limit_of(k), hi = pop.upper_limit_of(k);
@@ -348,7 +348,7 @@ void AdaptiveIntegrator::accept(double h) {
 }
 
 void AdaptiveIntegrator::restore() {
-  for (auto& buf : buffers_) std::copy(buf.start.begin(), buf.start.end(), const_cast<Population*>(buf.pop)->y.begin());
+  for (auto& buf : buffers_) std::copy(buf.start.begin(), buf.start.end(), buf.pop->y.begin());
 }
 
 // The largest step of the grid {1, 1.5} x 2^k x kStepQuantum_ms not above h

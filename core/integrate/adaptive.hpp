@@ -69,7 +69,7 @@ class AdaptiveIntegrator final : public Integrator {
   // Per population: the states at the step's start, the first-order full
   // step, and per state the scale of its absolute tolerance.
   struct Buffers {
-    const Population* pop = nullptr;
+    Population* pop = nullptr;
     std::vector<double> start, first_order, scale;
     // Linear forms a, b at the last accepted step's start, and at this one's.
     std::vector<double> a_prev, b_prev, a_now, b_now;
