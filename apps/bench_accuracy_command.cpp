@@ -50,7 +50,6 @@ const std::vector<double> kDefaultRtol = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
 const std::vector<double> kDefaultTol = {1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4};
 const std::vector<double> kDefaultAccuracy_ms = {1, 0.5, 0.1, 0.01};
 
-bool fixed_step(const std::string& method) { return method != "cvode" && method != "adaptive" && method != "auto"; }
 // Error levels of the "cheapest" table, in ms for APD90 and mV for V RMS.
 constexpr double kLevels[] = {10, 1, 0.1, 0.01};
 
@@ -199,7 +198,8 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
     checked["solver"] = ref_solver;
     const Scene scene = parse_scene(checked);
     // Fixed steps must land on the sample times (as a run checks): say so before running anything.
-    if (std::any_of(methods.begin(), methods.end(), fixed_step))
+    if (std::any_of(methods.begin(), methods.end(),
+                    [](const std::string& m) { return SolverSpec::fixed_step(m); }))
       for (double dt : dts)
         for (double t : {scene.output.traces.every_ms, scene.output.traces.from_ms})
           if (!multiple_of(t, dt))

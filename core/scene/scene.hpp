@@ -94,7 +94,10 @@ struct SolverSpec {
   // the right-hand side only piecewise smooth).
   std::optional<bool> lookup_tables;
   bool use_lookup_tables() const { return lookup_tables.value_or(method != "cvode"); }
-  bool fixed_step() const { return method == "euler" || method == "rush_larsen" || method == "rush_larsen2"; }
+  bool fixed_step() const { return fixed_step(method); }
+  static bool fixed_step(const std::string& method) {
+    return method == "euler" || method == "rush_larsen" || method == "rush_larsen2";
+  }
   bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 
