@@ -24,6 +24,11 @@ struct RunArgs {
   bool overwrite = false;  // replace another run's files in the output folder
 };
 
+struct ResumeArgs {
+  std::string dir;  // a run's output folder
+  bool quiet = false;
+};
+
 struct CompareArgs {
   std::vector<std::string> manifests;  // one or two
   std::string out;
@@ -64,6 +69,7 @@ struct BenchHeadlineArgs {
 };
 
 int run_command(const RunArgs& args);
+int resume_command(const ResumeArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int validate_command(const RunArgs& args);

@@ -40,6 +40,11 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet", run_args.quiet, "log to run.log only");
   run->add_flag("--overwrite", run_args.overwrite, "replace another run's files in the output directory");
 
+  fibrodem::cli::ResumeArgs resume_args;
+  auto* resume = app.add_subcommand("resume", "Continue a stopped, interrupted or killed run from its last good checkpoint");
+  resume->add_option("dir", resume_args.dir, "the run's output directory")->required();
+  resume->add_flag("--quiet", resume_args.quiet, "log to run.log only");
+
   fibrodem::cli::RunArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check a manifest (and build its scene) without running it");
   validate->add_option("manifest", validate_args.manifest, "experiment manifest (JSON)")->required();
@@ -76,6 +81,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (*run) return fibrodem::cli::run_command(run_args);
+  if (*resume) return fibrodem::cli::resume_command(resume_args);
   if (*validate) return fibrodem::cli::validate_command(validate_args);
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);

@@ -2,6 +2,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "apps/commands.hpp"
@@ -34,6 +36,44 @@ int run_command(const RunArgs& args) {
     install_interrupt_handlers();  // SIGINT / SIGTERM end the run at the end of a step, outputs kept
     simulation.run();
     std::cout << "outputs: " << scene.output.dir << "/{summary.json,biomarkers.csv,traces.csv,run.log}\n";
+    return 0;
+  });
+}
+
+// The run in `dir` again, from its summary.json's manifest, continued from
+// its newest checkpoint that reads back whole (or from t = 0 if none does).
+int resume_command(const ResumeArgs& args) {
+  return guarded([&] {
+    const std::filesystem::path dir = args.dir;
+    std::ifstream in(dir / "summary.json");
+    if (!in) throw ManifestError("", args.dir + " holds no run to resume (no summary.json)");
+    json summary;
+    try {
+      summary = json::parse(in);
+    } catch (const json::exception& e) {
+      throw ManifestError("", (dir / "summary.json").string() + " cannot be read: " + e.what());
+    }
+    const std::string status = summary.value("status", std::string());
+    if (status == "completed") throw ManifestError("", "the run in " + args.dir + " completed: nothing to resume");
+    if (!summary.contains("manifest")) throw ManifestError("", (dir / "summary.json").string() + " has no manifest");
+    Scene scene = parse_scene(summary.at("manifest"));
+    scene.output.dir = args.dir;
+    scene.output.overwrite = true;  // its own files
+    RunOptions options;
+    options.console_log = !args.quiet;
+    options.progress = !args.quiet && isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
+    Simulation simulation(scene, nullptr, options);
+    auto search = latest_good_checkpoint(dir);
+    for (const auto& skipped : search.skipped) std::cerr << "passed over " << skipped << "\n";
+    if (search.found) {
+      std::cerr << "resuming " << args.dir << " (" << status << ") from " << search.found->file.string() << "\n";
+      simulation.resume_from(std::move(*search.found));
+    } else {
+      std::cerr << "no usable checkpoint in " << args.dir << ": the run starts again from t = 0\n";
+    }
+    install_interrupt_handlers();
+    simulation.run();
+    std::cout << "outputs: " << args.dir << "/{summary.json,biomarkers.csv,traces.csv,run.log}\n";
     return 0;
   });
 }

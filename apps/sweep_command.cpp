@@ -1,12 +1,7 @@
 // `fibrodem sweep SWEEP.json [--out DIR] [--jobs N]`: runs a manifest over the
 // Cartesian product of parameter values and tabulates the results.
 //
-//   { "fibrodem_sweep": 1,
-//     "manifest": "cell_pair_active.json",          (relative to the sweep file)
-//     "set":  { "duration_ms": 5000 },              (optional, every run)
-//     "grid": { "tissue.fibroblasts": [1, 2, 4],
-//               "coupling.D_f_nS": [0.5, 1, 2, 4, 8] } }
-//
+// (The sweep file: scene/sweep_file.hpp.)
 // Runs go to DIR/run_<k>/; DIR/sweep.csv and DIR/sweep.md have one row per run:
 // the grid values, per-cell-type mean biomarkers, CV, peak strain and status. Runs are
 // spread over N workers, each point a `fibrodem run` process of its own
@@ -33,45 +28,24 @@
 #include "apps/commands.hpp"
 #include "io/csv_writer.hpp"
 #include "run/simulation.hpp"
+#include "scene/sweep_file.hpp"
 
 namespace fibrodem::cli {
 
 namespace {
 
 struct SweepPoint {
-  std::vector<std::pair<std::string, json>> values;  // grid path -> value
+  SweepValues values;  // grid path -> value
   json summary;
   std::string status;  // completed | failed | interrupted | crashed
   std::string error;
 };
 
-std::vector<SweepPoint> expand_grid(const json& grid) {
-  std::vector<SweepPoint> points(1);
-  for (const auto& [path, values] : grid.items()) {
-    if (!values.is_array() || values.empty())
-      throw ManifestError("grid." + path, "expected a non-empty list of values");
-    std::vector<SweepPoint> next;
-    for (const auto& point : points)
-      for (const auto& v : values) {
-        SweepPoint p = point;
-        p.values.emplace_back(path, v);
-        next.push_back(p);
-      }
-    points = std::move(next);
-  }
-  return points;
-}
-
-std::string assignment(const std::string& path, const json& value) {
-  return path + "=" + value.dump(-1, ' ', false, json::error_handler_t::replace);
-}
-
 // Runs one point as `fibrodem run` in a process of its own: its manifest goes
 // to dir/manifest.json, its summary.json comes back.
-void run_point(const json& base, SweepPoint& point, const std::filesystem::path& dir, bool overwrite) {
+void run_point(const SweepFile& sweep, SweepPoint& point, const std::filesystem::path& dir, bool overwrite) {
   try {
-    json manifest = base;
-    for (const auto& [path, value] : point.values) apply_override(manifest, assignment(path, value));
+    const json manifest = point_manifest(sweep, point.values);
     parse_scene(manifest);  // a bad point is named here, before a process is spent on it
     std::filesystem::create_directories(dir);
     const std::filesystem::path file = dir / "manifest.json";
@@ -123,21 +97,13 @@ std::string cell_text(const json& v) {
 
 int sweep_command(const SweepArgs& args) {
   return guarded([&] {
-    const json sweep = read_manifest_file(args.sweep);
-    JsonReader r(sweep, "");
-    r.integer("fibrodem_sweep", std::nullopt, 1, 1);
-    const std::filesystem::path manifest_file =
-        std::filesystem::path(args.sweep).parent_path() / r.text("manifest", std::nullopt);
-    json base = read_manifest_file(manifest_file.string());
-    const json& fixed = r.raw("set");
-    if (!fixed.is_null())
-      for (const auto& [path, value] : fixed.items()) apply_override(base, assignment(path, value));
-    const json& grid = r.raw("grid");
-    if (!grid.is_object()) throw ManifestError("grid", "expected an object of dotted paths to lists of values");
-    r.finish();
-
-    std::vector<SweepPoint> points = expand_grid(grid);
-    const std::filesystem::path dir = args.out.empty() ? "out/sweep_" + base.value("name", std::string("scene")) : args.out;
+    const SweepFile sweep = read_sweep(read_manifest_file(args.sweep), [&](const std::string& manifest) {
+      return read_manifest_file((std::filesystem::path(args.sweep).parent_path() / manifest).string());
+    });
+    std::vector<SweepPoint> points;
+    for (const auto& values : sweep.points) points.push_back({values, nullptr, "", ""});
+    const std::filesystem::path dir =
+        args.out.empty() ? "out/sweep_" + sweep.base.value("name", std::string("scene")) : args.out;
     const unsigned jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
     std::atomic<std::size_t> next{0};
     std::mutex print;
@@ -145,7 +111,7 @@ int sweep_command(const SweepArgs& args) {
     for (unsigned w = 0; w < jobs; ++w)
       workers.emplace_back([&] {
         for (std::size_t k; (k = next++) < points.size();) {
-          run_point(base, points[k], dir / ("run_" + std::to_string(k)), args.overwrite);
+          run_point(sweep, points[k], dir / ("run_" + std::to_string(k)), args.overwrite);
           std::lock_guard<std::mutex> lock(print);
           std::cerr << "run " << k + 1 << "/" << points.size() << (points[k].status == "completed" ? " done" : " " + points[k].status + ": " + points[k].error) << "\n";
         }

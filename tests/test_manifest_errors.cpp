@@ -115,6 +115,9 @@ TEST_CASE("--set overrides any value by its dotted path") {
   CHECK(m["cells"]["fibroblast"]["parameters"]["R_GOhm"] == 5);
   CHECK(m["name"] == "renamed");
   CHECK_THROWS_AS(apply_override(m, "stimulus[4].amplitude_pA=1"), ManifestError);
+  // An index longer than any number (found by the fuzzer: std::stoul threw out_of_range).
+  CHECK_THROWS_WITH_AS(apply_override(m, "stimulus[0333333333333333333333333].amplitude_pA=1"),
+                       doctest::Contains("stimulus[0333333333333333333333333]: --set"), ManifestError);
   CHECK_THROWS_AS(apply_override(m, "no_equals_sign"), ManifestError);
   CHECK_THROWS_AS(apply_override(m, "name.inner=1"), ManifestError);
 }

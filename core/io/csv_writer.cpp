@@ -21,6 +21,26 @@ CsvWriter::CsvWriter(const std::filesystem::path& file, const std::vector<std::s
   end_row();
 }
 
+CsvWriter CsvWriter::resume(const std::filesystem::path& file, std::uintmax_t bytes) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec || size < bytes)
+    throw std::runtime_error("cannot resume " + file.string() + ": " +
+                             (ec ? ec.message() : "it has " + std::to_string(size) + " bytes, the checkpoint saw " +
+                                                      std::to_string(bytes)));
+  std::filesystem::resize_file(file, bytes);
+  CsvWriter w;
+  w.file_ = file;
+  w.out_.open(file, std::ios::app);
+  if (!w.out_) throw std::runtime_error("cannot write " + file.string());
+  return w;
+}
+
+std::uintmax_t CsvWriter::bytes_written() {
+  flush();
+  return static_cast<std::uintmax_t>(out_.tellp());
+}
+
 CsvWriter& CsvWriter::cell(const std::string& value) {
   if (!first_in_row_) out_ << ',';
   out_ << value;

@@ -3,6 +3,7 @@
 // significant digits (round-trip exact, byte-identical across runs).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -14,6 +15,10 @@ class CsvWriter {
  public:
   CsvWriter() = default;
   CsvWriter(const std::filesystem::path& file, const std::vector<std::string>& header);
+  // Continues a file written before (a resumed run): cut back to its first
+  // `bytes` bytes (what was flushed at the checkpoint), then appended to.
+  // Throws std::runtime_error naming the file if it is shorter than that.
+  static CsvWriter resume(const std::filesystem::path& file, std::uintmax_t bytes);
 
   bool is_open() const { return out_.is_open(); }
   // Starts a row; then cell(...) for each column, then end_row().
@@ -24,6 +29,8 @@ class CsvWriter {
   // Throws std::runtime_error naming the file if anything written so far
   // could not be (a full disk): the run then stops as failed.
   void flush();
+  // Bytes in the file after a flush() (a checkpoint records it).
+  std::uintmax_t bytes_written();
 
  private:
   std::filesystem::path file_;

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <type_traits>
 
 namespace fibrodem {
 
@@ -29,6 +32,34 @@ void BiomarkerTracker::start(double /*t_ms*/, const double* V) {
   // Without stimulus the run is one beat whose RMP is the initial V; with one,
   // beats open at the onsets.
   beat_ = onsets_.empty() ? 0 : -1;
+}
+
+void BiomarkerTracker::save(CheckpointFields& fields) const {
+  // Cell is plain data: its bytes are its state (cell_bytes pins the layout).
+  static_assert(std::is_trivially_copyable_v<Cell>);
+  fields.put_integer("biomarkers.cell_bytes", static_cast<long long>(sizeof(Cell)));
+  fields.put_bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));
+  fields.put("biomarkers.v_prev", v_prev_);
+  fields.put_integer("biomarkers.beat", beat_);
+  fields.put_integer("biomarkers.next_onset", static_cast<long long>(next_onset_));
+}
+
+void BiomarkerTracker::load(const CheckpointFields& fields) {
+  if (fields.integer("biomarkers.cell_bytes") != static_cast<long long>(sizeof(Cell)))
+    throw CheckpointError("its biomarker trackers were written by another build of fibrodem");
+  // (As bytes, then each flag made a valid bool: a corrupt byte must not become one.)
+  std::vector<unsigned char> raw(cells_.size() * sizeof(Cell));
+  fields.bytes("biomarkers.cells", raw.data(), raw.size());
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    unsigned char* cell = raw.data() + c * sizeof(Cell);
+    cell[offsetof(Cell, refine_max)] = cell[offsetof(Cell, refine_max)] != 0;
+    std::memcpy(static_cast<void*>(&cells_[c]), cell, sizeof(Cell));
+  }
+  fields.read_into("biomarkers.v_prev", v_prev_);
+  beat_ = static_cast<int>(fields.integer("biomarkers.beat"));
+  next_onset_ = static_cast<std::size_t>(fields.integer("biomarkers.next_onset"));
+  if (next_onset_ > onsets_.size()) throw CheckpointError("its biomarker trackers are past the scene's last beat");
+  for (std::size_t c = 0; c < cells_.size(); ++c) mirror(c);
 }
 
 void BiomarkerTracker::open_beat(double onset, double t_old, double t_new, const double* V) {

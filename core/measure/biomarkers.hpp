@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "io/checkpoint_file.hpp"
+
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
@@ -47,6 +49,10 @@ class BiomarkerTracker {
   void step(double t_old_ms, double t_new_ms, const double* V_mV, const double* dVdt);
   // Ends the last beat (call once at the end of the run).
   void finish();
+  // Everything it holds between steps, for a checkpoint, and back (the
+  // tracker must have been made for the same cells and onsets).
+  void save(CheckpointFields& fields) const;
+  void load(const CheckpointFields& fields);
 
  private:
   struct Cell {

@@ -190,4 +190,27 @@ void ContactDetector::add_pairs_of(int p, const double* x, const double* y, cons
   std::sort(pairs.begin() + static_cast<long>(first), pairs.end());
 }
 
+void ContactDetector::save(CheckpointFields& fields) const {
+  fields.put_integer("dem.detector.builds", static_cast<long long>(builds_));
+  fields.put("dem.detector.x0", x0_);
+  fields.put("dem.detector.y0", y0_);
+  fields.put("dem.detector.r0", r0_);
+  fields.put("dem.detector.frame", std::vector<double>{cx0_, cy0_, rmax0_, s0inv_[0][0], s0inv_[0][1], s0inv_[1][0],
+                                                       s0inv_[1][1], affine_ ? 1.0 : 0.0});
+}
+
+void ContactDetector::load(const CheckpointFields& fields) {
+  builds_ = static_cast<std::size_t>(fields.integer("dem.detector.builds"));
+  x0_ = fields.numbers("dem.detector.x0");
+  if (!x0_.empty() && x0_.size() != body_.size())
+    throw CheckpointError("its contact list was built for " + std::to_string(x0_.size()) + " particles, the tissue has " +
+                          std::to_string(body_.size()));
+  y0_ = fields.numbers("dem.detector.y0", static_cast<long long>(x0_.size()));
+  r0_ = fields.numbers("dem.detector.r0", static_cast<long long>(x0_.size()));
+  const auto f = fields.numbers("dem.detector.frame", 8);
+  cx0_ = f[0], cy0_ = f[1], rmax0_ = f[2];
+  s0inv_[0][0] = f[3], s0inv_[0][1] = f[4], s0inv_[1][0] = f[5], s0inv_[1][1] = f[6];
+  affine_ = f[7] != 0;
+}
+
 }  // namespace fibrodem

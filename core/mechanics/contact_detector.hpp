@@ -25,6 +25,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/checkpoint_file.hpp"
+
 namespace fibrodem {
 
 class ContactDetector {
@@ -41,6 +43,9 @@ class ContactDetector {
   void build(const double* x, const double* y, const double* r, std::vector<std::pair<int, int>>& pairs);
 
   std::size_t builds() const { return builds_; }
+  // The state at the last build, for a checkpoint (prefix "dem.detector.").
+  void save(CheckpointFields& fields) const;
+  void load(const CheckpointFields& fields);
   double skin_m() const { return skin_; }
 
  private:

@@ -65,6 +65,8 @@ class DemSolver final : public MechanicsSolver {
   std::array<double, 3> strain() const override { return strain_; }
   const std::vector<Particle>& particles() const override;
   std::string report() const override;
+  void save(CheckpointFields& fields) const override;
+  void load(const CheckpointFields& fields) override;
 
   double step_ms() const override { return spec_.dt_ms > 0 ? spec_.dt_ms : stable_step_ms_; }
   const DemSpec& spec() const { return spec_; }
@@ -111,6 +113,10 @@ class DemSolver final : public MechanicsSolver {
   void set_contact_constants(BondSet& set, std::size_t k, int p, int q) const;
   void rebuild_contacts();
   void compute_stable_step();
+  // Each evolving array with its checkpoint field's name, for save and load
+  // alike (Self: DemSolver or const DemSolver).
+  template <class Self, class F>
+  static void for_each_evolving_array(Self& self, F&& f);
 
   static constexpr std::size_t kBlock = 512;
 
@@ -149,6 +155,7 @@ class DemSolver final : public MechanicsSolver {
   ContactIncidence particle_contacts_;
 
   double stable_step_ms_ = 0;
+  double bonded_stable_step_ms_ = 0;  // at the start (a loaded checkpoint's is checked against it)
   // Stable-step scratch: each contact's stiffness on its bodies (kr[2c + end]),
   // and each body's contacts.
   std::vector<double> contact_kt_, contact_kr_;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/checkpoint_file.hpp"
 #include "mechanics/contact_law.hpp"
 #include "mechanics/dem_spec.hpp"
 #include "tissue/tissue.hpp"
@@ -39,6 +40,12 @@ class MechanicsSolver {
   virtual std::array<double, 3> strain() const = 0;
   // One line on what it did so far (steps, contacts, broken bonds), for run.log.
   virtual std::string report() const = 0;
+  // Everything that evolves (bodies, contacts and their forces, contact
+  // lists, strain, time), for a checkpoint; load() takes it back into a
+  // solver built for the same tissue and spec, and throws CheckpointError
+  // naming a field that does not fit.
+  virtual void save(CheckpointFields& fields) const = 0;
+  virtual void load(const CheckpointFields& fields) = 0;
   // Present particle positions and radii [um], in the tissue's order (snapshots).
   virtual const std::vector<Particle>& particles() const = 0;
 };

@@ -102,6 +102,16 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         frames * ((snap.png ? 60 : 0) + (snap.vtk ? 120 : 0)) * particles,
                         "output.snapshots: a larger every_ms, or png/vtk false"});
     e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * cells + 300.0 * particles + 1e5, ""});
+    if (scene.output.checkpoint.every_ms > 0) {
+      // A checkpoint: the states (with inputs and outputs, ~1.5 x), the
+      // biomarker trackers (~140 bytes a cell), the traces so far (at most
+      // all), DEM bodies, particles and bonds; `keep` of them and one being written.
+      const double one = 12 * states + 140 * cells + 8 * columns * trace_samples +
+                         (mechanics ? 300 * particles + 110.0 * static_cast<double>(tissue.bonds.size()) : 0.0);
+      const int copies = scene.output.checkpoint.keep + 1;
+      e.output.push_back({fmt::format("{} checkpoints", copies), copies * one,
+                          "output.checkpoint: a smaller keep"});
+    }
   }
   return e;
 }

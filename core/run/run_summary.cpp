@@ -76,6 +76,8 @@ json run_summary(const RunFacts& f) {
   s["wall_time_s"] = f.wall_s;
   s["steps"] = f.steps;
   s["simulated_ms"] = f.simulated_ms;
+  if (!f.last_checkpoint.is_null()) s["last_checkpoint"] = f.last_checkpoint;
+  if (!f.resumed_from.is_null()) s["resumed_from"] = f.resumed_from;
   const auto myocytes = f.tissue.count(CellType::myocyte), fibroblasts = f.tissue.count(CellType::fibroblast);
   s["cells"] = {{"myocyte", myocytes}, {"fibroblast", fibroblasts}};
   s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))

@@ -52,6 +52,9 @@ struct RunFacts {
   // integrator's own arithmetic (CVODE's Newton and linear solves, the loop),
   // and building the scene before the run (set_up, not part of wall_s).
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
+  // output.checkpoint: the last written ({file, time_ms}), and the one a
+  // resumed run started from (null when none).
+  json last_checkpoint = nullptr, resumed_from = nullptr;
 };
 
 json run_summary(const RunFacts& facts);

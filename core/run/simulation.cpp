@@ -10,8 +10,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <type_traits>
 #include <sstream>
 
 #include "coupling/gap_junction.hpp"
@@ -19,6 +22,8 @@
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
 #include "integrate/method_choice.hpp"
+#include "run/cell_state_checkpoint.hpp"
+#include "run/checkpoint_dir.hpp"
 #include "run/interrupt.hpp"
 #include "run/output_dir.hpp"
 #include "run/resource_estimate.hpp"
@@ -90,6 +95,15 @@ struct Simulation::Impl : StepObserver {
   double t_reached_ms = 0;    // the end of the last step taken
   ResourceEstimate resources;
   int interrupted_by = 0;     // the signal that stopped the run, if one did
+  // Checkpoints (output.checkpoint): their spacing (on the step grid of a
+  // fixed-step method), the state a resumed run starts from, and its time.
+  double checkpoint_every_ms = 0;
+  std::optional<FoundCheckpoint> resume_point;
+  double start_ms = 0;
+  json last_checkpoint, resumed_from;
+  // Fault injection for the tests of resume (FIBRODEM_TEST_KILL): SIGKILL at
+  // this step, or halfway through writing this checkpoint (1 = the first).
+  long long kill_at_step = -1, kill_in_checkpoint = -1, checkpoints_written = 0;
   BackgroundWriter writer;  // the tissue picture and the snapshots
 
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
@@ -116,9 +130,53 @@ struct Simulation::Impl : StepObserver {
     traces = TraceRecorder(scene, system, mechanics != nullptr, plan.has("contraction"));
     build_lookup_tables();
     set_state_limits();
+    start_from_initial_state();
     integrator = make_integrator(scene.solver);
     check_explicit_stability();
+    plan_checkpoints();
     guard_resources();
+  }
+
+  // initial_state: the cells start from another run's checkpoint (the same
+  // tissue and models, or a CheckpointError naming what differs).
+  void start_from_initial_state() {
+    if (scene.initial_state.from.empty()) return;
+    const std::string path = "initial_state.from";
+    try {
+      const FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
+      try {
+        load_cell_states(system, found.fields, false);
+      } catch (const CheckpointError& e) {
+        throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());
+      }
+      plan.notes.push_back(fmt::format("initial_state: the cells' states of {} (t = {:g} ms there)",
+                                       found.file.string(), found.fields.number("run.time_ms")));
+    } catch (const CheckpointError& e) {
+      throw ManifestError(path, e.what());
+    }
+  }
+
+  // output.checkpoint: a fixed-step method's checkpoints fall on its steps
+  // (and on its coupling steps), so that a resumed run takes the same steps.
+  void plan_checkpoints() {
+    checkpoint_every_ms = scene.output.checkpoint.every_ms;
+    if (checkpoint_every_ms <= 0) return;
+    if (scene.output.dir.empty()) {
+      checkpoint_every_ms = 0;
+      return;
+    }
+    if (scene.solver.fixed_step()) {
+      const double quantum = scene.solver.dt_ms * std::max(1, system.coupling_every);
+      checkpoint_every_ms = std::max(1.0, std::round(checkpoint_every_ms / quantum)) * quantum;
+    }
+    plan.notes.push_back(fmt::format("checkpoints every {:g} ms, the newest {} kept, in {}", checkpoint_every_ms,
+                                     scene.output.checkpoint.keep,
+                                     (fs::path(scene.output.dir) / "checkpoints").string()));
+    if (const char* kill = std::getenv("FIBRODEM_TEST_KILL")) {
+      long long n = 0;
+      if (std::sscanf(kill, "step:%lld", &n) == 1) kill_at_step = n;
+      else if (std::sscanf(kill, "checkpoint:%lld", &n) == 1) kill_in_checkpoint = n;
+    }
   }
 
   // Before anything large is allocated (integrator buffers, traces, CVODE's
@@ -351,20 +409,117 @@ struct Simulation::Impl : StepObserver {
 
   // ---- the run --------------------------------------------------------------
 
+  // A resumed run appends to run.log and continues traces.csv and
+  // biomarkers.csv from the checkpoint's lengths (restore()).
   void open_outputs() {
     if (scene.output.dir.empty()) return;
     out = scene.output.dir;
     fs::create_directories(out);
-    auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), true);
+    auto file_sink =
+        std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), !resume_point);
     file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
     log->sinks().push_back(file_sink);
-    traces.open_csv(out / "traces.csv");
-    biomarkers_csv = CsvWriter(out / "biomarkers.csv",
-                               {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
-                                "dvdt_max_mV_per_ms"});
-    // Drawn on the writer's thread while the run starts (the tissue stays as built).
-    if (scene.output.tissue_picture) writer.post([this] { write_tissue_overview(out, scene.name, tissue); });
+    if (!resume_point) {
+      clear_checkpoints(out);  // an earlier run's, in a folder given --overwrite
+      traces.open_csv(out / "traces.csv");
+      biomarkers_csv = CsvWriter(out / "biomarkers.csv",
+                                 {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
+                                  "dvdt_max_mV_per_ms"});
+      // Drawn on the writer's thread while the run starts (the tissue stays as built).
+      if (scene.output.tissue_picture) writer.post([this] { write_tissue_overview(out, scene.name, tissue); });
+    }
     write_summary(out, summary());
+  }
+
+  // ---- checkpoints --------------------------------------------------------
+
+  // Everything the run holds at t (the end of a step, between integrator
+  // segments), for a checkpoint.
+  CheckpointFields checkpoint_fields(double t) {
+    CheckpointFields f;
+    f.put("run.time_ms", t);
+    f.put_text("run.scene", scene.manifest.dump(-1, ' ', false, json::error_handler_t::replace));
+    f.put_integer("run.steps", steps);
+    f.put_integer("run.snapshots_taken", snapshots_taken);
+    static_assert(std::is_trivially_copyable_v<BeatBiomarkers>);
+    f.put_integer("run.beat_bytes", static_cast<long long>(sizeof(BeatBiomarkers)));
+    f.put_bytes("run.beats", beats.data(), beats.size() * sizeof(BeatBiomarkers));
+    if (biomarkers_csv.is_open()) f.put_integer("run.biomarkers_csv_bytes", static_cast<long long>(biomarkers_csv.bytes_written()));
+    save_cell_states(system, f);
+    tracker->save(f);
+    traces.save(f);
+    if (mechanics) {
+      mechanics->save(f);
+      f.put("run.mechanics", std::vector<double>{mechanics_time_ms, mechanics_step_ms, length_ratio_from_ms,
+                                                 peak_strain[0], peak_strain[1], peak_strain[2]});
+      f.put("run.length_ratio_from", length_ratio_from);
+      f.put("run.length_ratio_to", length_ratio_to);
+    }
+    return f;
+  }
+
+  // The run as a checkpoint left it (the scene must be the one it was written for).
+  void restore(const CheckpointFields& f) {
+    if (f.text("run.scene") != scene.manifest.dump(-1, ' ', false, json::error_handler_t::replace))
+      throw CheckpointError("it was written for another scene (its manifest differs from summary.json's)");
+    start_ms = t_reached_ms = f.number("run.time_ms");
+    if (!(start_ms >= 0 && start_ms <= scene.duration_ms))
+      throw CheckpointError(fmt::format("its time, {} ms, is outside this scene's [0, {}] ms", start_ms,
+                                        scene.duration_ms));
+    steps = f.integer("run.steps");
+    snapshots_taken = f.integer("run.snapshots_taken");
+    if (f.integer("run.beat_bytes") != static_cast<long long>(sizeof(BeatBiomarkers)))
+      throw CheckpointError("its biomarkers were written by another build of fibrodem");
+    beats.resize(f.text("run.beats").size() / sizeof(BeatBiomarkers));
+    f.bytes("run.beats", beats.data(), beats.size() * sizeof(BeatBiomarkers));
+    load_cell_states(system, f, true);
+    tracker->load(f);
+    traces.load(f, out.empty() ? fs::path() : out / "traces.csv");
+    if (!out.empty())
+      biomarkers_csv = CsvWriter::resume(out / "biomarkers.csv", static_cast<std::uintmax_t>(f.integer("run.biomarkers_csv_bytes")));
+    if (mechanics) {
+      mechanics->load(f);
+      const auto m = f.numbers("run.mechanics", 6);
+      mechanics_time_ms = m[0], mechanics_step_ms = m[1], length_ratio_from_ms = m[2];
+      // The mechanics is at most one of its steps behind the cells.
+      if (!(mechanics_time_ms <= start_ms + kTimeEpsilon_ms && mechanics_time_ms >= start_ms - 1.0 &&
+            length_ratio_from_ms == start_ms))
+        throw CheckpointError("its mechanics' time does not match its cells'");
+      peak_strain = {m[3], m[4], m[5]};
+      f.read_into("run.length_ratio_from", length_ratio_from);
+      f.read_into("run.length_ratio_to", length_ratio_to);
+    }
+  }
+
+  // Every output up to t on disk first (pictures included), then the state.
+  void write_checkpoint(double t) {
+    ScopeTimer timer(output_seconds);
+    writer.finish();
+    const fs::path file = checkpoint_path(out, t);
+    fs::create_directories(file.parent_path());
+    ++checkpoints_written;
+    const bool kill = checkpoints_written == kill_in_checkpoint;
+    write_checkpoint_file(file, checkpoint_fields(t), [kill] {
+      if (kill) std::raise(SIGKILL);
+    });
+    prune_checkpoints(out, scene.output.checkpoint.keep);
+    last_checkpoint = {{"file", fs::relative(file, out).string()}, {"time_ms", t}};
+    log->info("checkpoint at t = {:g} ms: {}", t, file.string());
+    write_summary(out, summary());
+  }
+
+  // The run's stretch [start_ms, duration] cut at the checkpoint times; the
+  // integrator starts afresh at each (as at a stimulus edge), in a resumed
+  // run as in one never stopped.
+  void advance_in_segments() {
+    if (checkpoint_every_ms <= 0) return integrator->advance(system, start_ms, scene.duration_ms, *this);
+    double t = start_ms;
+    for (long long k = std::llround(start_ms / checkpoint_every_ms) + 1; t < scene.duration_ms - kTimeEpsilon_ms; ++k) {
+      const double next = std::min(static_cast<double>(k) * checkpoint_every_ms, scene.duration_ms);
+      integrator->advance(system, t, next, *this);
+      t = next;
+      write_checkpoint(t);
+    }
   }
 
   void log_setup() {
@@ -404,6 +559,7 @@ struct Simulation::Impl : StepObserver {
 
   void on_step(double t_old, double t_new, const double* dVdt) override {
     ++steps;
+    if (steps == kill_at_step) std::raise(SIGKILL);
     t_reached_ms = t_new;
     // Few clock readings per step: a single cell steps in about a microsecond.
     const auto start = Clock::now();
@@ -567,8 +723,12 @@ struct Simulation::Impl : StepObserver {
           tissue.type, system.stimulus.onsets(scene.duration_ms), scene.output.biomarkers_from_ms,
           [this](const BeatBiomarkers& b) { record_beat(b); });
       system.record_rest_lengths();
-      system.gather_voltage();
-      tracker->start(0.0, system.V_mV.data());
+      if (resume_point) {
+        resume();
+      } else {
+        system.gather_voltage();
+        tracker->start(0.0, system.V_mV.data());
+      }
       try {
         advance_and_time_integrator();
       } catch (const InterruptedError& e) {
@@ -604,6 +764,17 @@ struct Simulation::Impl : StepObserver {
     if (status == "interrupted") throw InterruptedError(interrupted_by, error);
   }
 
+  void resume() {
+    try {
+      restore(resume_point->fields);
+    } catch (const CheckpointError& e) {
+      throw CheckpointError("checkpoint " + resume_point->file.string() + " does not fit this run: " + e.what());
+    }
+    for (const auto& skipped : resume_point->skipped) log->warn("resume: passed over {}", skipped);
+    resumed_from = {{"file", fs::relative(resume_point->file, out).string()}, {"time_ms", start_ms}};
+    log->info("resumed from checkpoint {} at t = {:g} ms", resume_point->file.string(), start_ms);
+  }
+
   // A failed run keeps what was written: the pictures already taken are
   // finished (an error in them is logged; the run's own error stands).
   void finish_writing() {
@@ -625,7 +796,7 @@ struct Simulation::Impl : StepObserver {
     const auto start = Clock::now();
     auto charge = [&] { integrator_seconds += std::max(0.0, seconds_since(start) - (others() - before)); };
     try {
-      integrator->advance(system, 0.0, scene.duration_ms, *this);
+      advance_in_segments();
     } catch (...) {
       charge();  // a failed run reports its time too
       throw;
@@ -674,7 +845,9 @@ struct Simulation::Impl : StepObserver {
                         .measurement_seconds = measurement_seconds,
                         .output_seconds = output_seconds,
                         .integrator_seconds = integrator_seconds,
-                        .set_up_seconds = set_up_seconds});
+                        .set_up_seconds = set_up_seconds,
+                        .last_checkpoint = last_checkpoint,
+                        .resumed_from = resumed_from});
   }
 };
 
@@ -683,6 +856,7 @@ Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> regis
 Simulation::~Simulation() = default;
 
 void Simulation::run() { impl_->run(); }
+void Simulation::resume_from(FoundCheckpoint checkpoint) { impl_->resume_point = std::move(checkpoint); }
 const Tissue& Simulation::tissue() const { return impl_->tissue; }
 const ProcessPlan& Simulation::processes() const { return impl_->plan; }
 const std::vector<BeatBiomarkers>& Simulation::biomarkers() const { return impl_->beats; }

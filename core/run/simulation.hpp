@@ -13,6 +13,7 @@
 
 #include "measure/biomarkers.hpp"
 #include "model/plugin_registry.hpp"
+#include "run/checkpoint_dir.hpp"
 #include "scene/effects.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"
@@ -41,6 +42,10 @@ class Simulation {
   // Runs to the scene's duration. On failure the output written so far stays,
   // summary.json says what failed, and the error is rethrown.
   void run();
+  // Makes run() continue from a checkpoint of this scene written into its
+  // output folder (fibrodem resume): states, trackers, traces and files are
+  // taken back to the checkpoint's time. Call before run().
+  void resume_from(FoundCheckpoint checkpoint);
 
   const Tissue& tissue() const;
   const ProcessPlan& processes() const;

@@ -114,6 +114,25 @@ void TraceRecorder::flush_csv() {
   if (csv_.is_open()) csv_.flush();
 }
 
+void TraceRecorder::save(CheckpointFields& fields) {
+  fields.put_integer("traces.next_sample", next_sample_index_);
+  fields.put("traces.t_ms", times_);
+  for (std::size_t i = 0; i < columns_.size(); ++i) fields.put("traces.column." + columns_[i].name(), samples_[i]);
+  if (csv_.is_open()) fields.put_integer("traces.csv_bytes", static_cast<long long>(csv_.bytes_written()));
+}
+
+void TraceRecorder::load(const CheckpointFields& fields, const std::filesystem::path& csv_file) {
+  times_ = fields.numbers("traces.t_ms");
+  next_sample_index_ = fields.integer("traces.next_sample");
+  if (next_sample_index_ != static_cast<long long>(times_.size()))  // one sample per index, none skipped
+    throw CheckpointError("its traces hold " + std::to_string(times_.size()) + " samples but say the next is number " +
+                          std::to_string(next_sample_index_));
+  for (std::size_t i = 0; i < columns_.size(); ++i)
+    samples_[i] = fields.numbers("traces.column." + columns_[i].name(), static_cast<long long>(times_.size()));
+  if (!csv_file.empty())
+    csv_ = CsvWriter::resume(csv_file, static_cast<std::uintmax_t>(fields.integer("traces.csv_bytes")));
+}
+
 double TraceRecorder::next_sample_ms() const {
   if (columns_.empty()) return std::numeric_limits<double>::infinity();
   const double t = from_ms_ + static_cast<double>(next_sample_index_) * every_ms_;

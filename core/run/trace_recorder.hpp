@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "integrate/cell_system.hpp"
+#include "io/checkpoint_file.hpp"
 #include "io/csv_writer.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "scene/scene.hpp"
@@ -44,6 +45,10 @@ class TraceRecorder {
   // Creates traces.csv with its header (t_ms, then the column names).
   void open_csv(const std::filesystem::path& file);
   void flush_csv();
+  // The samples taken and the next one due, and traces.csv's length, for a
+  // checkpoint; load() also reopens traces.csv cut back to that length.
+  void save(CheckpointFields& fields);
+  void load(const CheckpointFields& fields, const std::filesystem::path& csv_file);
 
   // The next time a sample is due (+inf: none; no columns, or past the end).
   double next_sample_ms() const;

@@ -185,6 +185,12 @@ OutputSpec read_output(JsonReader r) {
     o.snapshots.vtk = sn.boolean("vtk", true);
     sn.finish();
   }
+  if (r.has("checkpoint")) {
+    JsonReader c = r.object("checkpoint");
+    o.checkpoint.every_ms = c.number("every_ms", std::nullopt, 1e-3, kInf);
+    o.checkpoint.keep = static_cast<int>(c.integer("keep", o.checkpoint.keep, 1, 1000000));
+    c.finish();
+  }
   if (r.has("biomarkers")) {
     JsonReader b = r.object("biomarkers");
     o.biomarkers_from_ms = b.number("from_ms", 0.0, 0.0, kInf);
@@ -263,6 +269,14 @@ Scene parse_scene(const json& manifest) {
 
   if (top.has("solver")) scene.solver = read_solver(top.object("solver"));
   if (top.has("output")) scene.output = read_output(top.object("output"));
+  if (top.has("initial_state")) {
+    JsonReader init = top.object("initial_state");
+    scene.initial_state.from = init.text("from", std::nullopt);
+    if (scene.initial_state.from.empty())
+      throw ManifestError(init.path_of("from"), "expected a checkpoint file or a run's folder, got \"\"");
+    scene.initial_state.time_ms = init.number("time_ms", -1.0, 0.0, 1e9);
+    init.finish();
+  }
   top.finish();
   return scene;
 }
@@ -297,11 +311,12 @@ void apply_override(json& manifest, const std::string& assignment) {
         throw ManifestError(walked, "--set " + path + ": this value is not an object");
       node = &(*node)[m[1].str()];
     } else {
-      const std::size_t index = std::stoul(m[2].str());
-      walked = index_path(walked, index);
-      if (!node->is_array() || index >= node->size())
+      const std::string digits = m[2].str();
+      walked += "[" + digits + "]";
+      // (More digits than any list has entries: no entry, and beyond what stoul takes.)
+      if (!node->is_array() || digits.size() > 9 || std::stoul(digits) >= node->size())
         throw ManifestError(walked, "--set " + path + ": no such list entry");
-      node = &(*node)[index];
+      node = &(*node)[std::stoul(digits)];
     }
   }
   if (walked.empty()) throw ManifestError("", "--set expects PATH=VALUE, got '" + assignment + "'");

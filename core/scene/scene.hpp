@@ -116,6 +116,13 @@ struct SnapshotSpec {
   bool png = true, vtk = true;
 };
 
+// output.checkpoint: the run's whole state every every_ms, the newest `keep`
+// kept (fibrodem resume DIR continues from the last).
+struct CheckpointSpec {
+  double every_ms = 0;  // 0: none
+  int keep = 2;
+};
+
 struct OutputSpec {
   std::string dir;  // empty: write nothing (library use); the CLI sets a default
   bool overwrite = false;  // replace another run's files in dir (the CLI's --overwrite)
@@ -125,6 +132,14 @@ struct OutputSpec {
   SnapshotSpec snapshots;
   double biomarkers_from_ms = 0;
   double progress_every_s = 1.0;
+  CheckpointSpec checkpoint;
+};
+
+// initial_state: the cells (and, with mechanics, the DEM bodies) start from
+// another run's checkpoint of the same tissue and models, at this scene's t = 0.
+struct InitialStateSpec {
+  std::string from;     // a checkpoint file or a run's folder; empty: the models' own initial states
+  double time_ms = -1;  // which of the folder's checkpoints (< 0: the latest)
 };
 
 struct Scene {
@@ -141,6 +156,7 @@ struct Scene {
   std::vector<StimulusSpec> stimuli;
   SolverSpec solver;
   OutputSpec output;
+  InitialStateSpec initial_state;
   json manifest;  // the manifest as resolved (after --set), for summary.json
 };
 

@@ -1,0 +1,244 @@
+#include "io/checkpoint_file.hpp"
+
+#include <fcntl.h>
+#include <openssl/evp.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace fibrodem {
+
+namespace {
+
+constexpr char kMagic[] = "FIBRODEM-CHECKPOINT\n";  // 20 characters
+constexpr std::size_t kMagicSize = sizeof kMagic - 1;
+constexpr std::size_t kDigestSize = 32;
+// Fields are read from a checked payload, but a corrupt one with a valid
+// checksum can only come from a bug or a forgery: lengths are still bounded.
+constexpr std::uint64_t kMaxFieldBytes = std::uint64_t{1} << 40;
+
+std::array<unsigned char, kDigestSize> sha256(const std::string& bytes) {
+  std::array<unsigned char, kDigestSize> digest{};
+  unsigned int len = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), digest.data(), &len, EVP_sha256(), nullptr) != 1 || len != kDigestSize)
+    throw std::runtime_error("checkpoint: SHA-256 failed");
+  return digest;
+}
+
+template <class T>
+void append(std::string& out, T value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+// Reads a T at `at` from a payload of known length, or throws.
+template <class T>
+T take(const std::string& in, std::size_t& at) {
+  if (in.size() - at < sizeof(T)) throw CheckpointError("the payload ends inside a field");
+  T value;
+  std::memcpy(&value, in.data() + at, sizeof value);
+  at += sizeof value;
+  return value;
+}
+
+std::string describe_kind(int kind) {
+  switch (kind) {
+    case 0: return "numbers";
+    case 1: return "integers";
+    default: return "bytes";
+  }
+}
+
+template <class T>
+std::vector<T> unpack(const std::string& data, std::uint64_t count) {
+  std::vector<T> values(count);
+  if (count) std::memcpy(values.data(), data.data(), count * sizeof(T));
+  return values;
+}
+
+}  // namespace
+
+void CheckpointFields::put(const std::string& name, const std::vector<double>& values) {
+  fields_[name] = {kF64, values.size(),
+                   std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double))};
+}
+
+void CheckpointFields::put(const std::string& name, const std::vector<long long>& values) {
+  fields_[name] = {kI64, values.size(),
+                   std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(long long))};
+}
+
+void CheckpointFields::put(const std::string& name, const std::vector<int>& values) {
+  put(name, std::vector<long long>(values.begin(), values.end()));
+}
+
+void CheckpointFields::put_text(const std::string& name, const std::string& text) {
+  fields_[name] = {kBytes, text.size(), text};
+}
+
+void CheckpointFields::put_bytes(const std::string& name, const void* data, std::size_t size) {
+  fields_[name] = {kBytes, size, std::string(static_cast<const char*>(data), size)};
+}
+
+const CheckpointFields::Field& CheckpointFields::field(const std::string& name, Kind kind) const {
+  const auto it = fields_.find(name);
+  if (it == fields_.end()) throw CheckpointError("it has no field '" + name + "'");
+  if (it->second.kind != kind)
+    throw CheckpointError("its field '" + name + "' holds " + describe_kind(it->second.kind) + ", expected " +
+                          describe_kind(kind));
+  return it->second;
+}
+
+namespace {
+void check_count(const std::string& name, std::uint64_t count, long long expected) {
+  if (expected >= 0 && count != static_cast<std::uint64_t>(expected))
+    throw CheckpointError("its field '" + name + "' has " + std::to_string(count) + " values, the scene needs " +
+                          std::to_string(expected));
+}
+}  // namespace
+
+std::vector<double> CheckpointFields::numbers(const std::string& name, long long expected) const {
+  const Field& f = field(name, kF64);
+  check_count(name, f.count, expected);
+  return unpack<double>(f.data, f.count);
+}
+
+std::vector<long long> CheckpointFields::integers(const std::string& name, long long expected) const {
+  const Field& f = field(name, kI64);
+  check_count(name, f.count, expected);
+  return unpack<long long>(f.data, f.count);
+}
+
+std::vector<int> CheckpointFields::ints(const std::string& name, long long expected) const {
+  const auto wide = integers(name, expected);
+  return std::vector<int>(wide.begin(), wide.end());
+}
+
+std::string CheckpointFields::text(const std::string& name) const { return field(name, kBytes).data; }
+
+void CheckpointFields::bytes(const std::string& name, void* data, std::size_t size) const {
+  const Field& f = field(name, kBytes);
+  check_count(name, f.count, static_cast<long long>(size));
+  std::memcpy(data, f.data.data(), size);
+}
+
+std::string CheckpointFields::encode() const {
+  std::string payload;
+  append(payload, static_cast<std::uint32_t>(fields_.size()));
+  for (const auto& [name, f] : fields_) {
+    append(payload, static_cast<std::uint16_t>(name.size()));
+    payload += name;
+    append(payload, static_cast<std::uint8_t>(f.kind));
+    append(payload, f.count);
+    payload += f.data;
+  }
+  std::string out(kMagic, kMagicSize);
+  append(out, kCheckpointFormat);
+  append(out, static_cast<std::uint64_t>(payload.size()));
+  out += payload;
+  const auto digest = sha256(out);
+  out.append(reinterpret_cast<const char*>(digest.data()), digest.size());
+  return out;
+}
+
+CheckpointFields CheckpointFields::decode(const std::string& in) {
+  const std::size_t header = kMagicSize + sizeof(std::uint32_t) + sizeof(std::uint64_t);
+  if (in.size() < header + kDigestSize)
+    throw CheckpointError("it is truncated (" + std::to_string(in.size()) + " bytes, shorter than a header)");
+  if (in.compare(0, kMagicSize, kMagic, kMagicSize) != 0) throw CheckpointError("it is not a fibrodem checkpoint");
+  std::size_t at = kMagicSize;
+  const auto format = take<std::uint32_t>(in, at);
+  if (format != kCheckpointFormat)
+    throw CheckpointError("its format is " + std::to_string(format) + ", this fibrodem reads format " +
+                          std::to_string(kCheckpointFormat));
+  const auto length = take<std::uint64_t>(in, at);
+  if (length != in.size() - header - kDigestSize)
+    throw CheckpointError("it is truncated or has trailing bytes (payload of " + std::to_string(length) +
+                          " bytes announced, " + std::to_string(in.size() - header - kDigestSize) + " present)");
+  const auto digest = sha256(in.substr(0, in.size() - kDigestSize));
+  if (std::memcmp(digest.data(), in.data() + in.size() - kDigestSize, kDigestSize) != 0)
+    throw CheckpointError("its checksum does not match its contents (the file is corrupt)");
+  const std::string payload = in.substr(header, length);
+  at = 0;
+  CheckpointFields fields;
+  const auto count = take<std::uint32_t>(payload, at);
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const auto name_size = take<std::uint16_t>(payload, at);
+    if (payload.size() - at < name_size) throw CheckpointError("the payload ends inside a field's name");
+    std::string name = payload.substr(at, name_size);
+    at += name_size;
+    const auto kind = take<std::uint8_t>(payload, at);
+    if (kind > kBytes) throw CheckpointError("field '" + name + "' is of unknown kind " + std::to_string(kind));
+    const auto n = take<std::uint64_t>(payload, at);
+    const std::uint64_t width = kind == kBytes ? 1 : 8;
+    if (n > kMaxFieldBytes / width || payload.size() - at < n * width)
+      throw CheckpointError("field '" + name + "' is longer than the payload");
+    fields.fields_[name] = {static_cast<Kind>(kind), n, payload.substr(at, n * width)};
+    at += n * width;
+  }
+  if (at != payload.size()) throw CheckpointError("the payload has bytes after its last field");
+  return fields;
+}
+
+namespace {
+
+[[noreturn]] void fail_writing(const std::filesystem::path& file, const std::string& what) {
+  throw std::runtime_error("cannot write checkpoint " + file.string() + ": " + what + " (" + std::strerror(errno) +
+                           ")");
+}
+
+void write_all(int fd, const char* data, std::size_t size, const std::filesystem::path& file) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail_writing(file, "write failed (is the disk full?)");
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+void write_checkpoint_file(const std::filesystem::path& file, const CheckpointFields& fields,
+                           const std::function<void()>& midway) {
+  const std::string bytes = fields.encode();
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail_writing(temporary, "cannot create it");
+  try {
+    const std::size_t half = bytes.size() / 2;
+    write_all(fd, bytes.data(), half, temporary);
+    if (midway) midway();
+    write_all(fd, bytes.data() + half, bytes.size() - half, temporary);
+    if (::fsync(fd) != 0) fail_writing(temporary, "fsync failed");
+  } catch (...) {
+    ::close(fd);
+    std::filesystem::remove(temporary);
+    throw;
+  }
+  if (::close(fd) != 0) fail_writing(temporary, "close failed");
+  if (std::rename(temporary.c_str(), file.c_str()) != 0) fail_writing(file, "rename failed");
+  // The rename itself reaches the disk with the directory's own fsync.
+  const int dir = ::open(file.parent_path().empty() ? "." : file.parent_path().c_str(), O_RDONLY | O_DIRECTORY);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
+}
+
+CheckpointFields read_checkpoint_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw CheckpointError("checkpoint " + file.string() + " cannot be read");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  try {
+    return CheckpointFields::decode(bytes.str());
+  } catch (const CheckpointError& e) {
+    throw CheckpointError("checkpoint " + file.string() + ": " + e.what());
+  }
+}
+
+}  // namespace fibrodem

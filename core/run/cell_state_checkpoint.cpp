@@ -1,0 +1,84 @@
+#include "run/cell_state_checkpoint.hpp"
+
+namespace fibrodem {
+
+namespace {
+
+// "ionic.myocyte." or "myofilament.myocyte.": one prefix per population.
+std::string prefix_of(const Population& pop, bool myofilament) {
+  return std::string(myofilament ? "myofilament." : "ionic.") + cell_type_name(pop.type) + ".";
+}
+
+std::string state_names(const Population& pop) {
+  std::string names;
+  for (const auto& s : pop.info().states) names += (names.empty() ? "" : ",") + s.name;
+  return names;
+}
+
+template <class F>
+void for_each_population(const CellSystem& system, F&& f) {
+  for (const auto& pop : system.populations) f(pop, prefix_of(pop, false), nullptr);
+  for (const auto& m : system.myofilaments) f(m.pop, prefix_of(m.pop, true), &m);
+}
+
+}  // namespace
+
+void save_cell_states(const CellSystem& system, CheckpointFields& fields) {
+  std::string populations;
+  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament* m) {
+    populations += (populations.empty() ? "" : " ") + p;
+    fields.put_text(p + "model", pop.info().name);
+    fields.put_text(p + "version", pop.info().version);
+    fields.put_text(p + "states", state_names(pop));
+    fields.put(p + "cells", pop.cells);
+    fields.put(p + "y", pop.y);
+    fields.put(p + "inputs", pop.inputs);
+    fields.put(p + "outputs", pop.outputs);
+    if (m) fields.put(p + "rest_sarcomere_length", m->rest_sarcomere_length);
+  });
+  fields.put_text("cells.populations", populations);
+  fields.put_integer("cells.count", static_cast<long long>(system.cell_count()));
+  fields.put("cells.last_step_ms", system.last_step_ms);
+}
+
+void check_same_cells(const CellSystem& system, const CheckpointFields& fields) {
+  const long long count = fields.integer("cells.count");
+  if (count != static_cast<long long>(system.cell_count()))
+    throw CheckpointError("its tissue has " + std::to_string(count) + " cells, this scene's has " +
+                          std::to_string(system.cell_count()));
+  std::string populations;
+  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament*) {
+    populations += (populations.empty() ? "" : " ") + p;
+  });
+  if (fields.text("cells.populations") != populations)
+    throw CheckpointError("its cell populations are '" + fields.text("cells.populations") + "', this scene's are '" +
+                          populations + "'");
+  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament*) {
+    if (fields.text(p + "model") != pop.info().name)
+      throw CheckpointError("its " + p + "model is " + fields.text(p + "model") + ", this scene's is " +
+                            pop.info().name);
+    if (fields.text(p + "states") != state_names(pop))
+      throw CheckpointError("its " + p + "states are (" + fields.text(p + "states") + "), model " + pop.info().name +
+                            " " + pop.info().version + " has (" + state_names(pop) + ")");
+    if (fields.ints(p + "cells") != pop.cells)
+      throw CheckpointError("its " + p + "cells are not this scene's (another tissue: builder, size, seed?)");
+  });
+}
+
+void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything) {
+  check_same_cells(system, fields);
+  auto load = [&](Population& pop, const std::string& p, Myofilament* m) {
+    fields.read_into(p + "y", pop.y);
+    if (!everything) return;
+    fields.read_into(p + "inputs", pop.inputs);
+    fields.read_into(p + "outputs", pop.outputs);
+    if (m) fields.read_into(p + "rest_sarcomere_length", m->rest_sarcomere_length);
+  };
+  for (auto& pop : system.populations) load(pop, prefix_of(pop, false), nullptr);
+  for (auto& m : system.myofilaments) load(m.pop, prefix_of(m.pop, true), &m);
+  if (everything) system.last_step_ms = fields.number("cells.last_step_ms");
+  system.voltage_fresh = false;
+  system.gather_voltage();
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The threaded paths under ThreadSanitizer (issue "Nothing lost"): builds
+# everything with clang -fsanitize=thread into build-tsan/ and runs the tests
+# that share work between threads: the OpenMP loops over blocks of cells and
+# DEM contacts (each run on 1, 2 and 3 threads), the sweep's worker threads,
+# the background writer of pictures, and the signal handlers. OpenMP is
+# LLVM's (libomp), whose synchronisation TSan learns through the Archer tool
+# (libarcher, from Debian's libomp-14-dev); GCC's libgomp would show its own
+# barriers as races. Any report fails the test (TSan's exit status 66).
+#   scripts/tsan.sh [CTEST_OPTIONS...]   (default: the threaded tests)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.sh --deps-only
+ARCHER=/usr/lib/llvm-14/lib/libarcher.so
+[ -f "$ARCHER" ] || { echo "tsan.sh: $ARCHER not found (package libomp-14-dev)" >&2; exit 1; }
+SAN="-fsanitize=thread -fno-omit-frame-pointer -g -O1"
+cmake -S . -B build-tsan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS="$SAN" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" \
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=thread" > build-tsan.log
+cmake --build build-tsan -j "$(nproc 2>/dev/null || echo 2)" >> build-tsan.log
+cd build-tsan
+export OMP_TOOL_LIBRARIES="$ARCHER"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+if [ $# -eq 0 ]; then
+  set -- -R "thread|sweep|SIGTERM|SIGKILL"
+fi
+ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" "$@"
