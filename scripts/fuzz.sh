@@ -12,12 +12,10 @@
 # Any crash, hang, leak or unexpected exception stops it with the input saved
 # as build-fuzz/crash-*. The random seed is fixed (FUZZ_SEED, default 1), so
 # that a pass is repeatable, as CI needs; set another to explore further.
-#   scripts/fuzz.sh [RUNS] [CHECKPOINT_RUNS]   (CHECKPOINT_RUNS defaults to RUNS:
-#   each of its inputs sets up and runs a scene, ~100x slower than a manifest)
+#   scripts/fuzz.sh [RUNS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS="${1:-100000}"
-CHECKPOINT_RUNS="${2:-$RUNS}"
 FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.sh --deps-only
 # (float-cast-overflow off, as in scripts/sanitize.sh: xsimd's portable exp.)
 SAN="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize=float-cast-overflow -fno-sanitize-recover=undefined -g -O1"
@@ -40,6 +38,6 @@ echo "fuzz_manifest: $RUNS inputs"
 ./fuzz_manifest -runs="$RUNS" "${FLAGS[@]}" corpus
 echo "fuzz_sweep: $RUNS inputs"
 ./fuzz_sweep -runs="$RUNS" "${FLAGS[@]}" corpus_sweep
-echo "fuzz_checkpoint: $CHECKPOINT_RUNS inputs"
-FUZZ_CHECKPOINT_SEED=corpus_checkpoint ./fuzz_checkpoint -runs="$CHECKPOINT_RUNS" -seed="${FUZZ_SEED:-1}" \
+echo "fuzz_checkpoint: $RUNS inputs"
+FUZZ_CHECKPOINT_SEED=corpus_checkpoint ./fuzz_checkpoint -runs="$RUNS" -seed="${FUZZ_SEED:-1}" \
   -max_len=262144 -timeout=10 corpus_checkpoint
