@@ -83,7 +83,7 @@ void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) 
   blocks_.clear();
   for (std::size_t p = 0; p < populations.size(); ++p)
     for (std::size_t k = 0; k < populations[p].block_count(); ++k) blocks_.push_back({p, k});
-  for_each_block(static_cast<long>(blocks_.size()), [&](long i) {
+  schedule_.run(static_cast<long>(blocks_.size()), [&](long i) {
     Population& pop = populations[blocks_[i].first];
     const std::size_t begin = blocks_[i].second * kCellsPerBlock;
     block_inputs(blocks_[i].first, begin, std::min(pop.size(), begin + kCellsPerBlock));

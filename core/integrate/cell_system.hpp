@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "coupling/coupler.hpp"
+#include "model/block_schedule.hpp"
 #include "model/population.hpp"
 #include "stimulus/stimulus.hpp"
 
@@ -113,6 +114,7 @@ struct CellSystem {
   static void evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after);
   void evaluate_ionic(double t_ms, const AfterPopulationBlock& after);
   std::vector<std::pair<std::size_t, std::size_t>> blocks_;  // (population, block) of one step
+  BlockSchedule schedule_;  // which thread runs which of blocks_
 };
 
 }  // namespace fibrodem

@@ -47,7 +47,7 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields) 
     throw CheckpointError("its tissue has " + std::to_string(count) + " cells, this scene's has " +
                           std::to_string(system.cell_count()));
   std::string populations;
-  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament*) {
+  for_each_population(system, [&](const Population&, const std::string& p, const Myofilament*) {
     populations += (populations.empty() ? "" : " ") + p;
   });
   if (fields.text("cells.populations") != populations)
