@@ -40,6 +40,7 @@ struct CompareArgs {
 struct SweepArgs {
   std::string sweep;
   std::string out;
+  std::vector<std::string> overrides;  // --set, after the sweep file's own `set`
   bool overwrite = false;
   unsigned jobs = 0;  // 0: one per core
 };

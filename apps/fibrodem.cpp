@@ -64,8 +64,9 @@ int main(int argc, char** argv) {
   auto* sweep = app.add_subcommand("sweep", "Run a manifest over a grid of parameter values and tabulate the results");
   sweep->add_option("sweep", sweep_args.sweep, "sweep file (JSON: manifest, set, grid)")->required();
   sweep->add_option("--out", sweep_args.out, "output directory (default out/sweep_NAME)");
-  sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core)");
-  sweep->add_flag("--overwrite", sweep_args.overwrite, "replace earlier runs' files in the output directory");
+  sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core; under mpirun, per rank: the cores shared by the ranks on a host)");
+  sweep->add_option("--set", sweep_args.overrides, "override a value of the sweep's manifest: PATH=VALUE (repeatable)");
+  sweep->add_flag("--overwrite", sweep_args.overwrite, "run every point again, even those completed before with the same manifest");
 
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");

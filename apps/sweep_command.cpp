@@ -1,13 +1,17 @@
-// `fibrodem sweep SWEEP.json [--out DIR] [--jobs N]`: runs a manifest over the
-// Cartesian product of parameter values and tabulates the results.
+// `fibrodem sweep SWEEP.json [--out DIR] [--jobs N] [--set P=V]...`: runs a
+// manifest over the Cartesian product of parameter values (and tissue seeds)
+// and tabulates the results (sweep_table.hpp).
 //
 // (The sweep file: scene/sweep_file.hpp.)
-// Runs go to DIR/run_<k>/; DIR/sweep.csv and DIR/sweep.md have one row per run:
-// the grid values, per-cell-type mean biomarkers, CV, peak strain and status. Runs are
-// spread over N workers, each point a `fibrodem run` process of its own
-// (single-threaded, so the numbers are those of a lone run): a point that
+// Runs go to DIR/run_<k>/, each a `fibrodem run` process of its own
+// (single-threaded, so the numbers are those of a lone run): a run that
 // crashes (a segfault in a user's plugin) cannot take the others down; its
 // status is "crashed" with the signal, or "failed" with its error.
+// Resumable: a run whose folder holds a completed summary.json of the same
+// manifest (its manifest.json, byte for byte) is not run again.
+// Past one machine: under `mpirun -n N`, run k goes to rank k mod N (each
+// rank a local pool of workers), and rank 0 writes the tables: the same
+// numbers as a local sweep.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -26,6 +30,8 @@
 #include <thread>
 
 #include "apps/commands.hpp"
+#include "apps/mpi_ranks.hpp"
+#include "apps/sweep_table.hpp"
 #include "io/csv_writer.hpp"
 #include "run/simulation.hpp"
 #include "scene/sweep_file.hpp"
@@ -34,26 +40,48 @@ namespace fibrodem::cli {
 
 namespace {
 
-struct SweepPoint {
-  SweepValues values;  // grid path -> value
-  json summary;
-  std::string status;  // completed | failed | interrupted | crashed
-  std::string error;
-};
-
 // Runs one point as `fibrodem run` in a process of its own: its manifest goes
 // to dir/manifest.json, its summary.json comes back.
-void run_point(const SweepFile& sweep, SweepPoint& point, const std::filesystem::path& dir, bool overwrite) {
+// The last line a run printed to its standard error (its error, when it
+// stopped before writing a summary), else `otherwise`.
+std::string last_line(const std::filesystem::path& file, const std::string& otherwise) {
+  std::ifstream in(file);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last.empty() ? otherwise : last;
+}
+
+// The summary of a completed run of exactly this manifest in dir, if there is one.
+json completed_before(const std::filesystem::path& dir, const std::string& manifest_text) {
+  std::ifstream manifest(dir / "manifest.json"), summary(dir / "summary.json");
+  if (!manifest || !summary) return nullptr;
+  std::ostringstream text;
+  text << manifest.rdbuf();
+  if (text.str() != manifest_text) return nullptr;
+  const json s = json::parse(summary, nullptr, /*allow_exceptions=*/false);
+  return s.is_object() && s.value("status", "") == "completed" ? s : json(nullptr);
+}
+
+void run_point(const SweepFile& sweep, SweepRun& point, const std::filesystem::path& dir, bool overwrite) {
   try {
     const json manifest = point_manifest(sweep, point.values);
     parse_scene(manifest);  // a bad point is named here, before a process is spent on it
+    const std::string manifest_text = manifest.dump(2, ' ', false, json::error_handler_t::replace);
+    if (!overwrite)
+      if (json before = completed_before(dir, manifest_text); !before.is_null()) {
+        point.summary = std::move(before);
+        point.status = "completed";
+        point.reused = true;
+        return;
+      }
     std::filesystem::create_directories(dir);
     const std::filesystem::path file = dir / "manifest.json";
-    std::ofstream(file) << manifest.dump(2, ' ', false, json::error_handler_t::replace);
+    std::ofstream(file) << manifest_text;
     const std::string self = boost::dll::program_location().string();
+    // (The folder is the sweep's own: an earlier run of another manifest there is replaced.)
     std::vector<std::string> args = {self, "run", file.string(), "--quiet", "--out", dir.string(),
-                                     "--set", "solver.threads=1"};
-    if (overwrite) args.push_back("--overwrite");
+                                     "--set", "solver.threads=1", "--overwrite"};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -81,91 +109,84 @@ void run_point(const SweepFile& sweep, SweepPoint& point, const std::filesystem:
     if (point.status != "completed")
       point.error = point.summary.is_object() ? point.summary.value("error", std::string("exit status ") +
                                                                                 std::to_string(WEXITSTATUS(status)))
-                                              : "exit status " + std::to_string(WEXITSTATUS(status));
+                                              : last_line(dir / "stderr.txt", "exit status " + std::to_string(WEXITSTATUS(status)));
   } catch (const std::exception& e) {
     point.status = "failed";
     point.error = e.what();
   }
 }
 
-std::string cell_text(const json& v) {
-  if (v.is_number_float()) return format_number(v.get<double>());
-  return v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false, json::error_handler_t::replace);
+// A run's outcome as text for gathering to rank 0, and back.
+json outcome_json(std::size_t k, const SweepRun& r) {
+  return {{"run", k}, {"summary", r.summary}, {"status", r.status}, {"error", r.error}, {"reused", r.reused}};
+}
+
+void take_outcome(const json& j, std::vector<SweepRun>& runs) {
+  SweepRun& r = runs.at(j.at("run").get<std::size_t>());
+  r.summary = j.at("summary");
+  r.status = j.at("status").get<std::string>();
+  r.error = j.at("error").get<std::string>();
+  r.reused = j.at("reused").get<bool>();
 }
 
 }  // namespace
 
 int sweep_command(const SweepArgs& args) {
   return guarded([&] {
-    const SweepFile sweep = read_sweep(read_manifest_file(args.sweep), [&](const std::string& manifest) {
-      return read_manifest_file((std::filesystem::path(args.sweep).parent_path() / manifest).string());
-    });
-    std::vector<SweepPoint> points;
-    for (const auto& values : sweep.points) points.push_back({values, nullptr, "", ""});
+    const MpiRanks ranks;
+    const SweepFile sweep = read_sweep(
+        read_manifest_file(args.sweep),
+        [&](const std::string& manifest) {
+          return read_manifest_file((std::filesystem::path(args.sweep).parent_path() / manifest).string());
+        },
+        args.overrides);
+    std::vector<SweepRun> runs;
+    for (const auto& values : sweep.points) runs.push_back({values, nullptr, "", "", false});
     const std::filesystem::path dir =
         args.out.empty() ? "out/sweep_" + sweep.base.value("name", std::string("scene")) : args.out;
-    const unsigned jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
+    // This rank's runs (all of them without MPI), over a pool of workers
+    // sharing this machine's cores with the other ranks here.
+    std::vector<std::size_t> mine;
+    for (std::size_t k = static_cast<std::size_t>(ranks.rank()); k < runs.size(); k += static_cast<std::size_t>(ranks.size()))
+      mine.push_back(k);
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned jobs = args.jobs > 0 ? args.jobs : std::max(1u, cores / static_cast<unsigned>(ranks.on_this_host()));
     std::atomic<std::size_t> next{0};
     std::mutex print;
     std::vector<std::thread> workers;
     for (unsigned w = 0; w < jobs; ++w)
       workers.emplace_back([&] {
-        for (std::size_t k; (k = next++) < points.size();) {
-          run_point(sweep, points[k], dir / ("run_" + std::to_string(k)), args.overwrite);
+        for (std::size_t i; (i = next++) < mine.size();) {
+          const std::size_t k = mine[i];
+          run_point(sweep, runs[k], dir / ("run_" + std::to_string(k)), args.overwrite);
           std::lock_guard<std::mutex> lock(print);
-          std::cerr << "run " << k + 1 << "/" << points.size() << (points[k].status == "completed" ? " done" : " " + points[k].status + ": " + points[k].error) << "\n";
+          std::cerr << "run " << k + 1 << "/" << runs.size()
+                    << (runs[k].reused ? " done before (same manifest): kept"
+                        : runs[k].status == "completed" ? " done"
+                                                        : " " + runs[k].status + ": " + runs[k].error)
+                    << "\n";
         }
       });
     for (auto& t : workers) t.join();
 
-    // The table: grid values, then per-type means, CV and status.
-    std::vector<std::string> header = {"run"};
-    for (const auto& [path, v] : points.front().values) header.push_back(path);
-    header.push_back("fm_ratio");
-    const char* metrics[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
-    for (const char* type : {"myocyte", "fibroblast"})
-      for (const char* m : metrics) header.push_back(std::string(type) + "_" + m);
-    header.insert(header.end(), {"cv_cm_per_s", "peak_eps_xx", "peak_eps_yy", "status"});
-    CsvWriter csv(dir / "sweep.csv", header);
-    std::ostringstream md;
-    for (const auto& h : header) md << "| " << h << " ";
-    md << "|\n";
-    for (std::size_t i = 0; i < header.size(); ++i) md << "|---";
-    md << "|\n";
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      std::vector<std::string> row = {std::to_string(k)};
-      for (const auto& [path, v] : points[k].values) row.push_back(cell_text(v));
-      row.push_back(points[k].summary.is_null() || points[k].summary["fm_ratio"].is_null()
-                        ? "" : cell_text(points[k].summary["fm_ratio"]));
-      const json& means = points[k].summary.is_null() ? json::object() : points[k].summary["mean_biomarkers"];
-      for (const char* type : {"myocyte", "fibroblast"})
-        for (const char* m : metrics)
-          row.push_back(means.contains(type) && !means[type][m].is_null() ? cell_text(means[type][m]) : "");
-      row.push_back(points[k].summary.is_null() || points[k].summary["cv_cm_per_s"].is_null()
-                        ? "" : cell_text(points[k].summary["cv_cm_per_s"]));
-      for (const char* component : {"xx", "yy"})
-        row.push_back(points[k].summary.is_null() || points[k].summary["peak_strain"].is_null()
-                          ? "" : cell_text(points[k].summary["peak_strain"][component]));
-      row.push_back(points[k].status);
-      for (const auto& c : row) {
-        csv.cell(c);
-        std::string shown = c;
-        if (const auto dot = shown.find('.'); dot != std::string::npos && shown.size() > dot + 3) shown.resize(dot + 3);
-        md << "| " << shown << " ";
-      }
-      csv.end_row();
-      md << "|\n";
-    }
-    bool any_failed = false;
-    for (std::size_t k = 0; k < points.size(); ++k)
-      if (points[k].status != "completed") {
-        if (!any_failed) md << "\nPoints that did not complete:\n\n";
-        any_failed = true;
-        md << "- run " << k << ", " << points[k].status << ": " << points[k].error << "\n";
-      }
-    std::ofstream(dir / "sweep.md") << md.str();
-    std::cout << md.str() << "\noutputs: " << dir.string() << "/{sweep.csv,sweep.md,run_*/}\n";
-    return any_failed ? 4 : 0;
+    json outcomes = json::array();
+    for (std::size_t k : mine) outcomes.push_back(outcome_json(k, runs[k]));
+    const auto gathered = ranks.gather(outcomes.dump(-1, ' ', false, json::error_handler_t::replace));
+    if (ranks.rank() != 0) return 0;  // rank 0 tabulates
+    for (const auto& text : gathered)
+      for (const auto& j : json::parse(text)) take_outcome(j, runs);
+    std::size_t reused = 0;
+    for (const auto& r : runs) reused += r.reused;
+    const std::string md = write_sweep_tables(sweep, runs, dir);
+    std::cout << md << "\n";
+    if (reused > 0)
+      std::cout << reused << " of " << runs.size() << " runs completed before with the same manifest: kept, not run again\n";
+    if (ranks.launched()) std::cout << "over " << ranks.size() << " MPI ranks\n";
+    std::cout << "outputs: " << dir.string() << "/{sweep.csv,sweep.md," << (sweep.seeds.empty() ? "" : "sweep_stats.csv,")
+              << "sweep.png,run_*/}\n";
+    for (const auto& r : runs)
+      if (r.status != "completed") return 4;
+    return 0;
   });
 }
 

@@ -80,7 +80,7 @@ void CheckpointFields::put_text(const std::string& name, const std::string& text
 }
 
 void CheckpointFields::put_bytes(const std::string& name, const void* data, std::size_t size) {
-  fields_[name] = {kBytes, size, std::string(static_cast<const char*>(data), size)};
+  fields_[name] = {kBytes, size, size > 0 ? std::string(static_cast<const char*>(data), size) : std::string()};
 }
 
 const CheckpointFields::Field& CheckpointFields::field(const std::string& name, Kind kind) const {
@@ -122,7 +122,7 @@ std::string CheckpointFields::text(const std::string& name) const { return field
 void CheckpointFields::bytes(const std::string& name, void* data, std::size_t size) const {
   const Field& f = field(name, kBytes);
   check_count(name, f.count, static_cast<long long>(size));
-  std::memcpy(data, f.data.data(), size);
+  if (size > 0) std::memcpy(data, f.data.data(), size);  // (data may be null when size is 0)
 }
 
 std::string CheckpointFields::encode() const {

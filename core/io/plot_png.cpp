@@ -60,6 +60,9 @@ Axis make_axis(bool log, std::vector<double> values) {
     const double step = std::pow(10.0, std::floor(std::log10((hi - lo) / 5)));
     a.lo = std::floor(lo / step) * step;
     a.hi = std::ceil(hi / step) * step;
+    // A little room, so that markers and error bars on the ends are whole.
+    if (*mn - a.lo < 0.03 * (a.hi - a.lo)) a.lo -= 0.04 * (a.hi - a.lo);
+    if (a.hi - *mx < 0.03 * (a.hi - a.lo)) a.hi += 0.04 * (a.hi - a.lo);
   }
   return a;
 }
@@ -165,6 +168,10 @@ void marker(cairo_t* c, int shape, double x, double y, double r) {
   cairo_stroke(c);
 }
 
+bool has_error_bar(const PlotSeries& s, std::size_t i) {
+  return i < s.y_low.size() && i < s.y_high.size() && std::isfinite(s.y_low[i]) && std::isfinite(s.y_high[i]);
+}
+
 void draw_panel(cairo_t* c, const PlotPanel& panel, double x0, double y0, double w, double h, double font) {
   // Ranges over all series (and the guides near the data).
   std::vector<double> xs, ys;
@@ -172,6 +179,10 @@ void draw_panel(cairo_t* c, const PlotPanel& panel, double x0, double y0, double
     for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
       xs.push_back(s.x[i]);
       ys.push_back(s.y[i]);
+      if (has_error_bar(s, i)) {
+        ys.push_back(s.y_low[i]);
+        ys.push_back(s.y_high[i]);
+      }
     }
   const Axis ax = make_axis(panel.log_x, xs);
   Axis ay = make_axis(panel.log_y, ys);
@@ -277,6 +288,19 @@ void draw_panel(cairo_t* c, const PlotPanel& panel, double x0, double y0, double
       pen = true;
     }
     cairo_stroke(c);
+    cairo_set_line_width(c, 1.4);
+    for (std::size_t i = 0; i < n; ++i) {  // error bars with caps
+      if (!has_error_bar(s, i) || !ax.drawable(s.x[i]) || !ay.drawable(s.y_low[i]) || !ay.drawable(s.y_high[i]))
+        continue;
+      const double x = X(s.x[i]), cap = 0.3 * font;
+      cairo_move_to(c, x, Y(s.y_low[i]));
+      cairo_line_to(c, x, Y(s.y_high[i]));
+      for (double y : {Y(s.y_low[i]), Y(s.y_high[i])}) {
+        cairo_move_to(c, x - cap, y);
+        cairo_line_to(c, x + cap, y);
+      }
+      cairo_stroke(c);
+    }
     for (std::size_t i = 0; i < n; ++i) {
       if (!ax.drawable(s.x[i]) || !ay.drawable(s.y[i])) continue;
       cairo_set_source_rgb(c, col.r, col.g, col.b);
@@ -355,9 +379,15 @@ void write_plot_png(const std::vector<PlotPanel>& panels, const std::filesystem:
     cairo_select_font_face(c, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     y0 = 2.0 * font;
   }
-  const double pw = panels.empty() ? options.width_px : static_cast<double>(options.width_px) / static_cast<double>(panels.size());
+  // Panels left to right, in rows of `columns` (all in one row if 0).
+  const std::size_t columns = options.columns > 0 ? std::min(options.columns, std::max<std::size_t>(panels.size(), 1))
+                                                  : std::max<std::size_t>(panels.size(), 1);
+  const std::size_t rows = (panels.size() + columns - 1) / columns;
+  const double pw = static_cast<double>(options.width_px) / static_cast<double>(columns);
+  const double ph = (options.height_px - y0) / static_cast<double>(std::max<std::size_t>(rows, 1));
   for (std::size_t i = 0; i < panels.size(); ++i)
-    draw_panel(c, panels[i], pw * static_cast<double>(i), y0, pw, options.height_px - y0, font);
+    draw_panel(c, panels[i], pw * static_cast<double>(i % columns), y0 + ph * static_cast<double>(i / columns), pw, ph,
+               font);
   std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
   write_png_file(surface.get(), file);
 }

@@ -2,11 +2,13 @@
 // one or more panels side by side, each with log (decade ticks, labels 10^k,
 // minor ticks at 2..9) or linear axes, axis labels, a title, series drawn as
 // lines with markers (one colour and marker shape per series) and a legend,
-// and optional dashed horizontal guide lines (e.g. error thresholds).
+// optional error bars, and optional dashed horizontal guide lines (e.g. error
+// thresholds).
 // Points that cannot be drawn (non-finite, or <= 0 on a log axis) are left
 // out, and a series' line is broken there.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -16,6 +18,9 @@ namespace fibrodem {
 struct PlotSeries {
   std::string label;
   std::vector<double> x, y;
+  // Error bars (e.g. a 95 % confidence interval): from y_low to y_high at
+  // each x, where both are given and finite; empty: none.
+  std::vector<double> y_low = {}, y_high = {};
 };
 
 struct PlotGuide {
@@ -34,6 +39,7 @@ struct PlotOptions {
   int width_px = 1200, height_px = 600;  // the whole image
   double font_px = 15;
   std::string title;  // above all panels
+  std::size_t columns = 0;  // panels per row (0: all in one row)
 };
 
 // Throws std::runtime_error if the file cannot be written.

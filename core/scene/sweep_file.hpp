@@ -4,7 +4,10 @@
 //     "manifest": "cell_pair_active.json",          (relative to the sweep file)
 //     "set":  { "duration_ms": 5000 },              (optional, every run)
 //     "grid": { "tissue.fibroblasts": [1, 2, 4],
-//               "coupling.D_f_nS": [0.5, 1, 2, 4, 8] } }
+//               "coupling.D_f_nS": [0.5, 1, 2, 4, 8] },
+//     "seeds": 5 }                                  (optional: K tissue seeds, or a list)
+// With seeds, every grid point runs once per seed (the manifest's `seed` set
+// to each), and the table gains statistics over the seeds.
 #pragma once
 
 #include <functional>
@@ -20,14 +23,20 @@ namespace fibrodem {
 using SweepValues = std::vector<std::pair<std::string, json>>;
 
 struct SweepFile {
-  json base;                        // the manifest, with `set` applied
-  std::vector<SweepValues> points;  // the grid's product, the last path varying fastest
+  json base;                        // the manifest, with `set` (and the command line's --set) applied
+  // Every run: the grid's product, the last path varying fastest, then with
+  // seeds each point once per seed (its last value: "seed").
+  std::vector<SweepValues> points;
+  std::size_t grid_points = 1;      // points of the grid itself
+  std::vector<long long> seeds;     // empty: "seeds" not given
 };
 
 // Reads a sweep file's JSON; `read_manifest` reads the manifest it names
 // (relative paths resolved by the caller). Throws ManifestError naming the
 // JSON path of a bad value.
-SweepFile read_sweep(const json& sweep, const std::function<json(const std::string&)>& read_manifest);
+// `overrides` (PATH=VALUE, as --set) apply after the file's own `set`.
+SweepFile read_sweep(const json& sweep, const std::function<json(const std::string&)>& read_manifest,
+                     const std::vector<std::string>& overrides = {});
 
 // A point's manifest: the base with the point's values set (ManifestError,
 // naming the path, for a value the manifest cannot take).

@@ -1,0 +1,223 @@
+#include "apps/sweep_table.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "io/csv_writer.hpp"
+#include "io/plot_png.hpp"
+#include "measure/sample_statistics.hpp"
+
+namespace fibrodem::cli {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A number a run's summary reports, NaN where it has none.
+struct Metric {
+  std::string name;
+  std::function<double(const json& summary)> of;
+};
+
+double number_at(const json& summary, std::initializer_list<const char*> path) {
+  const json* node = &summary;
+  for (const char* key : path) {
+    if (!node->is_object() || !node->contains(key)) return kNaN;
+    node = &(*node)[key];
+  }
+  return node->is_number() ? node->get<double>() : kNaN;
+}
+
+std::vector<Metric> metrics() {
+  std::vector<Metric> list = {{"fm_ratio", [](const json& s) { return number_at(s, {"fm_ratio"}); }}};
+  for (const char* type : {"myocyte", "fibroblast"})
+    for (const char* m : {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"})
+      list.push_back({std::string(type) + "_" + m,
+                      [type, m](const json& s) { return number_at(s, {"mean_biomarkers", type, m}); }});
+  list.push_back({"cv_cm_per_s", [](const json& s) { return number_at(s, {"cv_cm_per_s"}); }});
+  list.push_back({"peak_eps_xx", [](const json& s) { return number_at(s, {"peak_strain", "xx"}); }});
+  list.push_back({"peak_eps_yy", [](const json& s) { return number_at(s, {"peak_strain", "yy"}); }});
+  return list;
+}
+
+std::string cell_text(const json& v) {
+  if (v.is_number_float()) return format_number(v.get<double>());
+  return v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string number_text(double v) { return std::isfinite(v) ? format_number(v) : ""; }
+
+// A markdown cell: numbers cut to two decimals.
+std::string shown(const std::string& text) {
+  std::string s = text;
+  if (const auto dot = s.find('.'); dot != std::string::npos && s.size() > dot + 3) s.resize(dot + 3);
+  return s;
+}
+
+void markdown_row(std::ostringstream& md, const std::vector<std::string>& cells) {
+  for (const auto& c : cells) md << "| " << c << " ";
+  md << "|\n";
+}
+
+std::vector<std::string> shown(const std::vector<std::string>& cells) {
+  std::vector<std::string> out;
+  for (const auto& c : cells) out.push_back(shown(c));
+  return out;
+}
+
+void markdown_header(std::ostringstream& md, const std::vector<std::string>& header) {
+  markdown_row(md, header);
+  for (std::size_t i = 0; i < header.size(); ++i) md << "|---";
+  md << "|\n";
+}
+
+// The runs of each grid point (consecutive: seeds vary fastest).
+struct GridPoint {
+  SweepValues values;  // without the seed
+  std::vector<const SweepRun*> runs;
+};
+
+std::vector<GridPoint> grid_points(const SweepFile& sweep, const std::vector<SweepRun>& runs) {
+  std::vector<GridPoint> points;
+  const std::size_t per_point = sweep.seeds.empty() ? 1 : sweep.seeds.size();
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    if (k % per_point == 0) {
+      GridPoint p;
+      p.values = runs[k].values;
+      if (!sweep.seeds.empty()) p.values.pop_back();  // the seed
+      points.push_back(p);
+    }
+    points.back().runs.push_back(&runs[k]);
+  }
+  return points;
+}
+
+// Per grid point and metric, the statistics over its completed runs.
+std::vector<std::vector<SampleSummary>> statistics(const std::vector<GridPoint>& points,
+                                                   const std::vector<Metric>& list) {
+  std::vector<std::vector<SampleSummary>> stats;
+  for (const auto& p : points) {
+    stats.emplace_back();
+    for (const auto& m : list) {
+      std::vector<double> values;
+      for (const SweepRun* r : p.runs)
+        if (r->status == "completed") values.push_back(m.of(r->summary));
+      stats.back().push_back(summarize(values));
+    }
+  }
+  return stats;
+}
+
+void write_statistics(const std::vector<GridPoint>& points, const std::vector<Metric>& list,
+                      const std::vector<std::vector<SampleSummary>>& stats, const std::filesystem::path& dir,
+                      std::ostringstream& md) {
+  std::vector<std::string> header;
+  for (const auto& [path, v] : points.front().values) header.push_back(path);
+  header.push_back("seeds_completed");
+  std::vector<std::string> csv_header = header;
+  for (const auto& m : list)
+    for (const char* s : {"_mean", "_sd", "_ci95_low", "_ci95_high"}) csv_header.push_back(m.name + s);
+  CsvWriter csv(dir / "sweep_stats.csv", csv_header);
+  md << "\nOver the seeds: mean [95 % confidence interval] (Student's t):\n\n";
+  std::vector<std::string> md_header = header;
+  for (const auto& m : list) md_header.push_back(m.name);
+  markdown_header(md, md_header);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::vector<std::string> row;
+    for (const auto& [path, v] : points[k].values) row.push_back(cell_text(v));
+    std::size_t completed = 0;
+    for (const SweepRun* r : points[k].runs) completed += r->status == "completed";
+    row.push_back(std::to_string(completed));
+    for (const auto& c : row) csv.cell(c);
+    std::vector<std::string> md_row = shown(row);
+    for (const auto& s : stats[k]) {
+      for (double v : {s.mean, s.sd, s.ci95_low, s.ci95_high}) csv.cell(number_text(v));
+      md_row.push_back(!std::isfinite(s.mean) ? ""
+                       : std::isfinite(s.ci95_low)
+                           ? shown(format_number(s.mean)) + " [" + shown(format_number(s.ci95_low)) + ", " +
+                                 shown(format_number(s.ci95_high)) + "]"
+                           : format_number(s.mean));
+    }
+    csv.end_row();
+    markdown_row(md, md_row);
+  }
+}
+
+// sweep.png: one panel per metric with a value, against the first grid
+// axis; one series per combination of the other axes; 95 % CI bars.
+void write_plot(const std::vector<GridPoint>& points, const std::vector<Metric>& list,
+                const std::vector<std::vector<SampleSummary>>& stats, const std::filesystem::path& dir) {
+  const bool has_axis = !points.front().values.empty();
+  const std::string axis = has_axis ? points.front().values.front().first : "grid point";
+  std::vector<PlotPanel> panels;
+  for (std::size_t m = 0; m < list.size(); ++m) {
+    PlotPanel panel{list[m].name, axis, list[m].name, false, false, {}, {}};
+    std::map<std::string, std::size_t> series_of;
+    bool any = false;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      std::string label;
+      for (std::size_t i = 1; i < points[k].values.size(); ++i)
+        label += (label.empty() ? "" : ", ") + points[k].values[i].first + " = " + cell_text(points[k].values[i].second);
+      if (!series_of.count(label)) {
+        series_of[label] = panel.series.size();
+        panel.series.push_back({label.empty() ? list[m].name : label, {}, {}, {}, {}});
+      }
+      PlotSeries& s = panel.series[series_of[label]];
+      const json& x = has_axis ? points[k].values.front().second : json(k);
+      s.x.push_back(x.is_number() ? x.get<double>() : static_cast<double>(s.x.size()));
+      s.y.push_back(stats[k][m].mean);
+      s.y_low.push_back(stats[k][m].ci95_low);
+      s.y_high.push_back(stats[k][m].ci95_high);
+      any |= std::isfinite(stats[k][m].mean);
+    }
+    if (any) panels.push_back(std::move(panel));
+  }
+  if (panels.empty()) return;
+  const std::size_t columns = std::min<std::size_t>(4, panels.size()), rows = (panels.size() + columns - 1) / columns;
+  write_plot_png(panels, dir / "sweep.png",
+                 {.width_px = 400 * static_cast<int>(columns), .height_px = 30 + 360 * static_cast<int>(rows),
+                  .font_px = 13, .title = "sweep: mean over the seeds, bars 95 % confidence interval",
+                  .columns = columns});
+}
+
+}  // namespace
+
+std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRun>& runs,
+                               const std::filesystem::path& dir) {
+  const std::vector<Metric> list = metrics();
+  std::vector<std::string> header = {"run"};
+  for (const auto& [path, v] : runs.front().values) header.push_back(path);
+  for (const auto& m : list) header.push_back(m.name);
+  header.push_back("status");
+  CsvWriter csv(dir / "sweep.csv", header);
+  std::ostringstream md;
+  markdown_header(md, header);
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    std::vector<std::string> row = {std::to_string(k)};
+    for (const auto& [path, v] : runs[k].values) row.push_back(cell_text(v));
+    for (const auto& m : list) row.push_back(number_text(m.of(runs[k].summary)));
+    row.push_back(runs[k].status);
+    for (const auto& c : row) csv.cell(c);
+    csv.end_row();
+    markdown_row(md, shown(row));
+  }
+  const std::vector<GridPoint> points = grid_points(sweep, runs);
+  const auto stats = statistics(points, list);
+  if (!sweep.seeds.empty()) write_statistics(points, list, stats, dir, md);
+  bool any_failed = false;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    if (runs[k].status != "completed") {
+      if (!any_failed) md << "\nRuns that did not complete:\n\n";
+      any_failed = true;
+      md << "- run " << k << ", " << runs[k].status << ": " << runs[k].error << "\n";
+    }
+  write_plot(points, list, stats, dir);
+  std::ofstream(dir / "sweep.md") << md.str();
+  return md.str();
+}
+
+}  // namespace fibrodem::cli

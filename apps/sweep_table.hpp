@@ -1,0 +1,28 @@
+// A sweep's results: one row per run (sweep.csv, sweep.md), and with tissue
+// seeds, per grid point the mean, SD and 95 % confidence interval over the
+// seeds of each metric (sweep_stats.csv and in sweep.md), and sweep.png (each
+// metric against the first grid axis, error bars over the seeds).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scene/sweep_file.hpp"
+
+namespace fibrodem::cli {
+
+struct SweepRun {
+  SweepValues values;  // grid path -> value (and "seed" with seeds)
+  json summary;        // the run's summary.json (null if it wrote none)
+  std::string status;  // completed | failed | interrupted | crashed
+  std::string error;
+  bool reused = false;  // completed by an earlier sweep with the same manifest
+};
+
+// Writes sweep.csv, sweep.md and (with seeds) sweep_stats.csv, and
+// sweep.png; returns sweep.md's text.
+std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRun>& runs,
+                               const std::filesystem::path& dir);
+
+}  // namespace fibrodem::cli
