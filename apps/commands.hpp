@@ -35,6 +35,7 @@ struct CompareArgs {
   std::vector<std::string> overrides, a_overrides, b_overrides;
   bool quiet = false;
   bool overwrite = false;
+  int seeds = 0;  // > 0: A and B on this many tissue seeds, paired statistics
 };
 
 struct SweepArgs {

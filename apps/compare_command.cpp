@@ -1,18 +1,24 @@
 // `fibrodem compare`: runs two variants and writes their A/B comparison.
 //   fibrodem compare A.json B.json [--out DIR] [--set P=V]...
-//   fibrodem compare M.json --a P=V... --b P=V... [--out DIR]
+//   fibrodem compare M.json --a P=V... --b P=V... [--out DIR] [--seeds K]
 #include <iostream>
 
 #include "apps/commands.hpp"
 #include "compare/ab_comparison.hpp"
+#include "compare/paired_comparison.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {
 
 namespace {
 
-RunRecord run_variant(const std::string& label, json manifest, const std::filesystem::path& dir, bool quiet,
-                      bool overwrite) {
+struct Variant {
+  RunRecord record;
+  json summary;
+};
+
+Variant run_variant(const std::string& label, json manifest, const std::filesystem::path& dir, bool quiet,
+                    bool overwrite) {
   Scene scene = parse_scene(manifest);
   scene.output.dir = (dir / label).string();
   scene.output.overwrite = overwrite;
@@ -20,7 +26,29 @@ RunRecord run_variant(const std::string& label, json manifest, const std::filesy
   options.console_log = !quiet;
   Simulation simulation(scene, nullptr, options);
   simulation.run();
-  return record_of(simulation, label);
+  return {record_of(simulation, label.substr(label.rfind('/') + 1)), simulation.summary()};
+}
+
+// --seeds K: A and B on each of K tissues (the manifest's seed and the K - 1
+// after it), then the paired statistics; the first pair's comparison and
+// traces as without seeds.
+std::string compare_over_seeds(const json& a, const json& b, const std::filesystem::path& dir, const CompareArgs& args) {
+  const long long first = a.contains("seed") && a["seed"].is_number_integer() ? a["seed"].get<long long>() : 0;
+  std::vector<json> summaries_a, summaries_b;
+  std::vector<long long> seeds;
+  for (int k = 0; k < args.seeds; ++k) {
+    const long long seed = first + k;
+    json a_k = a, b_k = b;
+    a_k["seed"] = b_k["seed"] = seed;
+    const std::string tissue = "seed_" + std::to_string(seed);
+    const Variant va = run_variant(tissue + "/A", a_k, dir, args.quiet, args.overwrite);
+    const Variant vb = run_variant(tissue + "/B", b_k, dir, args.quiet, args.overwrite);
+    if (k == 0) write_comparison(va.record, vb.record, dir);
+    summaries_a.push_back(va.summary);
+    summaries_b.push_back(vb.summary);
+    seeds.push_back(seed);
+  }
+  return write_paired_comparison(summaries_a, summaries_b, seeds, dir);
 }
 
 }  // namespace
@@ -39,15 +67,20 @@ int compare_command(const CompareArgs& args) {
     for (const auto& s : args.b_overrides) apply_override(b, s);
     const std::string name = a.value("name", std::string("scene"));
     const std::filesystem::path dir = args.out.empty() ? "out/compare_" + name : args.out;
-    const RunRecord ra = run_variant("A", a, dir, args.quiet, args.overwrite);
-    const RunRecord rb = run_variant("B", b, dir, args.quiet, args.overwrite);
-    write_comparison(ra, rb, dir);
     std::cout << "A: " << args.manifests.front();
     for (const auto& s : args.a_overrides) std::cout << " " << s;
     std::cout << "\nB: " << args.manifests.back();
     for (const auto& s : args.b_overrides) std::cout << " " << s;
-    std::cout << "\n\n" << comparison_markdown(ra, rb) << "\noutputs: " << dir.string()
-              << "/{comparison.md,comparison.csv,traces.csv,A/,B/}\n";
+    if (args.seeds > 0) {
+      std::cout << "\n\n" << compare_over_seeds(a, b, dir, args) << "\noutputs: " << dir.string()
+                << "/{paired.md,paired.csv,comparison.md,comparison.csv,traces.csv,traces.png,seed_*/A,seed_*/B}\n";
+      return 0;
+    }
+    const Variant va = run_variant("A", a, dir, args.quiet, args.overwrite);
+    const Variant vb = run_variant("B", b, dir, args.quiet, args.overwrite);
+    write_comparison(va.record, vb.record, dir);
+    std::cout << "\n\n" << comparison_markdown(va.record, vb.record) << "\noutputs: " << dir.string()
+              << "/{comparison.md,comparison.csv,traces.csv,traces.png,A/,B/}\n";
     return 0;
   });
 }

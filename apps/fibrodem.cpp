@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
   compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
   compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
   compare->add_flag("--overwrite", compare_args.overwrite, "replace earlier runs' files in the output directory");
+  compare->add_option("--seeds", compare_args.seeds, "run A and B on K tissue seeds (the manifest's and the next K - 1) and report paired differences with their 95 % CI and a paired t-test")
+      ->check(CLI::Range(1, 10000));
 
   fibrodem::cli::SweepArgs sweep_args;
   auto* sweep = app.add_subcommand("sweep", "Run a manifest over a grid of parameter values and tabulate the results");

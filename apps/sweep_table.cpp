@@ -2,47 +2,17 @@
 
 #include <cmath>
 #include <fstream>
-#include <functional>
-#include <limits>
 #include <map>
 #include <sstream>
 
 #include "io/csv_writer.hpp"
 #include "io/plot_png.hpp"
 #include "measure/sample_statistics.hpp"
+#include "run/run_summary.hpp"
 
 namespace fibrodem::cli {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// A number a run's summary reports, NaN where it has none.
-struct Metric {
-  std::string name;
-  std::function<double(const json& summary)> of;
-};
-
-double number_at(const json& summary, std::initializer_list<const char*> path) {
-  const json* node = &summary;
-  for (const char* key : path) {
-    if (!node->is_object() || !node->contains(key)) return kNaN;
-    node = &(*node)[key];
-  }
-  return node->is_number() ? node->get<double>() : kNaN;
-}
-
-std::vector<Metric> metrics() {
-  std::vector<Metric> list = {{"fm_ratio", [](const json& s) { return number_at(s, {"fm_ratio"}); }}};
-  for (const char* type : {"myocyte", "fibroblast"})
-    for (const char* m : {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"})
-      list.push_back({std::string(type) + "_" + m,
-                      [type, m](const json& s) { return number_at(s, {"mean_biomarkers", type, m}); }});
-  list.push_back({"cv_cm_per_s", [](const json& s) { return number_at(s, {"cv_cm_per_s"}); }});
-  list.push_back({"peak_eps_xx", [](const json& s) { return number_at(s, {"peak_strain", "xx"}); }});
-  list.push_back({"peak_eps_yy", [](const json& s) { return number_at(s, {"peak_strain", "yy"}); }});
-  return list;
-}
 
 std::string cell_text(const json& v) {
   if (v.is_number_float()) return format_number(v.get<double>());
@@ -98,7 +68,7 @@ std::vector<GridPoint> grid_points(const SweepFile& sweep, const std::vector<Swe
 
 // Per grid point and metric, the statistics over its completed runs.
 std::vector<std::vector<SampleSummary>> statistics(const std::vector<GridPoint>& points,
-                                                   const std::vector<Metric>& list) {
+                                                   const std::vector<SummaryMetric>& list) {
   std::vector<std::vector<SampleSummary>> stats;
   for (const auto& p : points) {
     stats.emplace_back();
@@ -112,7 +82,7 @@ std::vector<std::vector<SampleSummary>> statistics(const std::vector<GridPoint>&
   return stats;
 }
 
-void write_statistics(const std::vector<GridPoint>& points, const std::vector<Metric>& list,
+void write_statistics(const std::vector<GridPoint>& points, const std::vector<SummaryMetric>& list,
                       const std::vector<std::vector<SampleSummary>>& stats, const std::filesystem::path& dir,
                       std::ostringstream& md) {
   std::vector<std::string> header;
@@ -149,7 +119,7 @@ void write_statistics(const std::vector<GridPoint>& points, const std::vector<Me
 
 // sweep.png: one panel per metric with a value, against the first grid
 // axis; one series per combination of the other axes; 95 % CI bars.
-void write_plot(const std::vector<GridPoint>& points, const std::vector<Metric>& list,
+void write_plot(const std::vector<GridPoint>& points, const std::vector<SummaryMetric>& list,
                 const std::vector<std::vector<SampleSummary>>& stats, const std::filesystem::path& dir) {
   const bool has_axis = !points.front().values.empty();
   const std::string axis = has_axis ? points.front().values.front().first : "grid point";
@@ -188,7 +158,7 @@ void write_plot(const std::vector<GridPoint>& points, const std::vector<Metric>&
 
 std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRun>& runs,
                                const std::filesystem::path& dir) {
-  const std::vector<Metric> list = metrics();
+  const std::vector<SummaryMetric>& list = summary_metrics();
   std::vector<std::string> header = {"run"};
   for (const auto& [path, v] : runs.front().values) header.push_back(path);
   for (const auto& m : list) header.push_back(m.name);

@@ -68,3 +68,49 @@ TEST_CASE("traces of both runs are interpolated onto a common time base") {
   CHECK(std::filesystem::exists(dir / "comparison.md"));
   CHECK(std::filesystem::exists(dir / "comparison.csv"));
 }
+
+TEST_CASE("compare --seeds: A and B on the same tissues, paired differences of known sign, checked by hand") {
+  const auto dir = testing::scratch_dir("compare_seeds");
+  // A small in-series tissue; passive fibroblasts (resting near -58 mV on
+  // their own) are pulled towards the myocytes' -75 mV the more they are
+  // coupled: raising D_f from 0.5 to 4 nS must lower the fibroblasts' RMP
+  // (V at the onset of the beat, 10 ms in).
+  std::ofstream(dir / "m.json") << R"({"fibrodem": 1, "name": "pairs", "duration_ms": 20, "seed": 3,
+    "tissue": {"builder": "in_series", "width_mm": 0.2, "height_mm": 0.8, "fm_ratio": 0.3},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "passive_fibroblast"}},
+    "coupling": {"D_f_nS": 1},
+    "stimulus": [{"target": {"y_min_frac": 0.8, "type": "myocyte"}, "start_ms": 10, "duration_ms": 2, "amplitude_pA": 3000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.02},
+    "output": {"traces": {"cells": [0, 1], "variables": ["V"], "every_ms": 0.5}}})";
+  const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem compare --quiet " + (dir / "m.json").string() +
+                              " --a coupling.D_f_nS=0.5 --b coupling.D_f_nS=4 --seeds 3 --out " + (dir / "out").string() +
+                              " > /dev/null 2>&1";
+  REQUIRE(std::system(command.c_str()) == 0);
+  // By hand from the six runs' summaries: the mean difference of fibroblast RMP.
+  double mean = 0;
+  for (int seed : {3, 4, 5}) {
+    const auto summary = [&](const char* v) {
+      return json::parse(testing::read_file(dir / "out" / ("seed_" + std::to_string(seed)) / v / "summary.json"));
+    };
+    CHECK(summary("A")["manifest"]["seed"] == seed);
+    mean += (summary("B")["mean_biomarkers"]["fibroblast"]["rmp_mV"].get<double>() -
+             summary("A")["mean_biomarkers"]["fibroblast"]["rmp_mV"].get<double>()) / 3;
+  }
+  std::istringstream csv(testing::read_file(dir / "out" / "paired.csv"));
+  std::string line, row;
+  std::getline(csv, line);
+  CHECK(line == "metric,pairs,a_mean,b_mean,b_minus_a_mean,b_minus_a_sd,ci95_low,ci95_high,t,p");
+  while (std::getline(csv, line))
+    if (line.rfind("fibroblast_rmp_mV,", 0) == 0) row = line;
+  REQUIRE(!row.empty());
+  std::vector<double> cells;
+  std::stringstream cells_text(row.substr(row.find(',') + 1));
+  for (std::string c; std::getline(cells_text, c, ',');) cells.push_back(std::stod(c));
+  CHECK(cells[0] == 3);                                        // pairs
+  CHECK(cells[3] == doctest::Approx(mean).epsilon(1e-12));     // B - A
+  CHECK(cells[3] < -1.0);                                      // the known sign, well clear of zero
+  CHECK(cells[6] < 0);                                         // the whole 95 % CI below zero
+  CHECK(cells[8] < 0.05);                                      // p
+  CHECK(std::filesystem::exists(dir / "out" / "traces.png"));  // A and B overlaid (first tissue)
+  CHECK(testing::read_file(dir / "out" / "paired.md").find("paired t-test") != std::string::npos);
+}

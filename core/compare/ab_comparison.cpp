@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "io/csv_writer.hpp"
+#include "io/plot_png.hpp"
 
 namespace fibrodem {
 
@@ -70,6 +71,28 @@ std::string comparison_markdown(const RunRecord& a, const RunRecord& b) {
   return md.str();
 }
 
+namespace {
+
+// traces.png: each shared column (the first six) in a panel, A and B overlaid.
+void write_traces_plot(const RunRecord& a, const RunRecord& b,
+                       const std::vector<std::pair<std::size_t, std::size_t>>& shared,
+                       const std::filesystem::path& file) {
+  std::vector<PlotPanel> panels;
+  for (std::size_t k = 0; k < shared.size() && k < 6; ++k) {
+    const auto [i, j] = shared[k];
+    PlotPanel panel{a.columns[i], "t [ms]", a.columns[i], false, false, {}, {}};
+    panel.series.push_back({a.label, a.times_ms, a.samples[i]});
+    panel.series.push_back({b.label, b.times_ms, b.samples[j]});
+    panels.push_back(std::move(panel));
+  }
+  const std::size_t columns = std::min<std::size_t>(3, panels.size()), rows = (panels.size() + columns - 1) / columns;
+  write_plot_png(panels, file,
+                 {.width_px = 520 * static_cast<int>(columns), .height_px = 30 + 360 * static_cast<int>(rows),
+                  .font_px = 13, .title = a.label + " and " + b.label, .columns = columns});
+}
+
+}  // namespace
+
 void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   {
@@ -95,6 +118,7 @@ void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesys
   }
   CsvWriter traces(dir / "traces.csv", header);
   if (shared.empty() || a.times_ms.size() < 2 || b.times_ms.size() < 2) return;
+  write_traces_plot(a, b, shared, dir / "traces.png");
   const double t0 = std::max(a.times_ms.front(), b.times_ms.front());
   const double t1 = std::min(a.times_ms.back(), b.times_ms.back());
   const double h = std::min(finest_interval(a.times_ms), finest_interval(b.times_ms));
