@@ -1,6 +1,5 @@
 #include "apps/mpi_ranks.hpp"
 
-#include <algorithm>
 #include <cstdlib>
 
 #ifdef FIBRODEM_WITH_MPI
@@ -12,12 +11,12 @@ namespace fibrodem::cli {
 #ifdef FIBRODEM_WITH_MPI
 namespace {
 
-// mpirun (OpenMPI: OMPI_COMM_WORLD_*; MPICH and Slurm's PMI: PMI_*) tells
-// its processes their world through the environment.
-int environment_number(const char* a, const char* b) {
-  for (const char* name : {a, b})
-    if (const char* v = std::getenv(name)) return std::atoi(v);
-  return 0;
+// A launcher tells its processes through the environment: mpirun (OpenMPI:
+// OMPI_COMM_WORLD_SIZE), MPICH's and Slurm's PMI (PMI_SIZE), PMIx (PMIX_RANK).
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(name)) return true;
+  return false;
 }
 
 }  // namespace
@@ -25,12 +24,16 @@ int environment_number(const char* a, const char* b) {
 
 MpiRanks::MpiRanks() {
 #ifdef FIBRODEM_WITH_MPI
-  if (environment_number("OMPI_COMM_WORLD_SIZE", "PMI_SIZE") < 1) return;
+  if (!launched_by_mpi()) return;
   MPI_Init(nullptr, nullptr);
   launched_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
-  local_size_ = std::max(1, environment_number("OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"));
+  // The ranks sharing this host (and its cores).
+  MPI_Comm host;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &host);
+  MPI_Comm_size(host, &local_size_);
+  MPI_Comm_free(&host);
 #endif
 }
 
