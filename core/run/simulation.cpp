@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <csignal>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -470,8 +471,7 @@ struct Simulation::Impl : StepObserver {
     snapshots_taken = f.integer("run.snapshots_taken");
     if (f.integer("run.beat_bytes") != static_cast<long long>(sizeof(BeatBiomarkers)))
       throw CheckpointError("its biomarkers were written by another build of fibrodem");
-    beats.resize(f.text("run.beats").size() / sizeof(BeatBiomarkers));
-    f.bytes("run.beats", beats.data(), beats.size() * sizeof(BeatBiomarkers));
+    restore_beats(f);
     load_cell_states(system, f, true);
     tracker->load(f);
     traces.load(f, out.empty() ? fs::path() : out / "traces.csv");
@@ -488,6 +488,25 @@ struct Simulation::Impl : StepObserver {
       peak_strain = {m[3], m[4], m[5]};
       f.read_into("run.length_ratio_from", length_ratio_from);
       f.read_into("run.length_ratio_to", length_ratio_to);
+    }
+  }
+
+  // The beats measured so far, each checked (a cell of the tissue, its type)
+  // before it is taken: a byte of a type must not become an invalid enum.
+  void restore_beats(const CheckpointFields& f) {
+    const std::string raw = f.text("run.beats");
+    if (raw.size() % sizeof(BeatBiomarkers) != 0) throw CheckpointError("its biomarkers are cut short");
+    beats.resize(raw.size() / sizeof(BeatBiomarkers));
+    for (std::size_t i = 0; i < beats.size(); ++i) {
+      const char* beat = raw.data() + i * sizeof(BeatBiomarkers);
+      int cell = 0;
+      std::underlying_type_t<CellType> type{};
+      std::memcpy(&cell, beat + offsetof(BeatBiomarkers, cell), sizeof cell);
+      std::memcpy(&type, beat + offsetof(BeatBiomarkers, type), sizeof type);
+      if (cell < 0 || static_cast<std::size_t>(cell) >= tissue.cell_count() ||
+          type != static_cast<std::underlying_type_t<CellType>>(tissue.type[static_cast<std::size_t>(cell)]))
+        throw CheckpointError("its biomarkers name a cell this tissue does not have");
+      std::memcpy(static_cast<void*>(&beats[i]), beat, sizeof(BeatBiomarkers));
     }
   }
 
