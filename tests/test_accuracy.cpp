@@ -57,7 +57,7 @@ TEST_CASE("accuracy: V error on the common sample times of the shared V columns"
   CHECK(compare_runs(ref, cand, "Ca_i").v_max_mV == doctest::Approx(8));
 }
 
-TEST_CASE("accuracy: APD90, activation and CV errors; missing beats are mismatches") {
+TEST_CASE("accuracy: APD90, activation and CV errors, missing beats are mismatches") {
   const RunRecord ref = synthetic_reference();
   RunRecord cand;
   cand.beats = {beat(1, 1, 1012.75, std::nan("")), beat(0, 0, 10.5, 101), beat(1, 0, 12.25, 108)};

@@ -55,7 +55,7 @@ TEST_CASE("APD90, APD50, APO, RMP and max dV/dt of a synthetic action potential"
   CHECK(b.apd50_ms == doctest::Approx(161 - b.activation_ms).epsilon(1e-9));
 }
 
-TEST_CASE("beats are cut at stimulus onsets; a beat that does not repolarise has no APD") {
+TEST_CASE("beats are cut at stimulus onsets, a beat that does not repolarise has no APD") {
   // Second onset at 200 ms: the first beat ends before the -70 mV crossing.
   const auto beats = measure(0.01, {10.0, 200.0}, 400.0);
   REQUIRE(beats.size() == 2);

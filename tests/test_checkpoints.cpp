@@ -101,7 +101,7 @@ json example(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("a checkpoint file reads back its fields; a truncated, corrupt or foreign file is named as such") {
+TEST_CASE("a checkpoint file reads back its fields, a truncated, corrupt or foreign file is named as such") {
   CheckpointFields f;
   f.put("a.numbers", std::vector<double>{1.5, -2.25, 1e-300});
   f.put_integer("a.count", 42);
@@ -213,7 +213,7 @@ TEST_CASE("resume refuses a folder without a run, and a run that completed") {
   CHECK(testing::read_file((dir / "done").string() + ".err").find("completed: nothing to resume") != std::string::npos);
 }
 
-TEST_CASE("initial_state starts a scene from another run's checkpoint; another tissue or model is refused, naming it") {
+TEST_CASE("initial_state starts a scene from another run's checkpoint, another tissue or model is refused, naming it") {
   const auto dir = testing::scratch_dir("initial_state");
   json paced = strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}});
   REQUIRE(run(paced, dir / "paced") == 0);  // checkpoints at 250 and 300 ms (the newest two)

@@ -74,7 +74,7 @@ TEST_CASE("implicit coupling at a 10x larger step agrees with explicit coupling 
   CHECK(std::abs(implicit_coarse - explicit_fine) / explicit_fine < 0.02);
 }
 
-TEST_CASE("with 10x stronger coupling, explicit coupling at 0.01 ms blows up; implicit stays accurate") {
+TEST_CASE("with 10x stronger coupling, explicit coupling at 0.01 ms blows up, implicit stays accurate") {
   // D_m = 10^4 nS: lambda <= 4 * 10^4 / 100 = 400 /ms, explicit limit 0.005 ms.
   CHECK_THROWS_WITH(strand_cv(0.01, "explicit", 1e4), doctest::Contains("blow-up"));
   const double explicit_fine = strand_cv(0.001, "explicit", 1e4);

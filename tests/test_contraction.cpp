@@ -70,7 +70,7 @@ TEST_CASE("calcium feedback changes the calcium transient and the action potenti
   CHECK(dV > 1e-3);
 }
 
-TEST_CASE("tracing a myofilament variable calls for contraction; without it rice is never loaded") {
+TEST_CASE("tracing a myofilament variable calls for contraction, without it rice is never loaded") {
   json m = em_cell("[]");
   m.erase("effects");
   m["duration_ms"] = 100;
@@ -84,7 +84,7 @@ TEST_CASE("tracing a myofilament variable calls for contraction; without it rice
   CHECK(em.processes().has("contraction"));
 }
 
-TEST_CASE("contraction needs a myofilament model; feedback needs a host that takes it") {
+TEST_CASE("contraction needs a myofilament model, feedback needs a host that takes it") {
   json m = em_cell(R"(["electrophysiology", "contraction"])");
   m["cells"]["myocyte"].erase("myofilament");
   CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("myofilament"), ManifestError);

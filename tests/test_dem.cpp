@@ -239,7 +239,7 @@ TEST_CASE("dem: two bonded disks oscillate at the analytic period and decay by t
   }
 }
 
-TEST_CASE("dem: a parallel bond resists bending at kb = kn R^2/3; the contact bond is a hinge") {
+TEST_CASE("dem: a parallel bond resists bending at kb = kn R^2/3, the contact bond is a hinge") {
   // Two bonded disks counter-spinning (+w, -w): their surfaces move together
   // at the contact, so no force acts. With linear_parallel_bond the bond's
   // moment M = -kb (theta_q - theta_p) gives each disk I theta'' = -2 kb theta:
@@ -515,7 +515,7 @@ TEST_CASE("dem: a body gone non-finite stops the step with an error, never a sil
   }
 }
 
-TEST_CASE("dem: contacts that form lower the stable step; a fixed step above it stops with both numbers") {
+TEST_CASE("dem: contacts that form lower the stable step, a fixed step above it stops with both numbers") {
   // Two free disks 5 um apart, no bond: no stiffness limit at first (the step
   // is capped at 1 ms); once they are listed as a contact the stable step is
   // that of one contact, 0.8 sqrt(m / k') ~ 0.10 ms, so a fixed 0.2 ms is

@@ -113,7 +113,7 @@ TEST_CASE("lookup tables: tabulated a, b match the model's own at random V") {
   }
 }
 
-TEST_CASE("lookup tables: skipping voltage_only gates changes nothing else; tables off is exact") {
+TEST_CASE("lookup tables: skipping voltage_only gates changes nothing else, tables off is exact") {
   for (const std::string model : {"colman", "courtemanche"}) {
     CAPTURE(model);
     Population full = random_block(model, 700, -100, 60, 7);

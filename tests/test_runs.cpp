@@ -120,7 +120,7 @@ TEST_CASE("implicit coupling is stable where explicit is not, and agrees with a 
   CHECK(worst < 0.01 * swing);
 }
 
-TEST_CASE("without coupling the cells of a strand do not talk; the log says why") {
+TEST_CASE("without coupling the cells of a strand do not talk, the log says why") {
   json m = passive_strand(3, 5.0);
   m["effects"] = {"electrophysiology"};
   Simulation sim(parse_scene(m));

@@ -7,7 +7,7 @@
 
 using namespace fibrodem;
 
-TEST_CASE("summarize: mean, sample SD and the t-based 95 % CI of the mean; non-finite values left out") {
+TEST_CASE("summarize: mean, sample SD and the t-based 95 % CI of the mean, non-finite values left out") {
   // 2, 4, 9: mean 5, sample SD sqrt(26/2); for 2 degrees of freedom Student's
   // t quantile has the closed form t_p = (2p - 1) / sqrt(2p(1 - p)):
   // t(0.975, 2) = 4.302652729749464.

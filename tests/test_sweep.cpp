@@ -151,7 +151,7 @@ TEST_CASE("sweep seeds: every grid point over K tissues, with mean, SD and 95 % 
   CHECK(testing::read_file(dir / "out" / "sweep.md").find("Over the seeds") != std::string::npos);
 }
 
-TEST_CASE("a sweep run again skips the runs completed with the same manifest and runs the changed ones; --set works") {
+TEST_CASE("a sweep run again skips the runs completed with the same manifest and runs the changed ones, --set works") {
   const auto dir = testing::scratch_dir("sweep_resume");
   std::ofstream(dir / "base.json") << seeded_manifest().dump();
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",

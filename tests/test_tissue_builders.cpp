@@ -116,7 +116,7 @@ TEST_CASE("in_series: the paper's tissue and F-M ratio, no overlap along a fibre
   }
 }
 
-TEST_CASE("tissue builders: same seed, same tissue; another seed, another tissue") {
+TEST_CASE("tissue builders: same seed, same tissue, another seed, another tissue") {
   for (const json& spec : {json{{"builder", "in_series"}, {"width_mm", 0.5}, {"height_mm", 2.0}},
                           json{{"builder", "interstitial"}, {"width_mm", 0.4}, {"height_mm", 1.5}},
                           json{{"builder", "fibrotic_patch"}, {"arrangement", "interstitial"},
@@ -211,7 +211,7 @@ TEST_CASE("cell_graph_components finds isolated cells") {
   CHECK(c.largest() == 0);
 }
 
-TEST_CASE("add_myocyte rotates about the centre; add_vertical_myocyte is its straight case") {
+TEST_CASE("add_myocyte rotates about the centre, add_vertical_myocyte is its straight case") {
   Tissue t;
   add_myocyte(t, 10, 20, M_PI / 2);  // axis along -x
   CHECK(t.particles.front().x_um == doctest::Approx(10 + kMyocyteEndOffset_um));
