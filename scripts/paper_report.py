@@ -65,6 +65,7 @@ def main():
              "(seeds) at the same point, default models and settings (`solver.method` auto). Agreement: "
              "potentials within 3 mV, anything else within 20 %. Where the paper's axis is the F-M ratio of "
              "an interstitial tissue, the grid point whose measured F-M ratio is nearest is used.", ""]
+    # (the count of agreeing values goes here, at index 4, once known)
     agree = total = 0
     figure = None
     for v in values:
@@ -101,8 +102,8 @@ def main():
         if os.path.exists(png):
             shutil.copyfile(png, os.path.join(docs, sweep + ".png"))
             lines += [f"### {sweep}", "", f"![{sweep}]({sweep}.png)", ""]
-    lines.insert(3, f"**{agree} of {total} stated values agree.**")
-    lines.insert(4, "")
+    lines.insert(4, f"**{agree} of {total} stated values agree.**")
+    lines.insert(5, "")
     notes = os.path.join(ROOT, "examples", "paper", "NOTES.md")
     if os.path.exists(notes):
         with open(notes) as f:
