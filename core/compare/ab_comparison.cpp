@@ -35,14 +35,7 @@ double finest_interval(const std::vector<double>& t) {
   return h;
 }
 
-std::string fixed(double x, int digits) {
-  if (!std::isfinite(x)) return "n/a";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << x;
-  return s.str();
-}
+std::string fixed(double x, int digits) { return fixed_decimals(x, digits, "n/a"); }
 
 }  // namespace
 

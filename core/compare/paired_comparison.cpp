@@ -12,14 +12,7 @@ namespace fibrodem {
 
 namespace {
 
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
+std::string fixed(double v, int digits) { return fixed_decimals(v, digits); }
 
 std::string p_text(double p) {
   if (!std::isfinite(p)) return "";

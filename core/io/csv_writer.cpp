@@ -1,6 +1,7 @@
 #include "io/csv_writer.hpp"
 
 #include <charconv>
+#include <system_error>
 #include <cmath>
 #include <stdexcept>
 
@@ -12,6 +13,13 @@ std::string format_number(double value) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, result.ptr);
+}
+
+std::string fixed_decimals(double value, int digits, const std::string& missing) {
+  if (!std::isfinite(value)) return missing;
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed, digits);
+  return result.ec == std::errc() ? std::string(buffer, result.ptr) : missing;
 }
 
 CsvWriter::CsvWriter(const std::filesystem::path& file, const std::vector<std::string>& header)

@@ -39,5 +39,7 @@ class CsvWriter {
 };
 
 std::string format_number(double value);  // shortest exact text; "nan", "inf"
+// `digits` decimals (tables for people); `missing` for NaN or infinity.
+std::string fixed_decimals(double value, int digits, const std::string& missing = "");
 
 }  // namespace fibrodem

@@ -11,26 +11,17 @@
 #include <string>
 
 #include "scene/manifest_error.hpp"
+#include "fuzz_scene.hpp"
 #include "scene/scene.hpp"
 
-namespace {
-const char* kBase = R"({
-  "fibrodem": 1, "name": "fuzz", "duration_ms": 100,
-  "tissue": {"builder": "cell_pair", "fibroblasts": 2},
-  "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
-  "coupling": {"D_f_nS": 2},
-  "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 2000}],
-  "solver": {"method": "adaptive"},
-  "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
-})";
-}  // namespace
+using fibrodem::fuzz::kCellPairManifest;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   fibrodem::json manifest = fibrodem::json::parse(text, nullptr, /*allow_exceptions=*/false);
   try {
     if (manifest.is_discarded() || !manifest.is_object()) {
-      manifest = fibrodem::json::parse(kBase);
+      manifest = fibrodem::json::parse(kCellPairManifest);
       std::istringstream lines(text);
       for (std::string line; std::getline(lines, line);) fibrodem::apply_override(manifest, line);
     }

@@ -9,18 +9,12 @@
 #include <string>
 
 #include "scene/manifest_error.hpp"
+#include "fuzz_scene.hpp"
 #include "scene/scene.hpp"
 #include "scene/sweep_file.hpp"
 
 namespace {
-const char* kBase = R"({
-  "fibrodem": 1, "name": "fuzz", "duration_ms": 100,
-  "tissue": {"builder": "cell_pair", "fibroblasts": 2},
-  "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
-  "coupling": {"D_f_nS": 2},
-  "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 2000}],
-  "output": {"traces": {"cells": [0], "variables": ["V"], "every_ms": 1}}
-})";
+using fibrodem::fuzz::kCellPairManifest;
 constexpr std::size_t kPointsRead = 64;  // each point's manifest read into a scene (the rest only expanded)
 }  // namespace
 
@@ -30,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (sweep.is_discarded()) return 0;
   try {
     const fibrodem::SweepFile file =
-        fibrodem::read_sweep(sweep, [](const std::string&) { return fibrodem::json::parse(kBase); });
+        fibrodem::read_sweep(sweep, [](const std::string&) { return fibrodem::json::parse(kCellPairManifest); });
     for (std::size_t k = 0; k < file.points.size() && k < kPointsRead; ++k)
       fibrodem::parse_scene(fibrodem::point_manifest(file, file.points[k]));
   } catch (const fibrodem::ManifestError&) {
