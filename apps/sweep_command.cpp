@@ -40,8 +40,6 @@ namespace fibrodem::cli {
 
 namespace {
 
-// Runs one point as `fibrodem run` in a process of its own: its manifest goes
-// to dir/manifest.json, its summary.json comes back.
 // The last line a run printed to its standard error (its error, when it
 // stopped before writing a summary), else `otherwise`.
 std::string last_line(const std::filesystem::path& file, const std::string& otherwise) {
@@ -63,6 +61,8 @@ json completed_before(const std::filesystem::path& dir, const std::string& manif
   return s.is_object() && s.value("status", "") == "completed" ? s : json(nullptr);
 }
 
+// Runs one point as `fibrodem run` in a process of its own: its manifest goes
+// to dir/manifest.json, its summary.json comes back (or is kept from before).
 void run_point(const SweepFile& sweep, SweepRun& point, const std::filesystem::path& dir, bool overwrite) {
   try {
     const json manifest = point_manifest(sweep, point.values);
