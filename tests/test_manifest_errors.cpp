@@ -148,3 +148,25 @@ TEST_CASE("invalid UTF-8 in a manifest's strings is a ManifestError, not a JSON 
   CHECK_THROWS_AS(parse_scene(m), ManifestError);
   CHECK_NOTHROW(describe_json(m["effects"]));
 }
+
+TEST_CASE("cells.TYPE.initial_state overrides a model's initial values by state name, checked against each state's range") {
+  json m = testing::passive_cell_manifest();
+  m["stimulus"] = json::array();
+  m["cells"]["fibroblast"]["initial_state"] = {{"V", -65.0}};
+  {
+    Simulation sim(parse_scene(m));
+    sim.run();
+    CHECK(sim.trace("V", 0).front() == -65.0);  // the first sample, at t = 0
+  }
+  m["cells"]["fibroblast"]["initial_state"] = {{"Vx", -65.0}};
+  CHECK_THROWS_WITH_AS(set_up(m), doctest::Contains("cells.fibroblast.initial_state.Vx: model passive_fibroblast has no state \"Vx\""),
+                       ManifestError);
+  m["cells"]["fibroblast"]["initial_state"] = {{"V", "low"}};
+  CHECK_THROWS_WITH_AS(set_up(m), doctest::Contains("cells.fibroblast.initial_state.V: expected a number"), ManifestError);
+  // A gate outside [0, 1].
+  json colman = json::parse(R"({"fibrodem": 1, "name": "c", "duration_ms": 1,
+    "tissue": {"builder": "single_cell", "type": "myocyte"},
+    "cells": {"myocyte": {"model": "colman", "initial_state": {"m": 1.5}}}})");
+  CHECK_THROWS_WITH_AS(set_up(colman), doctest::Contains("cells.myocyte.initial_state.m: expected a value within the state's range [0, 1]"),
+                       ManifestError);
+}

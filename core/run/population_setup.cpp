@@ -1,5 +1,7 @@
 #include "run/population_setup.hpp"
 
+#include "io/csv_writer.hpp"
+
 namespace fibrodem {
 
 namespace {
@@ -85,6 +87,19 @@ Population make_population(CellType type, const ModelSpec& spec, ModelKind kind,
                           "model " + info.name + " has no parameter \"" + name + "\" (it has: " +
                               names_of(info.parameters) + ")");
     pop.params[k] = value;
+  }
+  const std::string states_path = join_path(spec.path, "initial_state");
+  for (const auto& [name, value] : spec.initial_state) {
+    const int k = find_state(info, name);
+    if (k < 0)
+      throw ManifestError(join_path(states_path, name), "model " + info.name + " has no state \"" + name +
+                                                             "\" (it has: " + names_of(info.states) + ")");
+    const StateInfo& state = info.states[static_cast<std::size_t>(k)];
+    if (!(value >= state.lower && value <= state.upper))
+      throw ManifestError(join_path(states_path, name),
+                          "expected a value within the state's range [" + format_number(state.lower) + ", " +
+                              format_number(state.upper) + "] " + state.unit + ", got " + format_number(value));
+    pop.initial_state[static_cast<std::size_t>(k)] = value;
   }
   pop.voltage_state = info.voltage_state;
   if (kind == ModelKind::myofilament) return pop;

@@ -28,6 +28,7 @@
 #include "run/interrupt.hpp"
 #include "run/output_dir.hpp"
 #include "run/resource_estimate.hpp"
+#include "run/settle.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
@@ -268,6 +269,7 @@ struct Simulation::Impl : StepObserver {
                                 "(s) but the manifest gives them no cell model");
       population_of[type] = static_cast<int>(system.populations.size());
       system.populations.push_back(make_population(type, spec->second.ionic, ModelKind::ionic, *registry));
+      settle(system.populations.back(), spec->second);
     }
     system.where.resize(tissue.cell_count());
     for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell) {
@@ -278,6 +280,19 @@ struct Simulation::Impl : StepObserver {
     for (auto& pop : system.populations) pop.reset();
     system.V_mV.assign(tissue.cell_count(), 0.0);
     system.i_ext_pA.assign(tissue.cell_count(), 0.0);
+  }
+
+  // cells.TYPE.settle: the type's model alone before t = 0 (run/settle.hpp);
+  // every cell of the type then starts from the settled states.
+  void settle(Population& pop, const CellTypeSpec& spec) {
+    if (spec.settle.ms <= 0) return;
+    try {
+      SettleResult settled = settle_cell(pop, spec.settle);
+      pop.initial_state = std::move(settled.states);
+      plan.notes.push_back(settled.note);
+    } catch (const std::runtime_error& e) {
+      throw ManifestError(join_path(spec.path, "settle"), e.what());
+    }
   }
 
   void build_coupling() {

@@ -20,17 +20,25 @@ std::vector<int> read_cell_indices(const json& list, const std::string& path) {
   return cells;
 }
 
-void read_parameters(JsonReader& r, ModelSpec& spec) {
-  const json& params = r.raw("parameters");
-  if (params.is_null()) return;
-  if (!params.is_object())
-    throw ManifestError(r.path_of("parameters"),
-                        "expected an object of parameter names to numbers, got " + describe_json(params));
-  for (const auto& [name, value] : params.items()) {
+// `key`: an object of names (of parameters, or of states) to numbers.
+std::map<std::string, double> read_named_numbers(JsonReader& r, const std::string& key, const std::string& what) {
+  std::map<std::string, double> numbers;
+  const json& object = r.raw(key);
+  if (object.is_null()) return numbers;
+  if (!object.is_object())
+    throw ManifestError(r.path_of(key), "expected an object of " + what + " names to numbers, got " + describe_json(object));
+  for (const auto& [name, value] : object.items()) {
     if (!value.is_number())
-      throw ManifestError(join_path(r.path_of("parameters"), name), "expected a number, got " + describe_json(value));
-    spec.parameters[name] = value.get<double>();
+      throw ManifestError(join_path(r.path_of(key), name), "expected a number, got " + describe_json(value));
+    numbers[name] = value.get<double>();
   }
+  return numbers;
+}
+
+// A model's `parameters` and `initial_state` (per-state overrides of its initial values).
+void read_parameters(JsonReader& r, ModelSpec& spec) {
+  spec.parameters = read_named_numbers(r, "parameters", "parameter");
+  spec.initial_state = read_named_numbers(r, "initial_state", "state");
 }
 
 // `"myofilament": "rice"` or `"myofilament": {"model": "rice", "variant": ..., "parameters": {...}}`.
@@ -60,6 +68,18 @@ CellTypeSpec read_cell_type_spec(JsonReader r) {
   read_parameters(r, spec.ionic);
   if (r.has("myofilament")) spec.myofilament = read_myofilament(r.raw("myofilament"), r.path_of("myofilament"));
   spec.calcium_feedback = r.boolean("calcium_feedback", false);
+  if (r.has("settle")) {
+    JsonReader settle = r.object("settle");
+    spec.settle.ms = settle.number("ms", std::nullopt, 1e-3, 1e7);
+    if (settle.has("pacing")) {
+      JsonReader pacing = settle.object("pacing");
+      spec.settle.period_ms = pacing.number("period_ms", std::nullopt, 1.0, 1e6);
+      spec.settle.duration_ms = pacing.number("duration_ms", 2.0, 1e-3, 1e3);
+      spec.settle.amplitude_pA = pacing.number("amplitude_pA", std::nullopt, -1e6, 1e6);
+      pacing.finish();
+    }
+    settle.finish();
+  }
   r.finish();
   return spec;
 }
