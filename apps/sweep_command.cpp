@@ -169,12 +169,15 @@ int sweep_command(const SweepArgs& args) {
       });
     for (auto& t : workers) t.join();
 
-    json outcomes = json::array();
-    for (std::size_t k : mine) outcomes.push_back(outcome_json(k, runs[k]));
-    const auto gathered = ranks.gather(outcomes.dump(-1, ' ', false, json::error_handler_t::replace));
-    if (ranks.rank() != 0) return 0;  // rank 0 tabulates
-    for (const auto& text : gathered)
-      for (const auto& j : json::parse(text)) take_outcome(j, runs);
+    // Under MPI, rank 0 gathers the other ranks' outcomes and tabulates.
+    if (ranks.launched()) {
+      json outcomes = json::array();
+      for (std::size_t k : mine) outcomes.push_back(outcome_json(k, runs[k]));
+      const auto gathered = ranks.gather(outcomes.dump(-1, ' ', false, json::error_handler_t::replace));
+      if (ranks.rank() != 0) return 0;
+      for (const auto& text : gathered)
+        for (const auto& j : json::parse(text)) take_outcome(j, runs);
+    }
     std::size_t reused = 0;
     for (const auto& r : runs) reused += r.reused;
     const std::string md = write_sweep_tables(sweep, runs, dir);

@@ -1,7 +1,8 @@
 #include "io/checkpoint_file.hpp"
 
+#include "io/sha256.hpp"
+
 #include <fcntl.h>
-#include <openssl/evp.h>
 #include <unistd.h>
 
 #include <array>
@@ -20,14 +21,6 @@ constexpr std::size_t kDigestSize = 32;
 // Fields are read from a checked payload, but a corrupt one with a valid
 // checksum can only come from a bug or a forgery: lengths are still bounded.
 constexpr std::uint64_t kMaxFieldBytes = std::uint64_t{1} << 40;
-
-std::array<unsigned char, kDigestSize> sha256(const std::string& bytes) {
-  std::array<unsigned char, kDigestSize> digest{};
-  unsigned int len = 0;
-  if (EVP_Digest(bytes.data(), bytes.size(), digest.data(), &len, EVP_sha256(), nullptr) != 1 || len != kDigestSize)
-    throw std::runtime_error("checkpoint: SHA-256 failed");
-  return digest;
-}
 
 template <class T>
 void append(std::string& out, T value) {
@@ -158,7 +151,7 @@ CheckpointFields CheckpointFields::decode(const std::string& in) {
   if (length != in.size() - header - kDigestSize)
     throw CheckpointError("it is truncated or has trailing bytes (payload of " + std::to_string(length) +
                           " bytes announced, " + std::to_string(in.size() - header - kDigestSize) + " present)");
-  const auto digest = sha256(in.substr(0, in.size() - kDigestSize));
+  const auto digest = sha256(std::string_view(in).substr(0, in.size() - kDigestSize));
   if (std::memcmp(digest.data(), in.data() + in.size() - kDigestSize, kDigestSize) != 0)
     throw CheckpointError("its checksum does not match its contents (the file is corrupt)");
   const std::string payload = in.substr(header, length);

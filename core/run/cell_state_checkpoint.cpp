@@ -21,12 +21,19 @@ void for_each_population(const CellSystem& system, F&& f) {
   for (const auto& m : system.myofilaments) f(m.pop, prefix_of(m.pop, true), &m);
 }
 
+// The populations' prefixes, in order: which populations a system has.
+std::string population_list(const CellSystem& system) {
+  std::string list;
+  for_each_population(system, [&](const Population&, const std::string& p, const Myofilament*) {
+    list += (list.empty() ? "" : " ") + p;
+  });
+  return list;
+}
+
 }  // namespace
 
 void save_cell_states(const CellSystem& system, CheckpointFields& fields) {
-  std::string populations;
   for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament* m) {
-    populations += (populations.empty() ? "" : " ") + p;
     fields.put_text(p + "model", pop.info().name);
     fields.put_text(p + "version", pop.info().version);
     fields.put_text(p + "states", state_names(pop));
@@ -36,7 +43,7 @@ void save_cell_states(const CellSystem& system, CheckpointFields& fields) {
     fields.put(p + "outputs", pop.outputs);
     if (m) fields.put(p + "rest_sarcomere_length", m->rest_sarcomere_length);
   });
-  fields.put_text("cells.populations", populations);
+  fields.put_text("cells.populations", population_list(system));
   fields.put_integer("cells.count", static_cast<long long>(system.cell_count()));
   fields.put("cells.last_step_ms", system.last_step_ms);
 }
@@ -46,10 +53,7 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields) 
   if (count != static_cast<long long>(system.cell_count()))
     throw CheckpointError("its tissue has " + std::to_string(count) + " cells, this scene's has " +
                           std::to_string(system.cell_count()));
-  std::string populations;
-  for_each_population(system, [&](const Population&, const std::string& p, const Myofilament*) {
-    populations += (populations.empty() ? "" : " ") + p;
-  });
+  const std::string populations = population_list(system);
   if (fields.text("cells.populations") != populations)
     throw CheckpointError("its cell populations are '" + fields.text("cells.populations") + "', this scene's are '" +
                           populations + "'");

@@ -1,7 +1,5 @@
 #include "run/settle.hpp"
 
-#include <openssl/evp.h>
-
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +11,7 @@
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
 #include "io/csv_writer.hpp"
+#include "io/sha256.hpp"
 
 namespace fibrodem {
 
@@ -32,15 +31,6 @@ fs::path cache_dir() {
   if (const char* xdg = std::getenv("XDG_CACHE_HOME")) return fs::path(xdg) / "fibrodem" / "settle";
   if (const char* home = std::getenv("HOME")) return fs::path(home) / ".cache" / "fibrodem" / "settle";
   return {};
-}
-
-std::string sha256_hex(const std::string& text) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int size = 0;
-  EVP_Digest(text.data(), text.size(), digest, &size, EVP_sha256(), nullptr);
-  std::string hex;
-  for (unsigned int i = 0; i < size; ++i) hex += fmt::format("{:02x}", digest[i]);
-  return hex;
 }
 
 // Everything that determines the settled state.

@@ -88,7 +88,6 @@ SweepFile read_sweep(const json& sweep, const std::function<json(const std::stri
   file.seeds = read_seeds(r, manifest_seed.is_number_integer() ? manifest_seed.get<long long>() : 0);
   r.finish();
   const std::vector<SweepValues> grid_points = expand_grid(grid, file.seeds.empty() ? 1.0 : double(file.seeds.size()));
-  file.grid_points = grid_points.size();
   for (const auto& point : grid_points) {
     if (file.seeds.empty()) file.points.push_back(point);
     for (long long seed : file.seeds) {

@@ -27,7 +27,6 @@ struct SweepFile {
   // Every run: the grid's product, the last path varying fastest, then with
   // seeds each point once per seed (its last value: "seed").
   std::vector<SweepValues> points;
-  std::size_t grid_points = 1;      // points of the grid itself
   std::vector<long long> seeds;     // empty: "seeds" not given
 };
 

@@ -7,8 +7,6 @@
 // exception, never a crash, a hang or a leak.
 //   scripts/fuzz.sh: builds and runs it; with FUZZ_CHECKPOINT_SEED=DIR set, the
 //   target first writes the payload of a real checkpoint of its scene there.
-#include <openssl/evp.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -18,6 +16,7 @@
 #include <string>
 
 #include "io/checkpoint_file.hpp"
+#include "io/sha256.hpp"
 #include "run/checkpoint_dir.hpp"
 #include "run/simulation.hpp"
 #include "scene/scene.hpp"
@@ -42,10 +41,8 @@ std::string file_around(const std::string& payload) {
   file.append(reinterpret_cast<const char*>(&format), sizeof format);
   file.append(reinterpret_cast<const char*>(&length), sizeof length);
   file += payload;
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int size = 0;
-  EVP_Digest(file.data(), file.size(), digest, &size, EVP_sha256(), nullptr);
-  file.append(reinterpret_cast<const char*>(digest), size);
+  const auto digest = fibrodem::sha256(file);
+  file.append(reinterpret_cast<const char*>(digest.data()), digest.size());
   return file;
 }
 
