@@ -138,8 +138,10 @@ TEST_CASE("an effect the scene cannot support is refused with what it needs") {
 }
 
 TEST_CASE("results do not depend on the thread count") {
-  // 2100 cells: nine blocks of cells, shared dynamically between the threads,
-  // each computing its own gap-junction currents inside the parallel loop.
+  // 2100 cells: nine blocks of cells, cut between the threads at measured
+  // costs (inside a block) and taken over by a thread done early, each piece
+  // computing its own gap-junction currents inside the parallel loop; the
+  // biomarkers of most steps measured on the same threads.
   json m = json::parse(R"({
     "fibrodem": 1, "name": "threads", "duration_ms": 6,
     "tissue": {"builder": "strand", "type": "myocyte", "cells": 2100},

@@ -79,21 +79,26 @@ void CellSystem::evaluate_population(Population& pop, double t_ms, const AfterPo
 
 // Every block of every ionic population in one parallel loop (one fork and
 // join per step).
-void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after) {
-  blocks_.clear();
+void CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after,
+                                const BlockSchedule::AfterAll& after_all) {
+  blocks_.clear();  // (keeps its capacity)
   for (std::size_t p = 0; p < populations.size(); ++p)
-    for (std::size_t k = 0; k < populations[p].block_count(); ++k) blocks_.push_back({p, k});
-  schedule_.run(static_cast<long>(blocks_.size()), [&](long i) {
-    Population& pop = populations[blocks_[i].first];
-    const std::size_t begin = blocks_[i].second * kCellsPerBlock;
-    block_inputs(blocks_[i].first, begin, std::min(pop.size(), begin + kCellsPerBlock));
-    if (!after) pop.evaluate_block(blocks_[i].second, t_ms);
-    else pop.evaluate_block(blocks_[i].second, t_ms, [&](const BlockView& block) { after(pop, block); }, false);
-  });
+    for (std::size_t begin = 0; begin < populations[p].size(); begin += kCellsPerBlock)
+      blocks_.push_back({p, begin, std::min(populations[p].size(), begin + kCellsPerBlock)});
+  schedule_.run(
+      blocks_,
+      [&](const CellRange& piece) {
+        Population& pop = populations[piece.population];
+        block_inputs(piece.population, piece.begin, piece.end);
+        if (!after) return pop.evaluate_cells(piece.begin, piece.end, t_ms);
+        pop.evaluate_cells(piece.begin, piece.end, t_ms, [&](const BlockView& block) { after(pop, block); }, false);
+      },
+      after_all);
   for (const auto& pop : populations) pop.rethrow_model_fault();
 }
 
-void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after) {
+void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after,
+                          const BlockSchedule::AfterAll& after_all) {
   // One clock reading per phase boundary (each reading ends one phase and starts
   // the next): with CVODE on a single cell this runs ~2000 times per simulated
   // second, where pairs of readings per phase cost a few per cent.
@@ -134,7 +139,7 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   }
   lap(kCoupling);
   // 4. The ionic models.
-  evaluate_ionic(t_ms, after);
+  evaluate_ionic(t_ms, after, after_all);
   lap(kIonic);
 }
 

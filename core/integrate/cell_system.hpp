@@ -59,6 +59,9 @@ struct CellSystem {
   // next runs clears it; a gather never sets it, since other integrators
   // (CVODE, adaptive) change states between gathers.
   bool voltage_fresh = false;
+  // Set by the fixed-step integrator when it has shown the step's new
+  // potentials to its observer's on_step_voltages, on the step's threads.
+  bool voltages_observed = false;
   std::vector<double> next_V_mV;
   std::vector<double> i_ext_pA;                    // per global cell: the stimulus of the step
   double last_step_ms = 0;                         // the integrator's last step (trace dt_ms)
@@ -86,7 +89,16 @@ struct CellSystem {
   // ionic models then write no outputs (nothing reads them between samples;
   // the trace recorder evaluates afresh); myofilaments still do (stretch and
   // troponin flux feed the cells and the mechanics).
-  void evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after = nullptr);
+  //
+  // after_all(thread, threads), if given, runs on each of the ionic models'
+  // threads once every block is done (each thread once), for work over every
+  // cell that can share the step's threads.
+  void evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after = nullptr,
+                const BlockSchedule::AfterAll& after_all = nullptr);
+  // solver.threads "auto": the ionic models' loop chooses between one thread
+  // and max_threads by measuring both (model/thread_governor.hpp).
+  void adapt_threads(int max_threads) { schedule_.governor().adapt(max_threads); }
+  const ThreadGovernor& thread_governor() const { return schedule_.governor(); }
   // Calls f(population, local index) for each block a cell's states live in:
   // its ionic population, then its myofilament if any.
   template <class F>
@@ -112,8 +124,8 @@ struct CellSystem {
   double stretch_activated_pA(const Myofilament& m, const Population& host, std::size_t local) const;
   bool refresh_gap_current_ = false;  // this step computes gap_current_pA afresh
   static void evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after);
-  void evaluate_ionic(double t_ms, const AfterPopulationBlock& after);
-  std::vector<std::pair<std::size_t, std::size_t>> blocks_;  // (population, block) of one step
+  void evaluate_ionic(double t_ms, const AfterPopulationBlock& after, const BlockSchedule::AfterAll& after_all);
+  std::vector<CellRange> blocks_;  // every block of every ionic population
   BlockSchedule schedule_;  // which thread runs which of blocks_
 };
 

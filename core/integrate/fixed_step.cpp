@@ -84,7 +84,9 @@ void FixedStepIntegrator::update_from(Population& pop, const std::vector<double>
   });
 }
 
-void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
+void FixedStepIntegrator::step(CellSystem& system, double t, double t_next, StepObserver* voltages_to) {
+  const double h = t_next - t;
+  system.voltages_observed = false;
   if (rule_ != Rule::rush_larsen2) {
     // Each block is updated as soon as it is evaluated (one pass over memory),
     // and its new states checked against their limits on the way.
@@ -105,16 +107,34 @@ void FixedStepIntegrator::step(CellSystem& system, double t, double h) {
       std::atomic<bool>* out_of_limits;
       double* next_V_mV;
     } update{this, h, &out_of_limits, system.next_V_mV.data()};
-    system.evaluate(t, t, [u = &update](Population& pop, const BlockView& block) {
+    const auto update_block = [u = &update](Population& pop, const BlockView& block) {
       if (!u->integrator->update_view(pop, block, u->h)) u->out_of_limits->store(true, std::memory_order_relaxed);
       if (pop.voltage_state < 0) return;
       const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());
       const double* V = block.y + static_cast<std::size_t>(pop.voltage_state) * block.stride;
       const int* cells = pop.cells.data() + offset;
       for (std::size_t c = 0; c < block.end; ++c) u->next_V_mV[cells[c]] = V[c];
-    });
+    };
+    // Then each thread shows its share of the new potentials to the observer
+    // (shares cut at whole SIMD widths).
+    struct Show {
+      StepObserver* observer;
+      double t_old, t_new;
+      const double* V;
+      std::size_t cells;
+    } show{voltages_to, t, t_next, system.next_V_mV.data(), system.cell_count()};
+    const auto show_voltages = [s = &show](int thread, int threads) {
+      const auto edge = [&](int k) {
+        if (k == threads) return s->cells;
+        return s->cells * static_cast<std::size_t>(k) / static_cast<std::size_t>(threads) / simd::kLanes *
+               simd::kLanes;
+      };
+      s->observer->on_step_voltages(s->t_old, s->t_new, s->V, edge(thread), edge(thread + 1));
+    };
+    system.evaluate(t, t, update_block, voltages_to ? BlockSchedule::AfterAll(show_voltages) : nullptr);
     std::swap(system.V_mV, system.next_V_mV);
     system.voltage_fresh = true;
+    system.voltages_observed = voltages_to != nullptr;
     system.for_each_population([](Population& pop) { pop.table_advances_gates = false; });
     system.states_checked = all_checked;
     system.states_in_limits = !out_of_limits.load();
@@ -153,9 +173,11 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
     const double t_next = (n + 1 == steps) ? t_end : t_start + static_cast<double>(n + 1) * dt_ms_;
     const double h = t_next - t;
     system.refresh_coupling = n % every == 0;
-    step(system, t, h);
+    const bool split_coupling =
+        system.coupler && system.implicit_coupling && ((n + 1) % every == 0 || n + 1 == steps);
+    step(system, t, t_next, split_coupling ? nullptr : &observer);
     since_coupling += h;
-    if (system.coupler && system.implicit_coupling && ((n + 1) % every == 0 || n + 1 == steps)) {
+    if (split_coupling) {
       const auto start = std::chrono::steady_clock::now();
       system.gather_voltage();
       system.coupler->implicit_step(system.V_mV.data(), since_coupling);

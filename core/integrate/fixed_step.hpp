@@ -44,7 +44,8 @@ class FixedStepIntegrator final : public Integrator {
   // population's limits.
   bool update_block(Population& pop, const std::vector<double>& from, const std::vector<double>& slope_at,
                     std::size_t begin, std::size_t end, double dt_ms) const;
-  void step(CellSystem& system, double t, double h);
+  // One step; shows the new potentials to `voltages_to` (if not null) on the step's threads.
+  void step(CellSystem& system, double t, double t_next, StepObserver* voltages_to);
   void add_rush_larsen_tables(CellSystem& system) const;
 
   Rule rule_;

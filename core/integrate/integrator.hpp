@@ -23,6 +23,14 @@ class StepObserver {
   // dVdt (per global cell) is the integrator's own derivative at t_new where it
   // has one (CVODE); null means: use the difference quotient over the step.
   virtual void on_step(double t_old_ms, double t_new_ms, const double* dVdt) = 0;
+  // Optional work per cell that can share the step's threads: a fixed-step
+  // integrator calls it, before on_step, once every cell's V at t_new is in
+  // V_new (per global cell), on each of its threads for a disjoint range of
+  // cells [begin, end), the ranges together covering every cell; it then
+  // sets CellSystem::voltages_observed for on_step. (Not where the coupling
+  // is split off: V changes again after the cells' step.)
+  virtual void on_step_voltages(double /*t_old_ms*/, double /*t_new_ms*/, const double* /*V_new*/,
+                                std::size_t /*begin*/, std::size_t /*end*/) {}
 };
 
 class Integrator {

@@ -139,7 +139,7 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     }
     return;
   }
-  if (!dVdt) return step_lanes(t_old, t_new, V);
+  if (!dVdt) return step_lanes(t_old, t_new, V, 0, cells_.size());
   for_each_cell(static_cast<long>(cells_.size()), [&](long c) { step_cell(c, t_old, t_new, V, dVdt); });
 }
 
@@ -188,15 +188,15 @@ void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, cons
   mirror(c);
 }
 
-void BiomarkerTracker::step_lanes(double t_old, double t_new, const double* V) {
+void BiomarkerTracker::step_lanes(double t_old, double t_new, const double* V, std::size_t begin,
+                                  std::size_t end) {
   using simd::Real;
   const double h = t_new - t_old;
   // A margin on the levels: step_cell may compute them with a fused
   // multiply-add, a bit apart from these; near a level, step_cell decides.
   constexpr double kLevelMargin_mV = 1e-9;
-  const std::size_t n_cells = cells_.size();
-  for (std::size_t c = 0; c < n_cells; c += simd::kLanes) {
-    const std::size_t n = std::min(simd::kLanes, n_cells - c);
+  for (std::size_t c = begin; c < end; c += simd::kLanes) {
+    const std::size_t n = std::min(simd::kLanes, end - c);
     const Real v = simd::load(V + c, n), v_prev = simd::load(v_prev_.data() + c, n);
     const Real peak = simd::load(peak_.data() + c, n), amplitude = peak - simd::load(rmp_.data() + c, n);
     const Real level50 = peak - 0.5 * amplitude, level90 = peak - 0.9 * amplitude;

@@ -1,68 +1,105 @@
-// Blocks of cells shared between threads: each thread owns a contiguous run
-// of blocks of equal measured cost, the same run step after step, so that its
-// blocks stay in its core's cache; a thread done with its own run then takes
-// the blocks another has not yet started (from that run's front), so a step
-// whose costs differ from the last (cells depolarising, another job on a
-// core) still ends with both threads busy. (A plain dynamic schedule moves
-// about half the blocks, with their states, between cores at every step.)
-// Each block's cost is its wall time, smoothed over steps; after each pass the
-// runs are re-cut at equal shares of the total. Which thread computes a block
-// changes nothing in the numbers.
+// Blocks of cells shared between threads. Each thread owns a contiguous run
+// of cells, the same run step after step so that its blocks stay in its
+// core's cache; the runs are cut where the threads should finish together:
+// at equal shares of the measured cost, less what a thread loses waking up
+// late (a worker enters the parallel region a few microseconds after the
+// thread that opens it). The cut may fall inside a block (at a multiple of
+// the SIMD width), so the shares are even to a few cells rather than to a
+// block's worth of time (at 3129 cells there are only 13 blocks). A thread
+// done with its own run then takes the pieces another has not yet started,
+// so a step whose costs differ from the last (cells depolarising, another
+// job on a core) still ends with both threads busy. Which thread computes a
+// cell, and in which piece, changes nothing in the numbers.
 #pragma once
 
 #include <omp.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
+#include "model/thread_governor.hpp"
+
 namespace fibrodem {
+
+// Cells [begin, end) of population `population`: a block, or a piece of one.
+struct CellRange {
+  std::size_t population = 0, begin = 0, end = 0;
+};
 
 class BlockSchedule {
  public:
-  // f(i) for each block i in [0, count), on the OpenMP threads; one block on
-  // the calling thread without a parallel region (work_split.hpp says why).
+  // Work each thread does once every piece is done: (thread, threads).
+  using AfterAll = std::function<void(int, int)>;
+  // f(piece) for pieces covering every block of `blocks` (each within one
+  // block), on the OpenMP threads; then, if given, after_all on each thread
+  // of the team. A single block runs on the calling thread without a
+  // parallel region (work_split.hpp says why).
   template <class F>
-  void run(long count, F&& f) {
-    if (count == 1) return f(0L);
-    const int threads = omp_get_max_threads();
-    prepare(count, threads);
+  void run(const std::vector<CellRange>& blocks, F&& f, const AfterAll& after_all) {
+    if (blocks.size() <= 1) {
+      if (!blocks.empty()) f(blocks[0]);
+      if (after_all) after_all(0, 1);
+      return;
+    }
+    const auto opened = Clock::now();
+    const int threads = governor_.threads();
+    plan(blocks, threads);
 #pragma omp parallel num_threads(threads)
     {
       const int t = omp_get_thread_num(), team = omp_get_num_threads();
+      if (team == threads) entered_s_[static_cast<std::size_t>(t)] = seconds(opened, Clock::now());
       // Its own run first, then the others' (a smaller team than asked for,
       // e.g. when nested, takes every run the same way).
       for (int k = 0; k < threads; ++k) {
-        const int owner = team == threads ? (t + k) % threads : k;
-        Run& run = runs_[static_cast<std::size_t>(owner)];
+        Run& run = runs_[static_cast<std::size_t>(team == threads ? (t + k) % threads : k)];
         for (long i; (i = run.next.fetch_add(1, std::memory_order_relaxed)) < run.end;) {
-          const auto started = std::chrono::steady_clock::now();
-          f(i);
-          cost_s_[static_cast<std::size_t>(i)] +=
-              kSmoothing * (std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() -
-                            cost_s_[static_cast<std::size_t>(i)]);
+          const auto started = Clock::now();
+          f(pieces_[static_cast<std::size_t>(i)]);
+          piece_s_[static_cast<std::size_t>(i)] = seconds(started, Clock::now());
         }
       }
+      if (after_all) {
+#pragma omp barrier
+        after_all(t, team);
+      }
     }
-    cut(threads);
+    learn(blocks, threads);
+    governor_.record(threads, seconds(opened, Clock::now()));
   }
 
+  // solver.threads "auto": see ThreadGovernor.
+  ThreadGovernor& governor() { return governor_; }
+  const ThreadGovernor& governor() const { return governor_; }
+
  private:
-  static constexpr double kSmoothing = 0.2;  // weight of the latest time in a block's cost
-  struct Run {
-    std::atomic<long> next{0};  // the next block not yet taken
+  using Clock = std::chrono::steady_clock;
+  static double seconds(Clock::time_point from, Clock::time_point to) {
+    return std::chrono::duration<double>(to - from).count();
+  }
+  static constexpr double kSmoothing = 0.2;  // weight of the latest measurement
+  struct alignas(64) Run {                   // (a cache line each: no false sharing)
+    std::atomic<long> next{0};               // the next piece not yet taken
     long end = 0;
   };
-  // Sizes the costs and runs (anew when the count or the threads change) and
-  // rewinds each run to its start.
-  void prepare(long count, int threads);
-  // Cuts the blocks into the threads' runs at equal shares of the total cost.
-  void cut(int threads);
-  std::vector<double> cost_s_;  // per block
-  std::vector<long> start_;     // thread t owns blocks [start_[t], start_[t + 1])
+  // Cuts the blocks into pieces and the pieces into the threads' runs.
+  void plan(const std::vector<CellRange>& blocks, int threads);
+  // Folds the pieces' times and the threads' late starts into the estimates.
+  void learn(const std::vector<CellRange>& blocks, int threads);
+
+  std::vector<double> cost_per_cell_s_;  // per block, smoothed
+  std::vector<double> late_s_;           // per thread: smoothed start after the region opened
+  std::vector<double> entered_s_;        // per thread, this step
+  std::vector<CellRange> pieces_;
+  std::vector<std::size_t> piece_block_;  // the block each piece is part of
+  std::vector<double> piece_s_;           // wall time of each piece, this step
+  std::vector<double> block_s_;           // wall time of each block, this step
   std::unique_ptr<Run[]> runs_;
   int run_count_ = 0;
+  ThreadGovernor governor_;
 };
 
 }  // namespace fibrodem

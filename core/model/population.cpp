@@ -52,9 +52,9 @@ void Population::evaluate(double t_ms, const AfterBlock& after, bool with_output
   rethrow_model_fault();
 }
 
-void Population::evaluate_block(std::size_t k, double t_ms, const AfterBlock& after, bool with_outputs) {
+void Population::evaluate_cells(std::size_t begin, std::size_t end, double t_ms, const AfterBlock& after,
+                                bool with_outputs) {
   BlockView block = view();
-  const std::size_t begin = k * kCellsPerBlock, end = std::min(size(), begin + kCellsPerBlock);
   if (after) {
     // The block's own view: cells from 0, a and b in this thread's tile.
     thread_local std::vector<double> tile;

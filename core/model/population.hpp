@@ -3,6 +3,7 @@
 // layout, and one parameter vector for the block.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <limits>
@@ -82,7 +83,13 @@ struct Population {
   // only if with_outputs.
   void evaluate(double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true);
   // The same for block k alone (cells [k, k+1) x kCellsPerBlock), on the calling thread.
-  void evaluate_block(std::size_t k, double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true);
+  void evaluate_block(std::size_t k, double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true) {
+    evaluate_cells(k * kCellsPerBlock, std::min(size(), (k + 1) * kCellsPerBlock), t_ms, after, with_outputs);
+  }
+  // The same for cells [begin, end) of one block, on the calling thread (a
+  // cell's results do not depend on which piece of its block it is in).
+  void evaluate_cells(std::size_t begin, std::size_t end, double t_ms, const AfterBlock& after = nullptr,
+                      bool with_outputs = true);
   std::size_t block_count() const { return (size() + kCellsPerBlock - 1) / kCellsPerBlock; }
   BlockView view();
   // Builds the table from the current parameters and initial state; false

@@ -218,6 +218,12 @@ struct Simulation::Impl : StepObserver {
                         kCellsForThreads, cores);
     }
     omp_set_num_threads(threads);
+    // auto on several cores: measured step by step against one thread, in
+    // case other jobs hold the cores (model/thread_governor.hpp).
+    if (scene.solver.threads < 0 && threads > 1) {
+      system.adapt_threads(threads);
+      why += "; one thread instead while it measures faster";
+    }
     plan.notes.push_back(fmt::format("threads: {} ({})", threads, why));
   }
 
@@ -591,6 +597,19 @@ struct Simulation::Impl : StepObserver {
     traces.sample(t, system, mechanics.get());
   }
 
+  // The biomarkers of most steps are measured on the step's threads. (The
+  // first thread's time here counts as measurement, not as ionic models.)
+  void on_step_voltages(double t_old, double t_new, const double* V_new, std::size_t begin,
+                        std::size_t end) override {
+    if (!tracker->steps_by_range(t_new)) return;  // on_step measures the step whole
+    if (begin != 0) return tracker->step_cells(t_old, t_new, V_new, begin, end);
+    const auto start = Clock::now();
+    tracker->step_cells(t_old, t_new, V_new, begin, end);
+    const double took_s = std::chrono::duration<double>(Clock::now() - start).count();
+    measurement_seconds += took_s;
+    system.seconds[CellSystem::kIonic] -= took_s;
+  }
+
   void on_step(double t_old, double t_new, const double* dVdt) override {
     ++steps;
     if (steps == kill_at_step) std::raise(SIGKILL);
@@ -599,7 +618,8 @@ struct Simulation::Impl : StepObserver {
     const auto start = Clock::now();
     check_states(t_new);
     if (!system.voltage_fresh) system.gather_voltage();
-    tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+    if (!(system.voltages_observed && tracker->steps_by_range(t_new)))  // else done in on_step_voltages
+      tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
     auto measured = Clock::now();
     measurement_seconds += std::chrono::duration<double>(measured - start).count();
     if (mechanics) {
@@ -847,6 +867,9 @@ struct Simulation::Impl : StepObserver {
                   cell_type_name(pop.type), pop.info().name, pop.table->v_min(), pop.table->v_max(),
                   pop.table->clamp_count());
     if (mechanics) log->info("mechanics: {}", mechanics->report());
+    if (const auto& governor = system.thread_governor(); governor.adapting())
+      log->info("threads auto: the cell models' loop ran {} steps on {} threads and {} on one ({} switches)",
+                governor.calls_on_more(), governor.max_threads(), governor.calls_on_one(), governor.switches());
     if (const auto report = integrator->report(); !report.empty()) log->info("integrator: {}", report);
     if (status == "failed") log->error("run failed: {}", error);
     else if (status == "interrupted")

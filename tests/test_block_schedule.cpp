@@ -1,0 +1,109 @@
+// How cells are shared between threads: every cell computed exactly once
+// whatever the measured costs, and solver.threads "auto" falling back to one
+// thread when two measure slower (a machine whose other core is taken).
+#include <doctest/doctest.h>
+
+#include <omp.h>
+
+#include <atomic>
+#include <vector>
+
+#include "model/block_schedule.hpp"
+#include "model/simd.hpp"
+#include "model/work_split.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+// Blocks of kCellsPerBlock cells over populations of the given sizes.
+std::vector<CellRange> blocks_of(const std::vector<std::size_t>& sizes) {
+  std::vector<CellRange> blocks;
+  for (std::size_t p = 0; p < sizes.size(); ++p)
+    for (std::size_t begin = 0; begin < sizes[p]; begin += kCellsPerBlock)
+      blocks.push_back({p, begin, std::min(sizes[p], begin + kCellsPerBlock)});
+  return blocks;
+}
+
+}  // namespace
+
+TEST_CASE("the block schedule computes every cell once, in pieces within blocks, for any costs and thread count") {
+  const std::vector<std::size_t> sizes{2900, 229, 1};  // the Fig. 3 in-series tissue's mix, and a lone cell
+  const auto blocks = blocks_of(sizes);
+  const int saved_threads = omp_get_max_threads();
+  for (int threads : {1, 2, 3}) {
+    CAPTURE(threads);
+    omp_set_num_threads(threads);
+    BlockSchedule schedule;
+    std::vector<std::vector<std::atomic<int>>> seen;
+    for (std::size_t s : sizes) seen.emplace_back(s);
+    std::atomic<int> after_all_calls{0};
+    // Steps whose cost per cell differs between populations and from step to
+    // step, so that the runs are re-cut inside blocks.
+    for (int step = 0; step < 40; ++step) {
+      for (auto& population : seen)
+        for (auto& cell : population) cell.store(0);
+      after_all_calls = 0;
+      schedule.run(
+          blocks,
+          [&](const CellRange& piece) {
+            // Within one block, at a whole SIMD width from the block's start unless at its end.
+            REQUIRE(piece.begin < piece.end);
+            REQUIRE(piece.begin / kCellsPerBlock == (piece.end - 1) / kCellsPerBlock);
+            REQUIRE((piece.begin % kCellsPerBlock) % simd::kLanes == 0);
+            volatile double work = 0;
+            const int weight = piece.population == 0 ? 1 + step % 3 : 5;
+            for (std::size_t c = piece.begin; c < piece.end; ++c) {
+              for (int k = 0; k < 50 * weight; ++k) work = work + 1e-9;
+              seen[piece.population][c].fetch_add(1);
+            }
+          },
+          [&](int, int team) {
+            CHECK(team >= 1);
+            after_all_calls.fetch_add(1);
+          });
+      for (std::size_t p = 0; p < sizes.size(); ++p)
+        for (std::size_t c = 0; c < sizes[p]; ++c)
+          if (seen[p][c].load() != 1) FAIL("population ", p, " cell ", c, " computed ", seen[p][c].load(), " times");
+      CHECK(after_all_calls.load() >= 1);
+      CHECK(after_all_calls.load() <= threads);
+    }
+  }
+  omp_set_num_threads(saved_threads);
+}
+
+TEST_CASE("solver.threads auto: the governor keeps the faster thread count and tries the other again later") {
+  const int saved_threads = omp_get_max_threads();
+  ThreadGovernor governor;
+  CHECK_FALSE(governor.adapting());
+  governor.adapt(2);
+  REQUIRE(governor.adapting());
+  // A machine whose other core is taken: two threads take 300 us a call, one 100 us.
+  auto wall_s = [](int threads) { return threads > 1 ? 300e-6 : 100e-6; };
+  long calls = 0;
+  int first_switch_at = -1;
+  for (; calls < 20000; ++calls) {
+    const int threads = governor.threads();
+    governor.record(threads, wall_s(threads));
+    if (governor.switches() == 1 && first_switch_at < 0) first_switch_at = static_cast<int>(calls);
+  }
+  // It starts on two threads, tries one after its first stretch (512 calls)
+  // for 64 calls, and switches then.
+  CHECK(first_switch_at == 512 + 64 - 1);
+  CHECK(governor.switches() == 1);  // two threads never win a trial again
+  CHECK(omp_get_max_threads() == governor.threads());  // the run's other loops follow it
+  // Trials of two threads grow rarer as they keep losing (stretches double up
+  // to 16384 calls): after the switch, 19424 calls hold trials after 512, 1024,
+  // 2048, 4096, 8192 calls: 5 x 64 calls on two threads.
+  CHECK(governor.calls_on_more() == 512 + 5 * 64);
+  CHECK(governor.calls_on_one() == 20000 - governor.calls_on_more());
+
+  // The machine quietens: two threads now take 60 us, and the next trial wins.
+  for (int k = 0; k < 20000; ++k) {
+    const int threads = governor.threads();
+    governor.record(threads, threads > 1 ? 60e-6 : 100e-6);
+  }
+  CHECK(governor.switches() == 2);
+  CHECK(governor.threads() == 2);
+  omp_set_num_threads(saved_threads);
+}
