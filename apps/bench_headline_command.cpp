@@ -15,7 +15,8 @@
 //     (examples/fig3_in_series_ep.json and _em.json, 500 ms, Rush-Larsen
 //     0.01 ms) and with solver.method "auto" (which a build without it
 //     cannot run): wall time and where it went (summary.json
-//     wall_time_by_process_s).
+//     wall_time_by_process_s); and the two at their settings on one thread,
+//     for the gain from threads (one thread's time over the default's).
 // Each figure is read from the programs' own output (--benchmark_format=json,
 // summary.json); a figure the other build lacks is shown as "-".
 #include <CLI/CLI.hpp>
@@ -98,7 +99,8 @@ std::map<std::string, double> micro_figures(const std::string& program, const fs
 struct Scene {
   std::string label;
   fs::path manifest;
-  std::string options;  // more command-line options of the run
+  std::string options;     // more command-line options of the run
+  int one_thread_of = -1;  // this is scene k on one thread: their ratio is the gain from threads
 };
 
 // summary.json of one run of a scene by `program` (empty if it failed).
@@ -149,10 +151,14 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     const std::string automatic = "--set 'solver={\"method\":\"auto\"}'";
     const fs::path ep = fs::path(args.examples) / "fig3_in_series_ep.json",
                    em = fs::path(args.examples) / "fig3_in_series_em.json";
+    const std::string one_thread = "--set solver.threads=1";
     std::vector<Scene> scenes = {{"Fig. 3 in-series EP, 500 ms", ep, ""},
+                                 {"Fig. 3 in-series EP, 500 ms, 1 thread", ep, one_thread, 0},
                                  {"Fig. 3 in-series EP, 500 ms, solver auto", ep, automatic}};
     if (!args.skip_em) {
+      const int em_at = static_cast<int>(scenes.size());
       scenes.push_back({"Fig. 3 in-series EM, 500 ms", em, ""});
+      scenes.push_back({"Fig. 3 in-series EM, 500 ms, 1 thread", em, one_thread, em_at});
       scenes.push_back({"Fig. 3 in-series EM, 500 ms, solver auto", em, automatic});
     }
     for (const auto& scene : scenes)
@@ -195,6 +201,23 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
       const double ours = median(r.ours), theirs = median(r.theirs);
       std::cout << "| " << r.label << " | " << cell(ours) << " |";
       if (!args.baseline.empty()) std::cout << " " << cell(theirs) << " | " << cell(ours / theirs) << " |";
+      std::cout << "\n";
+    }
+    // The gain from threads, per round (a round's two runs of one build are
+    // taken minutes apart at most), then the median.
+    for (std::size_t s = 0; s < scenes.size(); ++s) {
+      if (scenes[s].one_thread_of < 0) continue;
+      const Row& one = rows[kMicro.size() + s];
+      const Row& all = rows[kMicro.size() + static_cast<std::size_t>(scenes[s].one_thread_of)];
+      auto gains = [](const std::vector<double>& one_s, const std::vector<double>& all_s) {
+        std::vector<double> g;
+        for (std::size_t k = 0; k < std::min(one_s.size(), all_s.size()); ++k) g.push_back(one_s[k] / all_s[k]);
+        return median(g);
+      };
+      std::cout << "\n" << scenes[static_cast<std::size_t>(scenes[s].one_thread_of)].label
+                << ", one thread's wall time over the default's (median of the rounds' ratios): this build "
+                << cell(gains(one.ours, all.ours));
+      if (!args.baseline.empty()) std::cout << ", baseline " << cell(gains(one.theirs, all.theirs));
       std::cout << "\n";
     }
     for (const auto& [scene, processes] : breakdown) {
