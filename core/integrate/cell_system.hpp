@@ -80,9 +80,11 @@ struct CellSystem {
   // Work on one block of a population right after its evaluation.
   // (The view is the block's own: see AfterBlock in population.hpp.)
   using AfterPopulationBlock = std::function<void(Population&, const BlockView& block)>;
-  // Evaluates every derivative at time t: myofilaments from their hosts' Ca_i,
-  // then every cell's i_ext (stimulus at t_stim, explicit coupling current,
-  // stretch-activated current), then the ionic models. after(pop, block), if
+  // Evaluates every derivative at time t, piece by piece of cells: a piece's
+  // myofilaments from their host's Ca_i, then its cells' i_ext (stimulus at
+  // t_stim, explicit coupling current, stretch-activated current), then its
+  // ionic model. (Each cell's inputs depend on its own states and on the
+  // potentials at the step's start only.) after(pop, block), if
   // given, runs on each block as soon as it is evaluated: a fixed-step
   // integrator updates the block's states there, while they are in cache (the
   // inputs every cell needs were all taken before any state changes). The
@@ -123,8 +125,10 @@ struct CellSystem {
   void block_inputs(std::size_t population, std::size_t begin, std::size_t end);
   double stretch_activated_pA(const Myofilament& m, const Population& host, std::size_t local) const;
   bool refresh_gap_current_ = false;  // this step computes gap_current_pA afresh
-  static void evaluate_population(Population& pop, double t_ms, const AfterPopulationBlock& after);
-  void evaluate_ionic(double t_ms, const AfterPopulationBlock& after, const BlockSchedule::AfterAll& after_all);
+  // Returns the myofilaments' share of the loop's busy time.
+  double evaluate_ionic(double t_ms, const AfterPopulationBlock& after, const BlockSchedule::AfterAll& after_all);
+  void evaluate_myofilament(Myofilament& m, const CellRange& piece, double t_ms, const AfterPopulationBlock& after);
+  std::vector<bool> hosts_myofilament_;  // per ionic population
   std::vector<CellRange> blocks_;  // every block of every ionic population
   BlockSchedule schedule_;  // which thread runs which of blocks_
 };

@@ -59,7 +59,11 @@ void BlockSchedule::plan(const std::vector<CellRange>& blocks, int threads) {
 void BlockSchedule::learn(const std::vector<CellRange>& blocks, int threads) {
   // (Pieces of one block may have run on different threads: summed here, after the loop.)
   block_s_.assign(blocks.size(), 0.0);
-  for (std::size_t i = 0; i < pieces_.size(); ++i) block_s_[piece_block_[i]] += piece_s_[i];
+  busy_s_ = 0;
+  for (std::size_t i = 0; i < pieces_.size(); ++i) {
+    block_s_[piece_block_[i]] += piece_s_[i];
+    busy_s_ += piece_s_[i];
+  }
   for (std::size_t j = 0; j < blocks.size(); ++j) {
     const double per_cell = block_s_[j] / static_cast<double>(blocks[j].end - blocks[j].begin);
     cost_per_cell_s_[j] += kSmoothing * (per_cell - cost_per_cell_s_[j]);

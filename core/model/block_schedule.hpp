@@ -41,7 +41,9 @@ class BlockSchedule {
   template <class F>
   void run(const std::vector<CellRange>& blocks, F&& f, const AfterAll& after_all) {
     if (blocks.size() <= 1) {
+      const auto started = Clock::now();
       if (!blocks.empty()) f(blocks[0]);
+      busy_s_ = seconds(started, Clock::now());
       if (after_all) after_all(0, 1);
       return;
     }
@@ -71,6 +73,8 @@ class BlockSchedule {
     governor_.record(threads, seconds(opened, Clock::now()));
   }
 
+  // The pieces' wall time in the last run, summed over threads.
+  double busy_s() const { return busy_s_; }
   // solver.threads "auto": see ThreadGovernor.
   ThreadGovernor& governor() { return governor_; }
   const ThreadGovernor& governor() const { return governor_; }
@@ -97,6 +101,7 @@ class BlockSchedule {
   std::vector<std::size_t> piece_block_;  // the block each piece is part of
   std::vector<double> piece_s_;           // wall time of each piece, this step
   std::vector<double> block_s_;           // wall time of each block, this step
+  double busy_s_ = 0;
   std::unique_ptr<Run[]> runs_;
   int run_count_ = 0;
   ThreadGovernor governor_;
