@@ -132,15 +132,21 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     open_beat(onsets_[next_onset_], t_old, t_new, V);
     ++next_onset_;
   }
+  if (!dVdt) return step_cells(t_old, t_new, V, 0, cells_.size());
   if (beat_ < 0) {
     for (std::size_t c = 0; c < cells_.size(); ++c) {
       v_prev_[c] = V[c];
-      cells_[c].dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
+      cells_[c].dvdt_prev = dVdt[c];
     }
     return;
   }
-  if (!dVdt) return step_lanes(t_old, t_new, V, 0, cells_.size());
   for_each_cell(static_cast<long>(cells_.size()), [&](long c) { step_cell(c, t_old, t_new, V, dVdt); });
+}
+
+void BiomarkerTracker::step_cells(double t_old, double t_new, const double* V, std::size_t begin, std::size_t end) {
+  if (beat_ >= 0) return step_lanes(t_old, t_new, V, begin, end);
+  // Before the first beat only V moves on (dvdt_prev stays NaN without dV/dt).
+  std::copy(V + begin, V + end, v_prev_.begin() + static_cast<std::ptrdiff_t>(begin));
 }
 
 void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, const double* V, const double* dVdt) {

@@ -49,15 +49,13 @@ class BiomarkerTracker {
   // One step from t_old to t_new; V at t_new per cell; dVdt at t_new or null.
   void step(double t_old_ms, double t_new_ms, const double* V_mV, const double* dVdt);
   // Whether the step to t_new may instead be taken range by range of cells
-  // (step_cells, e.g. on several threads): a beat is open and none opens in
-  // the step. Only for steps without the integrator's dV/dt.
+  // (step_cells, e.g. on several threads): no beat opens in it. Only for
+  // steps without the integrator's dV/dt.
   bool steps_by_range(double t_new_ms) const {
-    return beat_ >= 0 && !(next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new_ms - 1e-9);
+    return !(next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new_ms - 1e-9);
   }
   // step() for the cells [begin, end) only (ranges may be taken concurrently).
-  void step_cells(double t_old_ms, double t_new_ms, const double* V_mV, std::size_t begin, std::size_t end) {
-    step_lanes(t_old_ms, t_new_ms, V_mV, begin, end);
-  }
+  void step_cells(double t_old_ms, double t_new_ms, const double* V_mV, std::size_t begin, std::size_t end);
   // Ends the last beat (call once at the end of the run).
   void finish();
   // Everything it holds between steps, for a checkpoint, and back (the
