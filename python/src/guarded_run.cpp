@@ -1,5 +1,7 @@
 #include "guarded_run.hpp"
 
+#include <time.h>
+
 #include <chrono>
 #include <csignal>
 #include <optional>
@@ -11,6 +13,14 @@ namespace py = pybind11;
 
 namespace fibrodem::python {
 
+namespace {
+double thread_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
+
 RunOutcome guarded_run(const Scene& scene, RunOptions options, bool catch_sigint) {
   RunOutcome outcome;
   std::exception_ptr set_up_error;
@@ -18,14 +28,17 @@ RunOutcome guarded_run(const Scene& scene, RunOptions options, bool catch_sigint
     py::gil_scoped_release release;
     std::optional<ScopedInterruptHandler> sigint;
     if (catch_sigint) sigint.emplace(SIGINT);
+    const auto set_up_start = std::chrono::steady_clock::now();
     try {
       std::lock_guard lock(registry_mutex());  // the registry loads plugins here
       outcome.simulation = std::make_unique<Simulation>(scene, shared_registry(), options);
     } catch (...) {
       set_up_error = std::current_exception();
     }
+    outcome.set_up_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - set_up_start).count();
     if (outcome.simulation) {
       const auto start = std::chrono::steady_clock::now();
+      const double cpu_start = thread_cpu_s();
       try {
         outcome.simulation->run();
       } catch (const InterruptedError& e) {
@@ -34,6 +47,7 @@ RunOutcome guarded_run(const Scene& scene, RunOptions options, bool catch_sigint
         outcome.status = "failed", outcome.message = e.what();
       }
       outcome.run_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      outcome.run_cpu_s = thread_cpu_s() - cpu_start;
     }
   }
   if (set_up_error) std::rethrow_exception(set_up_error);

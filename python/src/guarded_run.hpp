@@ -17,7 +17,9 @@ struct RunOutcome {
   std::unique_ptr<Simulation> simulation;  // null if set-up failed (then `error` is rethrown)
   std::string status = "completed";        // or "interrupted", "failed"
   std::string message;                     // why it stopped or failed
+  double set_up_s = 0;                     // wall time of building the Simulation [s]
   double run_s = 0;                        // wall time of Simulation::run() [s]
+  double run_cpu_s = 0;                    // CPU time of this thread in it [s] (one thread for a cell)
 };
 
 // Called with the GIL held; releases it for the set-up and the run. A

@@ -47,6 +47,8 @@ py::dict simulate_cell(const std::string& model, const std::optional<std::string
   result["status"] = outcome.status;
   result["message"] = outcome.message;
   result["run_s"] = outcome.run_s;
+  result["set_up_s"] = outcome.set_up_s;
+  result["run_cpu_s"] = outcome.run_cpu_s;
   return result;
 }
 
