@@ -68,3 +68,29 @@ def test_trace_names_what_was_traced(cell_pair):
     with pytest.raises(KeyError, match="V_7"):
         result.trace("V", 7)
     assert np.all(np.isnan(result.maps["apd90_ms"]))  # no beat completed in 10 ms
+
+
+def test_a_run_releases_the_gil(cell_pair):
+    import threading
+    import time
+    ticks = []
+    running = threading.Event()
+
+    def other_thread():
+        running.set()
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    stop = threading.Event()
+    worker = threading.Thread(target=other_thread)
+    worker.start()
+    running.wait()
+    start = time.perf_counter()
+    fibrodem.run(fibrodem.load_scene(cell_pair))  # no progress callback: no Python code runs in it
+    end = time.perf_counter()
+    stop.set()
+    worker.join()
+    # the other thread kept running while the run (~0.3 s of wall time) held no GIL
+    during = [t for t in ticks if start < t < end]
+    assert end - start > 0.05 and len(during) >= 10, (end - start, len(during))
