@@ -87,10 +87,17 @@ class Result:
 
     def _maps(self):
         # As write_maps (core/run/tissue_snapshots.cpp): rows in order, the last beat of a cell wins.
+        # (numpy leaves the winner of a repeated index in one assignment open: the
+        # last row of each cell is picked explicitly.)
         maps = {name: np.full(len(self.cell_types), np.nan) for name in MAP_FIELDS}
         cells = self._biomarkers["cell"]
+        if len(cells) == 0:
+            return maps
+        reversed_cells = cells[::-1]
+        unique, first_in_reversed = np.unique(reversed_cells, return_index=True)
+        last = len(cells) - 1 - first_in_reversed
         for name in MAP_FIELDS:
-            maps[name][cells] = self._biomarkers[name]
+            maps[name][unique] = self._biomarkers[name][last]
         return maps
 
     @property

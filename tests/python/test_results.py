@@ -94,3 +94,14 @@ def test_a_run_releases_the_gil(cell_pair):
     # the other thread kept running while the run (~0.3 s of wall time) held no GIL
     during = [t for t in ticks if start < t < end]
     assert end - start > 0.05 and len(during) >= 10, (end - start, len(during))
+
+
+def test_maps_hold_each_cells_last_beat(cell_pair):
+    result = fibrodem.run(fibrodem.load_scene(cell_pair))
+    beats = result._biomarkers
+    assert len(beats) == 6  # 3 cells x 2 beats (stimuli at 20 and 370 ms)
+    for cell in range(3):
+        last = beats[beats["cell"] == cell][-1]
+        assert last["beat"] == 1
+        assert result.maps["activation_ms"][cell] == last["activation_ms"]
+        assert result.maps["apd90_ms"][cell] == last["apd90_ms"]
