@@ -20,7 +20,7 @@ FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.s
 # (float-cast-overflow off, as in scripts/sanitize.sh: xsimd's portable exp.)
 SAN="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize=float-cast-overflow -fno-sanitize-recover=undefined -g -O1"
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DFIBRODEM_FUZZ=ON -DFIBRODEM_BUILD_TESTS=OFF -DCMAKE_CXX_FLAGS="$SAN" \
+  -DFIBRODEM_FUZZ=ON -DFIBRODEM_BUILD_TESTS=OFF -DFIBRODEM_PYTHON=OFF -DCMAKE_CXX_FLAGS="$SAN" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined" > build-fuzz.log
 cmake --build build-fuzz --target fuzz_manifest fuzz_sweep fuzz_checkpoint fibrodem_colman fibrodem_rice \

@@ -14,7 +14,8 @@ FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.s
 SAN="-fsanitize=address,undefined -fno-sanitize=float-cast-overflow -fno-sanitize-recover=undefined"
 SAN="$SAN -fno-omit-frame-pointer -g -O1"
 LINK="-fsanitize=address,undefined"
-cmake -S . -B build-asan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+# Not the Python module: python3 does not load the sanitizer runtimes.
+cmake -S . -B build-asan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIBRODEM_PYTHON=OFF \
   -DCMAKE_CXX_FLAGS="$SAN" -DCMAKE_EXE_LINKER_FLAGS="$LINK" -DCMAKE_SHARED_LINKER_FLAGS="$LINK" \
   -DCMAKE_MODULE_LINKER_FLAGS="$LINK" > build-asan.log
 cmake --build build-asan -j "$(nproc 2>/dev/null || echo 2)" >> build-asan.log

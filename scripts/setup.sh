@@ -6,9 +6,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# python3-*, pybind11-dev: the Python module (python/); matplotlib: its plots and examples/python.
 packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libboost-dev
           nlohmann-json3-dev libspdlog-dev doctest-dev libcli11-dev libbenchmark-dev libssl-dev
-          libcairo2-dev libpng-dev libxsimd-dev libopenmpi-dev openmpi-bin ${FIBRODEM_EXTRA_PACKAGES:-})
+          libcairo2-dev libpng-dev libxsimd-dev libopenmpi-dev openmpi-bin
+          python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+          ${FIBRODEM_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

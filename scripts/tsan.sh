@@ -14,7 +14,8 @@ FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.s
 ARCHER=/usr/lib/llvm-14/lib/libarcher.so
 [ -f "$ARCHER" ] || { echo "tsan.sh: $ARCHER not found (package libomp-14-dev)" >&2; exit 1; }
 SAN="-fsanitize=thread -fno-omit-frame-pointer -g -O1"
-cmake -S . -B build-tsan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+# Not the Python module: python3 does not load the sanitizer runtimes.
+cmake -S . -B build-tsan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIBRODEM_PYTHON=OFF \
   -DCMAKE_CXX_FLAGS="$SAN" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=thread" > build-tsan.log
 cmake --build build-tsan -j "$(nproc 2>/dev/null || echo 2)" >> build-tsan.log

@@ -32,6 +32,10 @@ std::string sha256_of_file(const fs::path& file) {
 }
 
 std::vector<fs::path> PluginRegistry::default_search_path() {
+  return search_path_beside(boost::dll::program_location().parent_path());
+}
+
+std::vector<fs::path> PluginRegistry::search_path_beside(const fs::path& exe_dir) {
   std::vector<fs::path> path;
   if (const char* env = std::getenv("FIBRODEM_PLUGIN_PATH")) {
     std::stringstream ss(env);
@@ -39,7 +43,6 @@ std::vector<fs::path> PluginRegistry::default_search_path() {
     while (std::getline(ss, dir, ':'))
       if (!dir.empty()) path.emplace_back(dir);
   }
-  const fs::path exe_dir = boost::dll::program_location().parent_path();
   path.push_back(exe_dir / "plugins");
   path.push_back(exe_dir.parent_path() / "plugins");
   path.push_back(exe_dir.parent_path() / "lib" / "fibrodem" / "plugins");

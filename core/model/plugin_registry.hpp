@@ -37,7 +37,12 @@ struct PluginRecord {
 
 class PluginRegistry {
  public:
+  // $FIBRODEM_PLUGIN_PATH, then plugins/, ../plugins and ../lib/fibrodem/plugins
+  // beside the running executable.
   static std::vector<std::filesystem::path> default_search_path();
+  // The same, beside the executable in `exe_dir` (the Python module, which runs
+  // inside python3, searches beside the build's `fibrodem`).
+  static std::vector<std::filesystem::path> search_path_beside(const std::filesystem::path& exe_dir);
 
   explicit PluginRegistry(std::vector<std::filesystem::path> search_path = default_search_path());
 

@@ -3,6 +3,7 @@
 // there with every output flushed, status "interrupted" (issue "Nothing lost").
 #pragma once
 
+#include <csignal>
 #include <stdexcept>
 #include <string>
 
@@ -11,6 +12,23 @@ namespace fibrodem {
 // Installs handlers for SIGINT and SIGTERM that record the signal (the command
 // line does; a library user may keep its own).
 void install_interrupt_handlers();
+// While it lives, `signal` (SIGINT or SIGTERM) is recorded as above instead of
+// going to the handler that was installed (the Python module's run: a Ctrl-C
+// stops the simulation at the end of a step rather than waiting for it to
+// return to the interpreter); the earlier handler is put back after. It clears
+// the recorded signal on the way in. Install from the main thread only.
+class ScopedInterruptHandler {
+ public:
+  explicit ScopedInterruptHandler(int signal);
+  ~ScopedInterruptHandler();
+  ScopedInterruptHandler(const ScopedInterruptHandler&) = delete;
+  ScopedInterruptHandler& operator=(const ScopedInterruptHandler&) = delete;
+
+ private:
+  int signal_;
+  struct sigaction previous_ {};
+};
+
 // The signal received since the last clear (0: none).
 int interrupt_signal();
 // As if `signal` had arrived (tests; 0 clears).

@@ -654,16 +654,19 @@ struct Simulation::Impl : StepObserver {
     }
   }
 
-  // The progress line (RunOptions::progress), every output.progress_every_s of wall time.
+  // The progress line (RunOptions::progress) and callback (on_progress), every
+  // output.progress_every_s of wall time.
   void report_progress(std::chrono::steady_clock::time_point now, double t_new) {
-    if (options.progress && scene.output.progress_every_s > 0 &&
+    if ((options.progress || options.on_progress) && scene.output.progress_every_s > 0 &&
         std::chrono::duration<double>(now - last_progress).count() >= scene.output.progress_every_s) {
+      last_progress = now;
+      if (options.on_progress) options.on_progress(t_new);
+      if (!options.progress) return;
       const double elapsed = std::chrono::duration<double>(now - started).count();
       const double left = elapsed / t_new * (scene.duration_ms - t_new);
       std::fprintf(stderr, "\r  t = %.1f / %.1f ms   %.3g ms simulated per s   about %.0f s left   ",
                    t_new, scene.duration_ms, t_new / elapsed, left);
       std::fflush(stderr);
-      last_progress = now;
     }
   }
 

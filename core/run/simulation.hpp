@@ -7,6 +7,7 @@
 // ManifestError naming the JSON path.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,10 @@ class BlowUpError : public std::runtime_error {
 struct RunOptions {
   bool console_log = false;  // also log to stderr
   bool progress = false;     // progress line on a terminal
+  // Called with the simulated time [ms] every output.progress_every_s of wall
+  // time, at the end of a step, on the thread running the simulation (the
+  // Python module's progress callback). An exception from it fails the run.
+  std::function<void(double t_ms)> on_progress;
 };
 
 class Simulation {

@@ -1,0 +1,41 @@
+// The core's errors as the package's Python exceptions (fibrodem/_errors.py):
+// ManifestError (path, expected) and PluginError.
+#include <pybind11/pybind11.h>
+
+#include "binding.hpp"
+#include "scene/manifest_error.hpp"
+
+namespace py = pybind11;
+
+namespace fibrodem::python {
+
+namespace {
+
+// "manifest: PATH: WHAT" -> WHAT (what was expected, or what is wrong).
+std::string expectation(const ManifestError& e) {
+  const std::string prefix = "manifest: " + (e.path().empty() ? std::string("(top level)") : e.path()) + ": ";
+  const std::string what = e.what();
+  return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
+}
+
+void raise(const char* name, py::tuple args) {
+  py::object cls = py::module_::import("fibrodem._errors").attr(name);
+  py::object error = cls(*args);
+  PyErr_SetObject(cls.ptr(), error.ptr());
+}
+
+}  // namespace
+
+void bind_errors(py::module_&) {
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ManifestError& e) {
+      raise("ManifestError", py::make_tuple(e.what(), e.path(), expectation(e)));
+    } catch (const PluginError& e) {
+      raise("PluginError", py::make_tuple(e.what()));
+    }
+  });
+}
+
+}  // namespace fibrodem::python
