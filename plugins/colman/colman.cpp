@@ -700,7 +700,7 @@ const std::pair<const char*, double> kNi2017Initial[] = {
 // parameter, g_SAC, calibrated to one number: the seed paper's myocyte RMP of
 // -65.2 mV (Fig. 4c) at F-M 0.11, D_f 0.3 nS, in-series (the fig3 in-series
 // manifest on a 0.29 mm wide strip, seed 1, solver auto, RMP at the stimulus
-// onset; bisection on g_SAC, scripts/calibrate_sac.sh: -65.20 mV at 0.0036718).
+// onset; bisection on g_SAC, scripts/calibrate_sac.py: -65.20 mV at 0.0036718).
 const double kBrocklehurstGSac_nS_per_pF = 0.0036718;
 // Its initial state: the variant's own rest, one uncoupled cell unpaced for 60 s
 // from the colman2013 initial state (cells.myocyte.settle {"ms": 60000}; 20 s
