@@ -44,18 +44,20 @@ def grid_axes(rows):
     return columns[: columns.index("seeds_completed")]
 
 
-def first_axis_rows(rows):
-    """The rows along the first grid axis, the other grid axes at their first values."""
+def axis_rows(rows, axis):
+    """The rows along `axis` (a grid path; else the first grid axis), the other
+    grid axes at their first values."""
     axes = grid_axes(rows)
+    x = axis if axis in axes else axes[0]
     first = {a: rows[0][a] for a in axes}
-    return [r for r in rows if all(r[a] == first[a] for a in axes[1:])]
+    return [r for r in rows if all(r[a] == first[a] for a in axes if a != x)]
 
 
 def pick(rows, axis, at):
     """The grid point at `at` on `axis` (a grid path, or "fm_ratio": the tissue's
     measured F-M ratio, nearest, along the first grid axis), the other grid
     axes at their first values."""
-    candidates = first_axis_rows(rows)
+    candidates = axis_rows(rows, axis)
     if axis in grid_axes(rows):
         matches = [r for r in candidates if abs(number(r[axis]) - at) <= 1e-9 * max(1.0, abs(at))]
         return matches[0] if matches else None
@@ -119,7 +121,7 @@ def plot_sweep(sweep, values, default_rows, preset_rows, out, docs, fibrodem):
         for label, rows in (("fibrodem default", default_rows), (f"fibrodem {PRESET}", preset_rows)):
             if not rows:
                 continue
-            line = first_axis_rows(rows)
+            line = axis_rows(rows, axis)
             x_key = axis if axis in grid_axes(rows) else axis + "_mean"
             series.append({"label": label,
                            "x": [number(r[x_key]) for r in line],

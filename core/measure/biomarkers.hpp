@@ -1,7 +1,10 @@
 // Action-potential biomarkers per cell and beat, measured on the fly at every
 // integrator step (REFERENCES.md section 3; seed paper section 3):
 //   activation time  time of max dV/dt in the beat
-//   RMP              V just before the beat's stimulus onset
+//   RMP              V just before the beat's stimulus onset, or (with
+//                    use_pre_upstroke_rmp) the mean V over a window before the
+//                    cell's own activation (measure/pre_upstroke_window.hpp);
+//                    the APD levels use the onset V either way
 //   APO              peak potential (signed: a fibroblast's may be negative)
 //   APD_X            activation to the last downward crossing of
 //                    V_peak - X/100 * (V_peak - RMP) after the peak (APD90, APD50),
@@ -19,10 +22,12 @@
 
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/checkpoint_file.hpp"
+#include "measure/pre_upstroke_window.hpp"
 
 #include "tissue/tissue.hpp"
 
@@ -43,6 +48,10 @@ class BiomarkerTracker {
   // onsets: beat starts [ms]; beats starting before from_ms are not reported.
   BiomarkerTracker(std::vector<CellType> types, std::vector<double> onsets_ms, double from_ms,
                    std::function<void(const BeatBiomarkers&)> on_beat);
+
+  // RMP as the mean V over window_ms ending gap_ms before each cell's
+  // activation (output.biomarkers.rmp "pre_upstroke"); call before start().
+  void use_pre_upstroke_rmp(double window_ms, double gap_ms);
 
   void start(double t_ms, const double* V_mV);
   // One step from t_old to t_new; V at t_new per cell; dVdt at t_new or null.
@@ -86,6 +95,10 @@ class BiomarkerTracker {
   // Per cell, in lanes' arrays: V at the last step's end, and copies of
   // dvdt_max, peak, rmp (mirror()).
   std::vector<double> v_prev_, dvdt_max_, peak_, rmp_;
+  // With use_pre_upstroke_rmp: the window of V, and each cell's RMP from it
+  // at its current max dV/dt.
+  std::unique_ptr<PreUpstrokeWindow> pre_upstroke_;
+  std::vector<double> rmp_pre_;
   int beat_ = -1;           // index of the open beat
   std::size_t next_onset_ = 0;
 };
