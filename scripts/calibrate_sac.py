@@ -11,8 +11,8 @@ Prints each candidate and, at the end, the conductance and the settled state
 
     scripts/calibrate_sac.py [OUT_DIR]        (default out/calibrate_sac)
     FIBRODEM_BIN: the fibrodem executable (default build/fibrodem)
-Result (2026-11, found with 20 s settles; 60 s gives the same g -65.21 mV):
-g_SAC 0.0036718 nS/pF, RMP -65.20 mV, after 7 bisection steps.
+Result (2026-11): g_SAC 0.0036718 nS/pF, myocyte RMP -65.206 mV, after 7
+bisection steps (first found with 20 s settles: the same g, -65.198 mV).
 """
 import json
 import os
