@@ -74,6 +74,11 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
 
+  std::string plot_spec, plot_out;
+  auto* plot = app.add_subcommand("plot", "Draw line plots (PNG) from a JSON description of panels and series");
+  plot->add_option("spec", plot_spec, "JSON: {title, columns, panels: [{title, x_label, y_label, series: [{label, x, y}]}]}")->required();
+  plot->add_option("--out", plot_out, "the PNG file to write")->required();
+
   auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
   bench->allow_extras();
   fibrodem::cli::BenchAccuracyArgs accuracy_args;
@@ -89,6 +94,7 @@ int main(int argc, char** argv) {
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
+  if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
   if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());

@@ -127,3 +127,44 @@ TEST_CASE("with the integrator's dV/dt, the activation time and max dV/dt come f
   CHECK(beats[0].activation_ms == doctest::Approx(10.5).epsilon(2e-4 / 10.5));
   CHECK(beats[0].dvdt_max_mV_per_ms == doctest::Approx(50 * kPi * std::sin(kPi * 0.53)).epsilon(1e-12));
 }
+
+TEST_CASE("the pre-upstroke RMP is the mean V over the window before activation, on the bucket grid") {
+  // Rest at -80 mV to t = 50 ms, a linear foot to -70 mV at 60 ms, then a
+  // steep upstroke (activation at its steepest point, 60.5 ms) to +20 mV.
+  auto V_of = [](double t) {
+    if (t <= 50) return -80.0;
+    if (t <= 60) return -80.0 + (t - 50);
+    if (t <= 61) return -70.0 + 45 * (1 - std::cos(kPi * (t - 60)));
+    return 20.0;
+  };
+  std::vector<BeatBiomarkers> beats;
+  BiomarkerTracker tracker({CellType::myocyte}, {40.0}, 0.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  tracker.use_pre_upstroke_rmp(5.0, 2.0);
+  double V = V_of(0);
+  tracker.start(0, &V);
+  const double h = 0.01;
+  for (long k = 0; k < 8000; ++k) {
+    V = V_of((k + 1) * h);
+    tracker.step(k * h, (k + 1) * h, &V, nullptr);
+  }
+  tracker.finish();
+  REQUIRE(beats.size() == 1);
+  CHECK(beats[0].activation_ms == doctest::Approx(60.5).epsilon(1e-3));
+  // Buckets of 5/8 ms: the window ends at the boundary at or before
+  // 60.5 - 2 = 58.5 ms, i.e. 58.125 (93 x 0.625), and starts 5 ms earlier at
+  // 53.125; V is linear there, so its mean is V at the middle, 55.625 ms.
+  CHECK(beats[0].rmp_mV == doctest::Approx(-80.0 + (55.625 - 50)).epsilon(1e-9));
+  // The APD level still uses V at the onset (-80 mV), so APO is unchanged.
+  CHECK(beats[0].apo_mV == doctest::Approx(20.0));
+  // Without the option: V at the onset (40 ms).
+  beats.clear();
+  BiomarkerTracker plain({CellType::myocyte}, {40.0}, 0.0, [&](const BeatBiomarkers& b) { beats.push_back(b); });
+  V = V_of(0);
+  plain.start(0, &V);
+  for (long k = 0; k < 8000; ++k) {
+    V = V_of((k + 1) * h);
+    plain.step(k * h, (k + 1) * h, &V, nullptr);
+  }
+  plain.finish();
+  CHECK(beats.at(0).rmp_mV == -80.0);
+}

@@ -142,6 +142,15 @@ TEST_CASE("killed (SIGKILL) at any step and resumed, a run writes the same trace
   SUBCASE("CVODE") {
     check_kill_and_resume("cvode", strand({{"method", "cvode"}, {"rtol", 1e-6}, {"atol", 1e-8}}));
   }
+  SUBCASE("pre-upstroke RMP and transit CV (the window of V is in the checkpoint), brocklehurst2022_tissue") {
+    json m = strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}});
+    m["cells"]["myocyte"]["variant"] = "brocklehurst2022_tissue";
+    m["duration_ms"] = 450;
+    m["stimulus"][0]["period_ms"] = 250;  // a second beat after the checkpoints at 50 ... 250 ms
+    m["stimulus"][0]["count"] = 2;
+    m["output"]["biomarkers"] = {{"rmp", "pre_upstroke"}, {"cv", "transit"}};
+    check_kill_and_resume("pre_upstroke", m);
+  }
   SUBCASE("electrophysiology and contraction (colman + rice, two beats)") {
     json m = example("single_cell_em.json");
     m["duration_ms"] = 1300;

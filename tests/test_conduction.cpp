@@ -31,6 +31,36 @@ TEST_CASE("the CV fit recovers a known velocity and ignores stimulated, edge and
   CHECK_FALSE(fit_conduction_velocity(cells).has_value());
 }
 
+TEST_CASE("the end-to-end transit CV is distance over time between the bands at the window's ends") {
+  // 50 cm/s over the first 3000 um of the path, 25 cm/s beyond: the transit
+  // between the window's end bands is distance over time across that stretch
+  // (29.03 cm/s), where a least-squares fit weighs every cell alike (27.87).
+  std::vector<ConductionSample> cells;
+  for (int k = 0; k <= 1000; ++k) {
+    const double y = 10.0 * k, d = 9000 - y;  // stimulus at the top, d from it
+    const bool stimulated = y >= 9000;
+    const double t = d < 3000 ? d / 500.0 : 6.0 + (d - 3000) / 250.0;
+    cells.push_back({y, stimulated ? 0.0 : t, stimulated, true});
+  }
+  const auto transit = transit_conduction_velocity(cells);
+  REQUIRE(transit.has_value());
+  // Window 900..8100 um, bands 450 um: centres 1125 and 7875 um (as the cells
+  // lie every 10 um, their mean positions), times 2.25 and 6 + 4875/250 = 25.5 ms.
+  CHECK(transit->from_um == doctest::Approx(900));
+  CHECK(transit->to_um == doctest::Approx(8100));
+  CHECK(transit->cv_cm_per_s == doctest::Approx(0.1 * (7875.0 - 1125.0) / (25.5 - 2.25)).epsilon(1e-9));
+  CHECK(std::isnan(transit->r_squared));
+  const auto fit = fit_conduction_velocity(cells);
+  REQUIRE(fit.has_value());
+  CHECK(fit->cv_cm_per_s == doctest::Approx(27.87).epsilon(1e-3));  // the two definitions differ here
+  // A uniform wave: both give its speed.
+  for (auto& c : cells) c.activation_ms = c.stimulated ? 0.0 : (9000 - c.position_um) / 500.0;
+  CHECK(transit_conduction_velocity(cells)->cv_cm_per_s == doctest::Approx(50.0).epsilon(1e-9));
+  // A wave that never reaches the far band: no transit.
+  for (auto& c : cells) c.activated = c.stimulated || 9000 - c.position_um < 5000;
+  CHECK_FALSE(transit_conduction_velocity(cells).has_value());
+}
+
 namespace {
 double strand_cv(double dt_ms, const std::string& scheme, double D_m_nS = 1000, double coupling_dt_ms = 0) {
   json m = json::parse(R"({

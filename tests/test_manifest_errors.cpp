@@ -57,6 +57,22 @@ TEST_CASE("wrong types and out-of-range numbers say what was expected") {
   expect_error([](json& m) { m["effects"] = {"electrophysiology", "telepathy"}; }, "effects[1]", "unknown effect");
 }
 
+TEST_CASE("the RMP and CV measurement options are checked") {
+  expect_error([](json& m) { m["output"]["biomarkers"] = {{"rmp", "window"}}; }, "output.biomarkers.rmp",
+               "expected one of \"onset\", \"pre_upstroke\"");
+  expect_error([](json& m) { m["output"]["biomarkers"] = {{"rmp_window_ms", 3}}; }, "output.biomarkers.rmp_window_ms",
+               "applies only with \"rmp\": \"pre_upstroke\"");
+  expect_error([](json& m) { m["output"]["biomarkers"] = {{"rmp", "pre_upstroke"}, {"rmp_window_ms", 0}}; },
+               "output.biomarkers.rmp_window_ms", "expected a number in [");
+  expect_error([](json& m) { m["output"]["biomarkers"] = {{"rmp", "pre_upstroke"}, {"rmp_gap_ms", -1}}; },
+               "output.biomarkers.rmp_gap_ms", "expected a number in [");
+  expect_error([](json& m) { m["output"]["biomarkers"] = {{"cv", "slope"}}; }, "output.biomarkers.cv",
+               "expected one of \"fit\", \"transit\"");
+  json ok = testing::passive_cell_manifest();
+  ok["output"]["biomarkers"] = {{"rmp", "pre_upstroke"}, {"rmp_window_ms", 3}, {"rmp_gap_ms", 1}, {"cv", "transit"}};
+  CHECK_NOTHROW(set_up(ok));
+}
+
 TEST_CASE("unknown builder, model, variant and parameter are named with what exists") {
   expect_error([](json& m) { m["tissue"]["builder"] = "sphere"; }, "tissue.builder", "\"strand\"");
   expect_error([](json& m) { m["cells"]["fibroblast"]["model"] = "nope"; }, "cells.fibroblast.model",

@@ -23,6 +23,11 @@ void BiomarkerTracker::mirror(std::size_t c) {
   rmp_[c] = cells_[c].rmp;
 }
 
+void BiomarkerTracker::use_pre_upstroke_rmp(double window_ms, double gap_ms) {
+  pre_upstroke_ = std::make_unique<PreUpstrokeWindow>(cells_.size(), window_ms, gap_ms);
+  rmp_pre_.assign(cells_.size(), std::numeric_limits<double>::quiet_NaN());
+}
+
 void BiomarkerTracker::start(double /*t_ms*/, const double* V) {
   for (std::size_t c = 0; c < cells_.size(); ++c) {
     cells_[c] = Cell{.rmp = V[c]};
@@ -42,6 +47,10 @@ void BiomarkerTracker::save(CheckpointFields& fields) const {
   fields.put("biomarkers.v_prev", v_prev_);
   fields.put_integer("biomarkers.beat", beat_);
   fields.put_integer("biomarkers.next_onset", static_cast<long long>(next_onset_));
+  if (pre_upstroke_) {
+    pre_upstroke_->save(fields);
+    fields.put("biomarkers.pre_upstroke.rmp", rmp_pre_);
+  }
 }
 
 void BiomarkerTracker::load(const CheckpointFields& fields) {
@@ -59,6 +68,10 @@ void BiomarkerTracker::load(const CheckpointFields& fields) {
   beat_ = static_cast<int>(fields.integer("biomarkers.beat"));
   next_onset_ = static_cast<std::size_t>(fields.integer("biomarkers.next_onset"));
   if (next_onset_ > onsets_.size()) throw CheckpointError("its biomarker trackers are past the scene's last beat");
+  if (pre_upstroke_) {
+    pre_upstroke_->load(fields);
+    fields.read_into("biomarkers.pre_upstroke.rmp", rmp_pre_);
+  }
   for (std::size_t c = 0; c < cells_.size(); ++c) mirror(c);
 }
 
@@ -73,6 +86,7 @@ void BiomarkerTracker::open_beat(double onset, double t_old, double t_new, const
     cells_[c].dvdt_prev = dvdt_prev;
     mirror(c);
   }
+  std::fill(rmp_pre_.begin(), rmp_pre_.end(), std::numeric_limits<double>::quiet_NaN());
 }
 
 namespace {
@@ -128,6 +142,8 @@ void refine_peak_time(double t0, double d0, double t1, double d1, double t2, dou
 }  // namespace
 
 void BiomarkerTracker::step(double t_old, double t_new, const double* V, const double* dVdt) {
+  // (V_prev is V at t_old for every cell: each step sets it, below.)
+  if (pre_upstroke_) pre_upstroke_->add_step(t_old, t_new, v_prev_.data(), V);
   while (next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new - 1e-9) {
     open_beat(onsets_[next_onset_], t_old, t_new, V);
     ++next_onset_;
@@ -166,6 +182,7 @@ void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, cons
     s.max_left_t = s.t_slope_prev;
     s.max_left_dvdt = s.slope_prev;
     s.max_step_end = t_new;
+    if (pre_upstroke_) rmp_pre_[c] = pre_upstroke_->mean_before(c, t_slope);
   } else if (s.refine_max) {
     s.refine_max = false;
     if (s.max_step_end == t_old)  // the right neighbour is the step just after
@@ -235,7 +252,7 @@ void BiomarkerTracker::close_beat() {
     b.type = types_[c];
     b.beat = beat_;
     b.activation_ms = s.t_act;
-    b.rmp_mV = s.rmp;
+    b.rmp_mV = pre_upstroke_ ? rmp_pre_[c] : s.rmp;
     b.apo_mV = s.peak;
     b.dvdt_max_mV_per_ms = s.dvdt_max;
     if (s.cross50 >= 0) b.apd50_ms = s.cross50 - s.t_act;

@@ -1,7 +1,10 @@
 // Action-potential biomarkers per cell and beat, measured on the fly at every
 // integrator step (REFERENCES.md section 3; seed paper section 3):
 //   activation time  time of max dV/dt in the beat
-//   RMP              V just before the beat's stimulus onset
+//   RMP              V just before the beat's stimulus onset, or (with
+//                    use_pre_upstroke_rmp) the mean V over a window before the
+//                    cell's own activation (measure/pre_upstroke_window.hpp);
+//                    the APD levels use the onset V either way
 //   APO              peak potential (signed: a fibroblast's may be negative)
 //   APD_X            activation to the last downward crossing of
 //                    V_peak - X/100 * (V_peak - RMP) after the peak (APD90, APD50),
@@ -20,10 +23,12 @@
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/checkpoint_file.hpp"
+#include "measure/pre_upstroke_window.hpp"
 
 #include "tissue/tissue.hpp"
 
@@ -45,14 +50,18 @@ class BiomarkerTracker {
   BiomarkerTracker(std::vector<CellType> types, std::vector<double> onsets_ms, double from_ms,
                    std::function<void(const BeatBiomarkers&)> on_beat);
 
+  // RMP as the mean V over window_ms ending gap_ms before each cell's
+  // activation (output.biomarkers.rmp "pre_upstroke"); call before start().
+  void use_pre_upstroke_rmp(double window_ms, double gap_ms);
+
   void start(double t_ms, const double* V_mV);
   // One step from t_old to t_new; V at t_new per cell; dVdt at t_new or null.
   void step(double t_old_ms, double t_new_ms, const double* V_mV, const double* dVdt);
   // Whether the step to t_new may instead be taken range by range of cells
-  // (step_cells, e.g. on several threads): no beat opens in it. Only for
-  // steps without the integrator's dV/dt.
+  // (step_cells, e.g. on several threads): no beat opens in it and no
+  // pre-upstroke window is kept. Only for steps without the integrator's dV/dt.
   bool steps_by_range(double t_new_ms) const {
-    return !(next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new_ms - 1e-9);
+    return !pre_upstroke_ && !(next_onset_ < onsets_.size() && onsets_[next_onset_] < t_new_ms - 1e-9);
   }
   // step() for the cells [begin, end) only (ranges may be taken concurrently).
   void step_cells(double t_old_ms, double t_new_ms, const double* V_mV, std::size_t begin, std::size_t end);
@@ -95,6 +104,10 @@ class BiomarkerTracker {
   // Per cell, in lanes' arrays: V at the last step's end, and copies of
   // dvdt_max, peak, rmp (mirror()).
   std::vector<double> v_prev_, dvdt_max_, peak_, rmp_;
+  // With use_pre_upstroke_rmp: the window of V, and each cell's RMP from it
+  // at its current max dV/dt.
+  std::unique_ptr<PreUpstrokeWindow> pre_upstroke_;
+  std::vector<double> rmp_pre_;
   int beat_ = -1;           // index of the open beat
   std::size_t next_onset_ = 0;
 };

@@ -30,4 +30,13 @@ std::optional<ConductionFit> fit_conduction_velocity(const std::vector<Conductio
                                                      double margin_fraction = 0.1,
                                                      int minimum_cells = 5);
 
+// End-to-end transit (output.biomarkers.cv "transit"): over the same window as
+// the fit, the distance between the mean positions of the cells in its first
+// and its last band_fraction of the length, divided by the difference of their
+// mean activation times. It weighs the whole path's slow stretches as a wave
+// arriving late does (a fit weighs every cell alike); r_squared is NaN.
+std::optional<ConductionFit> transit_conduction_velocity(const std::vector<ConductionSample>& cells,
+                                                         double margin_fraction = 0.1,
+                                                         double band_fraction = 0.05);
+
 }  // namespace fibrodem

@@ -34,7 +34,8 @@ json mean_biomarkers(const std::vector<BeatBiomarkers>& beats) {
   return means;
 }
 
-json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats) {
+json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats,
+               const std::string& method) {
   json per_beat = json::array();
   if (tissue.cell_count() < 2) return per_beat;
   std::vector<bool> stimulated(tissue.cell_count(), false);
@@ -45,8 +46,9 @@ json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vecto
     beats_by_index[b.beat].push_back(
         {tissue.y_um[b.cell], b.activation_ms, stimulated[b.cell], b.apo_mV - b.rmp_mV >= 20.0});
   for (const auto& [beat, beat_cells] : beats_by_index)
-    if (const auto fit = fit_conduction_velocity(beat_cells))
-      per_beat.push_back({{"beat", beat}, {"cv_cm_per_s", fit->cv_cm_per_s}, {"r_squared", fit->r_squared},
+    if (const auto fit = method == "transit" ? transit_conduction_velocity(beat_cells) : fit_conduction_velocity(beat_cells))
+      per_beat.push_back({{"beat", beat}, {"cv_cm_per_s", fit->cv_cm_per_s}, {"method", method},
+                          {"r_squared", std::isfinite(fit->r_squared) ? json(fit->r_squared) : json(nullptr)},
                           {"cells_used", fit->cells_used}, {"window_um", {fit->from_um, fit->to_um}}});
   return per_beat;
 }
@@ -84,7 +86,7 @@ json run_summary(const RunFacts& f) {
   s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))
                            : json(nullptr);
   s["mean_biomarkers"] = mean_biomarkers(f.beats);
-  s["conduction"] = conduction(f.tissue, f.system.stimulus, f.beats);
+  s["conduction"] = conduction(f.tissue, f.system.stimulus, f.beats, f.scene.output.cv_method);
   s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
   s["peak_strain"] = f.mechanics ? json{{"xx", f.peak_strain[0]}, {"yy", f.peak_strain[1]}, {"xy", f.peak_strain[2]}}
                                  : json(nullptr);

@@ -26,7 +26,9 @@ json mean_biomarkers(const std::vector<BeatBiomarkers>& beats);
 // Conduction velocity of each beat along the fibre (y), fitted over the
 // unstimulated cells. A cell counts as activated when its action potential
 // amplitude reaches 20 mV.
-json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats);
+// method: "fit" (least squares) or "transit" (end to end), output.biomarkers.cv.
+json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats,
+                const std::string& method = "fit");
 
 // What summary.json reports, as the simulation holds it.
 struct RunFacts {

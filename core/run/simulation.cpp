@@ -779,6 +779,8 @@ struct Simulation::Impl : StepObserver {
       tracker = std::make_unique<BiomarkerTracker>(
           tissue.type, system.stimulus.onsets(scene.duration_ms), scene.output.biomarkers_from_ms,
           [this](const BeatBiomarkers& b) { record_beat(b); });
+      if (scene.output.rmp_method == "pre_upstroke")
+        tracker->use_pre_upstroke_rmp(scene.output.rmp_window_ms, scene.output.rmp_gap_ms);
       system.record_rest_lengths();
       if (resume_point) {
         resume();

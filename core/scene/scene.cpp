@@ -214,6 +214,16 @@ OutputSpec read_output(JsonReader r) {
   if (r.has("biomarkers")) {
     JsonReader b = r.object("biomarkers");
     o.biomarkers_from_ms = b.number("from_ms", 0.0, 0.0, kInf);
+    o.rmp_method = b.text("rmp", o.rmp_method, {"onset", "pre_upstroke"});
+    if (o.rmp_method == "pre_upstroke") {
+      o.rmp_window_ms = b.number("rmp_window_ms", o.rmp_window_ms, 0.01, 1000.0);
+      o.rmp_gap_ms = b.number("rmp_gap_ms", o.rmp_gap_ms, 0.0, 1000.0);
+    } else {
+      for (const char* key : {"rmp_window_ms", "rmp_gap_ms"})
+        if (b.has(key))
+          throw ManifestError(b.path_of(key), "applies only with \"rmp\": \"pre_upstroke\" (rmp is \"onset\")");
+    }
+    o.cv_method = b.text("cv", o.cv_method, {"fit", "transit"});
     b.finish();
   }
   r.finish();

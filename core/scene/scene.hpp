@@ -140,6 +140,12 @@ struct OutputSpec {
   bool maps = false;            // activation_map.png and maps.vtk (last beat) at the end
   SnapshotSpec snapshots;
   double biomarkers_from_ms = 0;
+  // output.biomarkers.rmp: "onset" (V at the beat's stimulus onset) or
+  // "pre_upstroke" (mean V over rmp_window_ms ending rmp_gap_ms before the
+  // cell's activation); output.biomarkers.cv: "fit" or "transit".
+  std::string rmp_method = "onset";
+  double rmp_window_ms = 5.0, rmp_gap_ms = 2.0;
+  std::string cv_method = "fit";
   double progress_every_s = 1.0;
   CheckpointSpec checkpoint;
 };

@@ -138,6 +138,9 @@ namespace {
   X(k_bCa, "1", 1.0, "lineage factor on I_bCa (Ni 2017 1.4)")                                                 \
   X(g_ab_nS_per_pF, "nS/pF", 0.0003879, "I_ab scale, Zhang-lab background current")                           \
   X(k_ab, "1", 1.0, "factor on I_ab (Colman 1; Ni 2017 0)")                                                   \
+  /* stretch-activated non-selective cation current, as active at rest (seed paper 2.1.1; Zhang 2000) */       \
+  X(g_SAC_nS_per_pF, "nS/pF", 0.0, "I_SAC conductance at the cell's resting stretch (0: off)")                 \
+  X(E_SAC_mV, "mV", -6.1, "I_SAC reversal potential (Zhang et al. 2000, rat atrial myocytes)")                \
   /* pumps and exchanger (CRN, on Ca_ss) */                                                                   \
   X(ICap_max_pA_per_pF, "pA/pF", 0.275, "sarcolemmal Ca pump maximum (CRN)")                                  \
   X(Km_Cap_mM, "mM", 0.0005, "sarcolemmal Ca pump half saturation (CRN)")                                     \
@@ -214,6 +217,7 @@ enum Output {
   kOut_IK1,
   kOut_INaCa,
   kOut_INaK,
+  kOut_ISAC,
   kNumOutputs
 };
 
@@ -484,8 +488,17 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     const R fnak = 1.0 / (1.0 + 0.1245 * exp(-0.1 * V * FRT) + 0.0365 * sigma * exp(-V * FRT));
     const R INaK = nak_scale * fnak / (1.0 + pow(P[k_Km_Na_NaK_mM] / Nai, P[k_hill_Na_NaK]));
 
+    // I_SAC: the seed paper adds a stretch-activated current to I_m (2.1.1, after
+    // Brocklehurst 2015, 2017); its formulation is not published in the text we
+    // could read, so it is taken as the measured non-selective cation SAC of atrial
+    // myocytes: linear I-V, reversal -6.1 mV (Zhang YH et al., J Physiol 523:607,
+    // 2000), I_SAC = Cm g_SAC (V - E_SAC), its conductance held at the value of the
+    // cell's resting stretch (examples/paper/NOTES.md). Carried by Na+ and K+ both,
+    // it enters no concentration (Na_i, K_i clamped in colman2013). Added last, so
+    // with g_SAC = 0 I_ion is bit-identical to the model without it.
+    const R Isac = Cm * P[k_g_SAC_nS_per_pF] * (V - P[k_E_SAC_mV]);
     const R I_ion =
-        INa + Ito + IKur + IKr + IKs + ICaL + IK1 + IbNa + IbCa + Iab + INaCa + INaK + ICap;
+        INa + Ito + IKur + IKr + IKs + ICaL + IK1 + IbNa + IbCa + Iab + INaCa + INaK + ICap + Isac;
     cell.rate(k_V, (cell.input(kI_ext) - I_ion) / Cm);
 
     // Na_i (CRN, no stimulus term), K_i constant in both codes.
@@ -601,6 +614,7 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
     cell.output(kOut_IK1, IK1);
     cell.output(kOut_INaCa, INaCa);
     cell.output(kOut_INaK, INaK);
+    cell.output(kOut_ISAC, Isac);
   });
 }
 
@@ -681,13 +695,36 @@ const std::pair<const char*, double> kNi2017Initial[] = {
     {"ryr_a_i", 0.2977219443},  {"ikur_a", 0.0002417881801}, {"ikur_i", 0.9517278864},
 };
 
+// brocklehurst2022_tissue: colman2013 with the stretch-activated current I_SAC
+// active at rest (seed paper 2.1.1; examples/paper/NOTES.md says why). One
+// parameter, g_SAC, calibrated to one number: the seed paper's myocyte RMP of
+// -65.2 mV (Fig. 4c) at F-M 0.11, D_f 0.3 nS, in-series (the fig3 in-series
+// manifest on a 0.29 mm wide strip, seed 1, solver auto, RMP at the stimulus
+// onset; bisection on g_SAC, scripts/calibrate_sac.py: -65.20 mV at 0.0036718).
+const double kBrocklehurstGSac_nS_per_pF = 0.0036718;
+// Its initial state: the variant's own rest, one uncoupled cell unpaced for 60 s
+// from the colman2013 initial state (cells.myocyte.settle {"ms": 60000}; 20 s
+// gives V within 0.008 mV of this).
+const std::pair<const char*, double> kBrocklehurstInitial[] = {
+    {"V", -65.44348378},  {"m", 0.03515381356},  {"h", 0.4391538582},
+    {"j", 0.4398370892},  {"d", 0.0009766203513},  {"f", 0.9956211987},
+    {"fca", 0.7104426241},  {"xr", 0.0003709777222},  {"xs", 0.03471502788},
+    {"ito_r", 0.002375150017},  {"ito_s", 0.8974308246},  {"ikur_a", 0.0009947409251},
+    {"ikur_i", 0.9969645273},  {"Na_i", 11.17},  {"K_i", 114.76},
+    {"Ca_i", 0.0001340331997},  {"Ca_ss", 0.0001426506213},  {"Ca_SRi", 0.6296018422},
+    {"Ca_SRss", 0.6198458632},  {"SERCACa", 0.004666077091},  {"SERCACass", 0.004625552782},
+    {"ryr_o_ss", 0.000744072705},  {"ryr_c_ss", 0.8331171724},  {"ryr_a_ss", 0.1387294451},
+    {"ryr_o_i", 0.0006655952797},  {"ryr_c_i", 0.8746253082},  {"ryr_a_i", 0.1334580883},
+};
+
 Colman::Colman() {
   info_.name = "colman";
   info_.version = "1.0.0";
   info_.description =
       "Colman et al. 2013 human atrial myocyte (right atrium): CRN 1998 with Maleckar 2009 I_to/I_Kur "
       "and simplified Koivumaki 2011 Ca handling. Variants: colman2013 (default), ni2017 (Ni et al. 2017 "
-      "updated model exactly as Myokit ni-2017.mmt).";
+      "updated model exactly as Myokit ni-2017.mmt), brocklehurst2022_tissue (colman2013 with a "
+      "stretch-activated current active at rest, calibrated to the seed paper's tissue RMP).";
   info_.reference =
       "Colman MA et al. J Physiol 591:4249-4272 (2013); Ni H et al. Front Physiol 8:946 (2017); "
       "Courtemanche M et al. Am J Physiol 275:H301 (1998); Maleckar MM et al. Am J Physiol 297:H1398 (2009); "
@@ -721,6 +758,7 @@ Colman::Colman() {
       {"IK1", "pA", "inward rectifier K current"},
       {"INaCa", "pA", "Na/Ca exchanger current"},
       {"INaK", "pA", "Na/K pump current"},
+      {"ISAC", "pA", "stretch-activated non-selective cation current (brocklehurst2022_tissue)"},
   };
   info_.voltage_state = k_V;
   info_.capacitance_parameter = k_Cm_pF;
@@ -748,7 +786,17 @@ Colman::Colman() {
   }
   for (const fibrodem::StateInfo& s : info_.states) colman2013.initial_state[s.name] = s.initial;
   for (const auto& [name, value] : kNi2017Initial) ni2017.initial_state[name] = value;
-  info_.variants = {colman2013, ni2017};
+  fibrodem::VariantInfo brocklehurst{
+      "brocklehurst2022_tissue",
+      "colman2013 with the stretch-activated non-selective cation current I_SAC active at rest "
+      "(the seed paper's myocyte, Brocklehurst et al. 2022 2.1.1): g_SAC calibrated to the paper's "
+      "tissue myocyte RMP (-65.2 mV at F-M 0.11, D_f 0.3 nS, in-series), E_SAC -6.1 mV; initial "
+      "state = its own rest (60 s unpaced).",
+      colman2013.parameters,
+      {}};
+  brocklehurst.parameters["g_SAC_nS_per_pF"] = kBrocklehurstGSac_nS_per_pF;
+  for (const auto& [name, value] : kBrocklehurstInitial) brocklehurst.initial_state[name] = value;
+  info_.variants = {colman2013, ni2017, brocklehurst};
 }
 
 }  // namespace

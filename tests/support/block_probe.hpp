@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,10 @@ struct BlockResult {
 };
 
 // The variant's parameters and initial state (the model's defaults for "").
+// `overrides`: parameters set after the variant's.
 inline BlockResult evaluate_at_voltages(const CellModel& model, const std::vector<double>& voltages,
-                                        const std::string& variant_name = "") {
+                                        const std::string& variant_name = "",
+                                        const std::map<std::string, double>& overrides = {}) {
   const ModelInfo& info = model.info();
   const VariantInfo* variant = nullptr;
   for (const auto& v : info.variants)
@@ -42,6 +45,7 @@ inline BlockResult evaluate_at_voltages(const CellModel& model, const std::vecto
     double value = p.default_value;
     if (variant)
       if (auto it = variant->parameters.find(p.name); it != variant->parameters.end()) value = it->second;
+    if (auto it = overrides.find(p.name); it != overrides.end()) value = it->second;
     params.push_back(value);
   }
   BlockResult r;
