@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libboost-dev
           nlohmann-json3-dev libspdlog-dev doctest-dev libcli11-dev libbenchmark-dev libssl-dev
-          libcairo2-dev libpng-dev libxsimd-dev libopenmpi-dev openmpi-bin ${FIBRODEM_EXTRA_PACKAGES:-})
+          libcairo2-dev libpng-dev libxsimd-dev libpugixml-dev libopenmpi-dev openmpi-bin ${FIBRODEM_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
