@@ -46,6 +46,7 @@ struct OneCell {
     inputs.assign(model->info().inputs.size(), 0.0);
     outputs.assign(model->info().outputs.size(), 0.0);
   }
+  bool lanes = false;  // evaluate in SIMD lanes instead of the scalar reference path
   std::vector<double> rates(const std::vector<double>& state, double t, double i_ext) {
     inputs[0] = i_ext;
     BlockView v;
@@ -58,7 +59,7 @@ struct OneCell {
     v.a = a.data();
     v.b = b.data();
     v.outputs = outputs.data();
-    v.scalar_reference = true;
+    v.scalar_reference = !lanes;
     model->evaluate(v, t);
     std::vector<double> r(state.size());
     for (std::size_t k = 0; k < r.size(); ++k) r[k] = a[k] + b[k] * state[k];
@@ -191,6 +192,52 @@ TEST_CASE("import-cellml: Hodgkin-Huxley 1952 matches the paper's equations inte
   // HH 1952 Fig. 12: an action potential ~100-110 mV above rest.
   CHECK(peak > 20.0);
   CHECK(peak < 50.0);
+}
+
+TEST_CASE("import-cellml: the removable singularities of HH's alpha_m and alpha_n are their limits") {
+  // alpha_m = 0.1 (V + 50)/(1 - exp(-(V + 50)/10)) -> 1 /ms at V = -50;
+  // alpha_n = 0.01 (V + 65)/(1 - exp(-(V + 65)/10)) -> 0.1 /ms at V = -65 (l'Hopital).
+  OneCell cell(load("cellml_hh"));
+  const auto& info = cell.model->info();
+  const int kV = index_of(info.states, "V"), km = index_of(info.states, "m"), kn = index_of(info.states, "n");
+  for (bool lanes : {false, true}) {
+    cell.lanes = lanes;
+    auto y = cell.y;
+    y[km] = 0.0;
+    y[kn] = 0.0;
+    y[kV] = -50.0;
+    CHECK(cell.rates(y, 0.0, 0.0)[km] == doctest::Approx(1.0).epsilon(1e-12));
+    y[kV] = -65.0;
+    CHECK(cell.rates(y, 0.0, 0.0)[kn] == doctest::Approx(0.1).epsilon(1e-12));
+    y[kV] = -50.0 + 1e-9;  // beside it: the plain formula, to its own precision
+    const double x = -(y[kV] + 50) / 10;
+    CHECK(cell.rates(y, 0.0, 0.0)[km] == doctest::Approx(0.1 * (y[kV] + 50) / -std::expm1(x)).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("import-cellml: every translated MathML operator gives what the C++ library computes") {
+  // tests/cellml/mathml_coverage_2_0.cellml: dV/dt [mV/ms] = the sum of its groups of functions of
+  // x = V / 100 mV, plus a constant chosen by a piecewise on a parameter (pi).
+  OneCell cell(load("cellml_mathml"));
+  for (bool lanes : {false, true})
+    for (double V : {-30.0, 20.0}) {
+      cell.lanes = lanes;
+      const double x = V / 100.0;
+      const double trig = std::sin(x) + std::cos(x) + std::tan(x) + 1 / std::cos(x) + 1 / std::sin(x) + 1 / std::tan(x);
+      const double hyp = std::sinh(x) + std::cosh(x) + std::tanh(x) + 1 / std::cosh(x) + 1 / std::sinh(x) + 1 / std::tanh(x);
+      const double arc = std::asin(x) + std::acos(x) + std::atan(x) + std::asinh(x) + std::atanh(x) + std::acosh(2 - x) +
+                         std::acos(1 / (2 - x)) + std::asin(1 / (2 - x)) + std::atan(1 / x) + std::acosh(2 - x) +
+                         std::asinh(1 / x) + std::atanh(1 / (2 - x));
+      const double misc = std::fabs(x) + std::floor(10 * x) + std::ceil(10 * x) + std::fmin(x, -0.2) + std::fmax(x, 0.1) +
+                          std::fmod(10 * x, 0.7);
+      const double pw = std::pow(2 - x, 1.5) + x * x + std::sqrt(4 - x) + std::cbrt(8 - x) + std::exp(x) + std::log(2 - x) +
+                        std::log10(10 - x) + std::log2(3 - x);
+      const double piecewise = x < 0 ? 1.0 : 2.0;
+      const double expected = trig + hyp + arc + misc + pw + piecewise + M_PI;
+      auto y = cell.y;
+      y[0] = V;
+      CHECK_MESSAGE(cell.rates(y, 0.0, 0.0)[0] == doctest::Approx(expected).epsilon(1e-12), "V " << V << " lanes " << lanes);
+    }
 }
 
 TEST_CASE("import-cellml: FitzHugh-Nagumo rests at FitzHugh's point and oscillates as integrated independently") {
