@@ -432,7 +432,7 @@ class Writer {
     static const std::map<std::string, std::string> relations = {
         {"eq", " == "}, {"neq", " != "}, {"gt", " > "}, {"lt", " < "}, {"geq", " >= "}, {"leq", " <= "}};
     if (const auto r = relations.find(op); r != relations.end())
-      return {"(" + a[0].text + r->second + a[1].text + ")", lane, true};
+      return {"(" + both(0) + r->second + both(1) + ")", lane, true};  // xsimd has no double < lanes
     if (op == "and" || op == "or" || op == "xor" || op == "not") {
       for (std::size_t i = 0; i < a.size(); ++i)
         if (!a[i].boolean) a[i].text = "(" + a[i].text + " != 0.0)";
