@@ -111,6 +111,7 @@ std::string without_origin(const std::string& text) {
 fs::path scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("fibrodem_cellml_test_" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
   return dir;
 }
 

@@ -85,15 +85,11 @@ void order_equations(Model& m) {
 
 }  // namespace
 
-namespace {
-// 1e-9 / 1e-12 is 1000.0000000000001 in binary: conversion factors are
-// rounded to 15 significant digits, which every prefix and multiplier has.
 double snapped(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.15g", x);
   return std::strtod(buf, nullptr);
 }
-}  // namespace
 
 double Model::factor_to(int v) const {
   const auto& src = source(quantity_of[v]);

@@ -41,6 +41,10 @@ struct Model {
 
 Model analyse(Document doc);
 
+// 1e-9 / 1e-12 is 1000.0000000000001 in binary: conversion factors are
+// rounded to 15 significant digits, which every prefix and multiplier has.
+double snapped(double x);
+
 // Numbers of a model at one point: every quantity's value from the states and
 // parameters (algebraic ones in order), and any expression of it.
 class Evaluator {

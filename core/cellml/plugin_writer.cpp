@@ -214,7 +214,7 @@ class Writer {
     Unit per_area = ampere_unit();
     per_area.dims["metre"] = -2;
     if (stim_ >= 0 && m_.source(stim_).unit.same_dims(ampere_unit())) {
-      capacitance_pF_ = 1e12 / std::fabs(per_si);
+      capacitance_pF_ = snapped(1e12 / std::fabs(per_si));
       // The CellML's own capacitance, when it is a constant in pF, is the parameter.
       for (int q : m_.parameters) {
         const auto& s = m_.source(q);
@@ -228,7 +228,7 @@ class Writer {
     } else if (stim_ >= 0 && m_.source(stim_).unit.same_dims(per_area)) {
       const double cm_F_per_m2 = 1.0 / std::fabs(per_si);
       const double area_m2 = 1e-8;  // 1e-4 cm^2 (a 100 um x 100 um patch)
-      capacitance_pF_ = cm_F_per_m2 * area_m2 * 1e12;
+      capacitance_pF_ = snapped(cm_F_per_m2 * area_m2 * 1e12);
       area_note_ = "currents per membrane area: specific capacitance " + lit(cm_F_per_m2 * 100) +
                    " uF/cm^2 (from dV/dt's response to the stimulus); C_pF = Cm x membrane area, default area "
                    "1e-4 cm^2 (area_cm2 = 1e-6 C_pF / Cm_uF_per_cm2)";
