@@ -7,6 +7,7 @@
 #include "cellml/import_error.hpp"
 #include "cellml/model_analysis.hpp"
 #include "cellml/plugin_writer.hpp"
+#include "cellml/units_check.hpp"
 
 namespace fibrodem::cellml {
 
@@ -41,6 +42,11 @@ ImportResult import_cellml(const ImportOptions& o) {
     w.map[m.substr(0, eq)] = m.substr(eq + 1);
   }
   const Model model = analyse(read_cellml(o.input));
+  // Inconsistent units in an equation: the numbers would be used at a scale
+  // (or dimension) the author did not mean; refused at the first.
+  if (const auto issues = check_equation_units(model); !issues.empty())
+    throw ImportError(issues.front().path + ": inconsistent units: " + issues.front().message +
+                      (issues.size() > 1 ? " (and " + std::to_string(issues.size() - 1) + " more)" : ""));
   const GeneratedPlugin plugin = write_plugin(model, w);
 
   const fs::path folder = o.out.empty() ? fs::path(o.name) : o.out;

@@ -48,6 +48,7 @@ Expr read_cn(const pugi::xml_node& node, const std::string& path) {
   Expr e;
   e.kind = Expr::Kind::number;
   e.path = path;
+  e.units = attribute(node, "units");
   const std::string type = attribute(node, "type");
   if (type == "e-notation") {
     // <cn type="e-notation">mantissa<sep/>exponent</cn>

@@ -27,6 +27,7 @@ struct Expr {
   std::vector<Expr> args;
   bool has_otherwise = false;
   std::string path;  // the element's path in the document, with its line
+  std::string units;  // number: its cellml:units ("" if none)
 };
 
 // The operators a translated equation may use (anything else is refused).

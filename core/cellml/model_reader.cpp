@@ -137,7 +137,13 @@ void resolve_names(Expr& e, const Document& doc, const std::string& component) {
   for (auto& a : e.args) resolve_names(a, doc, component);
 }
 
-void read_math(Document& doc, const std::string& component, const pugi::xml_node& math) {
+void resolve_number_units(const Expr& e, Document& doc, const std::string& component, UnitScope& units) {
+  if (e.kind == Expr::Kind::number && !e.units.empty() && !doc.number_units.count({component, e.units}))
+    doc.number_units[{component, e.units}] = units.resolve(component, e.units, e.path);
+  for (const auto& a : e.args) resolve_number_units(a, doc, component, units);
+}
+
+void read_math(Document& doc, const std::string& component, const pugi::xml_node& math, UnitScope& units) {
   const std::string& text = doc.text;
   for (const auto& eq : math.children()) {
     if (eq.type() != pugi::node_element) continue;
@@ -171,6 +177,7 @@ void read_math(Document& doc, const std::string& component, const pugi::xml_node
     }
     e.rhs = read_expression(parts[2], text);
     resolve_names(e.rhs, doc, component);
+    resolve_number_units(e.rhs, doc, component, units);
     doc.equations.push_back(std::move(e));
   }
 }
@@ -243,7 +250,7 @@ Document read_cellml(const std::filesystem::path& file) {
     }
   }
   for (const auto& c : elements(model, "component"))
-    for (const auto& m : elements(c, "math")) read_math(doc, attribute(c, "name"), m);
+    for (const auto& m : elements(c, "math")) read_math(doc, attribute(c, "name"), m, units);
 
   for (const auto& conn : elements(model, "connection")) {
     std::string c1 = attribute(conn, "component_1"), c2 = attribute(conn, "component_2");  // 2.0

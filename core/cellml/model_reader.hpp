@@ -48,6 +48,7 @@ struct Document {
   std::vector<Connection> connections;
   std::vector<Equation> equations;
   std::string text;  // the file's text (for line numbers)
+  std::map<std::pair<std::string, std::string>, Unit> number_units;  // (component, units name) of <cn>s
 
   int find(const std::string& component, const std::string& name) const;
 };
