@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cellml/import.hpp"
 #include "model/plugin_registry.hpp"
 #include "run/interrupt.hpp"
 #include "scene/manifest_error.hpp"
@@ -83,6 +84,8 @@ int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.
 CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& args);
 int bench_headline_command(const BenchHeadlineArgs& args);
+int import_cellml_command(const cellml::ImportOptions& options);
+CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& options);
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
 
 // Runs `body`, turning each kind of failure into a message and an exit code.

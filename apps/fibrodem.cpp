@@ -86,6 +86,9 @@ int main(int argc, char** argv) {
   fibrodem::cli::BenchHeadlineArgs headline_args;
   auto* headline = fibrodem::cli::add_bench_headline_subcommand(*bench, headline_args);
 
+  fibrodem::cellml::ImportOptions import_args;
+  auto* import_cellml = fibrodem::cli::add_import_cellml_subcommand(app, import_args);
+
   CLI11_PARSE(app, argc, argv);
 
   if (*run) return fibrodem::cli::run_command(run_args);
@@ -95,6 +98,7 @@ int main(int argc, char** argv) {
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
+  if (*import_cellml) return fibrodem::cli::import_cellml_command(import_args);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
   if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());

@@ -1,0 +1,40 @@
+// `fibrodem import-cellml MODEL.cellml --name NAME`: a plugin folder from a CellML model.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "apps/commands.hpp"
+#include "cellml/import.hpp"
+#include "cellml/import_error.hpp"
+
+namespace fibrodem::cli {
+
+CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& o) {
+  auto* sub = app.add_subcommand("import-cellml", "Write a cell-model plugin (NAME.cpp, CMakeLists.txt) from a CellML 1.0, 1.1 or 2.0 model");
+  sub->add_option("model", o.input, "the CellML file")->required();
+  sub->add_option("--name", o.name, "the plugin's model name")->required();
+  sub->add_option("--out", o.out, "the plugin folder to write (default ./NAME)");
+  sub->add_option("--kind", o.kind, "ionic (default) or myofilament");
+  sub->add_option("--map", o.map, "SIGNAL=component.variable: an output (Ca_i [mM], sarcomere_length [um], any name), or a myofilament model's input Ca_i (repeatable)");
+  sub->add_option("--voltage", o.voltage, "component.variable of the membrane potential, when not evident");
+  sub->add_option("--stimulus", o.stimulus, "component.variable of the CellML's stimulus current, when not evident");
+  sub->add_flag("--overwrite", o.overwrite, "replace an existing plugin folder");
+  return sub;
+}
+
+int import_cellml_command(const cellml::ImportOptions& options) {
+  try {
+    const auto result = cellml::import_cellml(options);
+    std::cout << "wrote " << (result.folder / (options.name + ".cpp")).string() << " and "
+              << (result.folder / "CMakeLists.txt").string() << "\n";
+    for (const auto& note : result.notes) std::cout << "  " << note << "\n";
+    return 0;
+  } catch (const cellml::ImportError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 5;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace fibrodem::cli

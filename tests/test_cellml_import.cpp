@@ -1,0 +1,312 @@
+// `fibrodem import-cellml`: plugins generated from small CellML models written
+// for these tests (tests/cellml, in CellML 1.0, 1.1 and 2.0) against analytic
+// solutions and independent integrations of the published equations; models
+// it must refuse, with the element's path.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "cellml/import.hpp"
+#include "cellml/import_error.hpp"
+#include "model/plugin_registry.hpp"
+
+using namespace fibrodem;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kCellml = fs::path(FIBRODEM_SOURCE_DIR) / "tests" / "cellml";
+const fs::path kGenerated = fs::path(FIBRODEM_BINARY_DIR) / "cellml_plugins";
+
+std::shared_ptr<const CellModel> load(const std::string& name) {
+  static PluginRegistry registry({kGenerated});
+  return registry.load(name);
+}
+
+int index_of(const std::vector<StateInfo>& states, const std::string& name) {
+  for (std::size_t k = 0; k < states.size(); ++k)
+    if (states[k].name == name) return static_cast<int>(k);
+  FAIL("no state " << name);
+  return -1;
+}
+
+// One cell, classic RK4 on dy/dt = a + b y as the model returns it.
+struct OneCell {
+  std::shared_ptr<const CellModel> model;
+  std::vector<double> y, params, a, b, inputs, outputs;
+  OneCell(std::shared_ptr<const CellModel> m) : model(std::move(m)) {
+    for (const auto& s : model->info().states) y.push_back(s.initial);
+    for (const auto& p : model->info().parameters) params.push_back(p.default_value);
+    a.resize(y.size());
+    b.resize(y.size());
+    inputs.assign(model->info().inputs.size(), 0.0);
+    outputs.assign(model->info().outputs.size(), 0.0);
+  }
+  bool lanes = false;  // evaluate in SIMD lanes instead of the scalar reference path
+  std::vector<double> rates(const std::vector<double>& state, double t, double i_ext) {
+    inputs[0] = i_ext;
+    BlockView v;
+    v.begin = 0;
+    v.end = 1;
+    v.stride = 1;
+    v.y = state.data();
+    v.params = params.data();
+    v.inputs = inputs.data();
+    v.a = a.data();
+    v.b = b.data();
+    v.outputs = outputs.data();
+    v.scalar_reference = !lanes;
+    model->evaluate(v, t);
+    std::vector<double> r(state.size());
+    for (std::size_t k = 0; k < r.size(); ++k) r[k] = a[k] + b[k] * state[k];
+    return r;
+  }
+  void step(double t, double dt, const std::function<double(double)>& i_ext) {
+    auto add = [](std::vector<double> x, const std::vector<double>& k, double h) {
+      for (std::size_t i = 0; i < x.size(); ++i) x[i] += h * k[i];
+      return x;
+    };
+    const auto k1 = rates(y, t, i_ext(t));
+    const auto k2 = rates(add(y, k1, dt / 2), t + dt / 2, i_ext(t + dt / 2));
+    const auto k3 = rates(add(y, k2, dt / 2), t + dt / 2, i_ext(t + dt / 2));
+    const auto k4 = rates(add(y, k3, dt), t + dt, i_ext(t + dt));
+    for (std::size_t i = 0; i < y.size(); ++i) y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+  }
+};
+
+// The same RK4 on a hand-written right-hand side (the reference).
+template <std::size_t N, class F>
+void rk4(std::array<double, N>& y, double t, double dt, F f) {
+  auto add = [](std::array<double, N> x, const std::array<double, N>& k, double h) {
+    for (std::size_t i = 0; i < N; ++i) x[i] += h * k[i];
+    return x;
+  };
+  const auto k1 = f(t, y), k2 = f(t + dt / 2, add(y, k1, dt / 2)), k3 = f(t + dt / 2, add(y, k2, dt / 2)),
+             k4 = f(t + dt, add(y, k3, dt));
+  for (std::size_t i = 0; i < N; ++i) y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A generated source without the lines that name the file and its CellML version.
+std::string without_origin(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.find(".cellml") == std::string::npos && line.find("CellML 1.") == std::string::npos &&
+        line.find("CellML 2.") == std::string::npos)
+      out += line + "\n";
+  return out;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("fibrodem_cellml_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
+  return dir;
+}
+
+std::string import_error_of(const std::string& file, const fs::path& out) {
+  cellml::ImportOptions o;
+  o.input = kCellml / "errors" / file;
+  o.name = "refused";
+  o.out = out;
+  try {
+    cellml::import_cellml(o);
+  } catch (const cellml::ImportError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("import-cellml: a passive RC membrane follows its analytic charging curve") {
+  // C dV/dt = I - (V - E)/R from V = E: V(t) = E + I R (1 - exp(-t / (R C))).
+  // C 6.3 pF, R 10.7 GOhm, E -49.6 mV (the CellML's values); I 10 pA: I R = 107 mV, RC = 67.41 ms.
+  auto model = load("cellml_rc");
+  const auto& info = model->info();
+  REQUIRE(info.states.size() == 1);
+  CHECK(info.states[0].name == "V");
+  CHECK(info.parameters[info.capacitance_parameter].default_value == doctest::Approx(6.3));
+  OneCell cell(model);
+  const double I = 10.0, E = -49.6, R = 10.7, C = 6.3;
+  double t = 0.0;
+  const double dt = 0.01;
+  for (double check : {10.0, 50.0, 150.0}) {
+    while (t < check - 1e-9) {
+      cell.step(t, dt, [&](double) { return I; });
+      t += dt;
+    }
+    const double exact = E + I * R * (1.0 - std::exp(-t / (R * C)));
+    CHECK(cell.y[0] == doctest::Approx(exact).epsilon(1e-9));  // RK4 at dt/tau 1.5e-4: error ~1e-14
+    cell.rates(cell.y, t, I);
+    CHECK(cell.outputs[0] == doctest::Approx((cell.y[0] - E) / R).epsilon(1e-9));  // I_ion, pA
+  }
+}
+
+TEST_CASE("import-cellml: Hodgkin-Huxley 1952 matches the paper's equations integrated independently") {
+  auto model = load("cellml_hh");
+  const auto& info = model->info();
+  const int kV = index_of(info.states, "V"), km = index_of(info.states, "m"), kh = index_of(info.states, "h"),
+            kn = index_of(info.states, "n");
+  for (int k : {km, kh, kn}) {
+    CHECK(info.states[k].gate);
+    CHECK(info.states[k].voltage_only);
+    CHECK(info.states[k].lower == 0.0);
+    CHECK(info.states[k].upper == 1.0);
+  }
+  // uA/cm^2 model: C_pF = 1 uF/cm^2 x 1e-4 cm^2 = 100 pF.
+  CHECK(info.parameters[info.capacitance_parameter].default_value == doctest::Approx(100.0));
+  // The paper's equations (J Physiol 117:500, eqs. 5-26, V shifted to rest at -75 mV),
+  // written here independently; stimulus 20 uA/cm^2 = 2000 pA over 100 pF for 0.5 ms.
+  auto stim = [](double t) { return t >= 10.0 && t < 10.5 ? 20.0 : 0.0; };
+  auto hh = [&](double t, const std::array<double, 4>& s) {
+    const double V = s[0], m = s[1], h = s[2], n = s[3];
+    const double am = 0.1 * (V + 50) / (1 - std::exp(-(V + 50) / 10)), bm = 4 * std::exp(-(V + 75) / 18);
+    const double ah = 0.07 * std::exp(-(V + 75) / 20), bh = 1 / (std::exp(-(V + 45) / 10) + 1);
+    const double an = 0.01 * (V + 65) / (1 - std::exp(-(V + 65) / 10)), bn = 0.125 * std::exp((V + 75) / 80);
+    const double I = 120 * m * m * m * h * (V - 40) + 36 * n * n * n * n * (V + 87) + 0.3 * (V + 64.387);
+    return std::array<double, 4>{stim(t) - I, am * (1 - m) - bm * m, ah * (1 - h) - bh * h, an * (1 - n) - bn * n};
+  };
+  std::array<double, 4> ref{-75, 0.05, 0.6, 0.325};
+  OneCell cell(model);
+  const double dt = 0.001;
+  double peak = -100, max_diff = 0;
+  for (int i = 0; i < 30000; ++i) {
+    const double t = i * dt;
+    rk4(ref, t, dt, hh);
+    cell.step(t, dt, [&](double tt) { return stim(tt) * 100.0; });
+    max_diff = std::max(max_diff, std::fabs(cell.y[kV] - ref[0]));
+    peak = std::max(peak, cell.y[kV]);
+  }
+  CHECK(max_diff < 1e-6);  // the same equations and method: round-off apart
+  // HH 1952 Fig. 12: an action potential ~100-110 mV above rest.
+  CHECK(peak > 20.0);
+  CHECK(peak < 50.0);
+}
+
+TEST_CASE("import-cellml: the removable singularities of HH's alpha_m and alpha_n are their limits") {
+  // alpha_m = 0.1 (V + 50)/(1 - exp(-(V + 50)/10)) -> 1 /ms at V = -50;
+  // alpha_n = 0.01 (V + 65)/(1 - exp(-(V + 65)/10)) -> 0.1 /ms at V = -65 (l'Hopital).
+  OneCell cell(load("cellml_hh"));
+  const auto& info = cell.model->info();
+  const int kV = index_of(info.states, "V"), km = index_of(info.states, "m"), kn = index_of(info.states, "n");
+  for (bool lanes : {false, true}) {
+    cell.lanes = lanes;
+    auto y = cell.y;
+    y[km] = 0.0;
+    y[kn] = 0.0;
+    y[kV] = -50.0;
+    CHECK(cell.rates(y, 0.0, 0.0)[km] == doctest::Approx(1.0).epsilon(1e-12));
+    y[kV] = -65.0;
+    CHECK(cell.rates(y, 0.0, 0.0)[kn] == doctest::Approx(0.1).epsilon(1e-12));
+    y[kV] = -50.0 + 1e-9;  // beside it: the plain formula, to its own precision
+    const double x = -(y[kV] + 50) / 10;
+    CHECK(cell.rates(y, 0.0, 0.0)[km] == doctest::Approx(0.1 * (y[kV] + 50) / -std::expm1(x)).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("import-cellml: every translated MathML operator gives what the C++ library computes") {
+  // tests/cellml/mathml_coverage_2_0.cellml: dV/dt [mV/ms] = the sum of its groups of functions of
+  // x = V / 100 mV, plus a constant chosen by a piecewise on a parameter (pi).
+  OneCell cell(load("cellml_mathml"));
+  for (bool lanes : {false, true})
+    for (double V : {-30.0, 20.0}) {
+      cell.lanes = lanes;
+      const double x = V / 100.0;
+      const double trig = std::sin(x) + std::cos(x) + std::tan(x) + 1 / std::cos(x) + 1 / std::sin(x) + 1 / std::tan(x);
+      const double hyp = std::sinh(x) + std::cosh(x) + std::tanh(x) + 1 / std::cosh(x) + 1 / std::sinh(x) + 1 / std::tanh(x);
+      const double arc = std::asin(x) + std::acos(x) + std::atan(x) + std::asinh(x) + std::atanh(x) + std::acosh(2 - x) +
+                         std::acos(1 / (2 - x)) + std::asin(1 / (2 - x)) + std::atan(1 / x) + std::acosh(2 - x) +
+                         std::asinh(1 / x) + std::atanh(1 / (2 - x));
+      const double misc = std::fabs(x) + std::floor(10 * x) + std::ceil(10 * x) + std::fmin(x, -0.2) + std::fmax(x, 0.1) +
+                          std::fmod(10 * x, 0.7);
+      const double pw = std::pow(2 - x, 1.5) + x * x + std::sqrt(4 - x) + std::cbrt(8 - x) + std::exp(x) + std::log(2 - x) +
+                        std::log10(10 - x) + std::log2(3 - x);
+      const double piecewise = x < 0 ? 1.0 : 2.0;
+      const double expected = trig + hyp + arc + misc + pw + piecewise + M_PI;
+      auto y = cell.y;
+      y[0] = V;
+      CHECK_MESSAGE(cell.rates(y, 0.0, 0.0)[0] == doctest::Approx(expected).epsilon(1e-12), "V " << V << " lanes " << lanes);
+    }
+}
+
+TEST_CASE("import-cellml: FitzHugh-Nagumo rests at FitzHugh's point and oscillates as integrated independently") {
+  auto model = load("cellml_fhn");
+  const auto& info = model->info();
+  OneCell cell(model);
+  // FitzHugh 1961: with z = 0 the rest point is x = 1.1994, y = -0.6243.
+  const auto r = cell.rates(cell.y, 0.0, 0.0);
+  CHECK(std::fabs(r[0]) < 1e-9);
+  CHECK(std::fabs(r[1]) < 1e-9);
+  CHECK(cell.y[index_of(info.states, "V")] == doctest::Approx(1.1994).epsilon(1e-4));
+  // z = -0.4 (oscillatory, FitzHugh's Fig. 2) as i_ext: c V_s z / T = i_ext / C_pF.
+  const double C_pF = info.parameters[info.capacitance_parameter].default_value;
+  const double i_ext = 3.0 * 1.0 * -0.4 / 1.0 * C_pF;
+  auto fhn = [](double, const std::array<double, 2>& s) {
+    const double x = s[0], y = s[1], z = -0.4;
+    return std::array<double, 2>{3 * (y + x - x * x * x / 3 + z), -(x - 0.7 + 0.8 * y) / 3};
+  };
+  std::array<double, 2> ref{cell.y[0], cell.y[1]};
+  double max_diff = 0, lowest = 10;
+  const double dt = 0.001;
+  for (int i = 0; i < 50000; ++i) {
+    rk4(ref, i * dt, dt, fhn);
+    cell.step(i * dt, dt, [&](double) { return i_ext; });
+    max_diff = std::max(max_diff, std::fabs(cell.y[0] - ref[0]));
+    lowest = std::min(lowest, cell.y[0]);
+  }
+  CHECK(max_diff < 1e-7);
+  CHECK(lowest < -1.5);  // it fired: x swings to ~ -2 on the limit cycle
+}
+
+TEST_CASE("import-cellml: CellML 1.0, 1.1 and 2.0 of the same model give the same plugin") {
+  for (const std::string model : {"hh_1952", "rc_membrane", "fitzhugh_nagumo"}) {
+    std::string first;
+    for (const std::string version : {"1_0", "1_1", "2_0"}) {
+      cellml::ImportOptions o;
+      o.input = kCellml / (model + "_" + version + ".cellml");
+      o.name = model;
+      o.out = scratch(model + version);
+      if (model == "fitzhugh_nagumo") o.stimulus = "stimulus.z";
+      const auto result = cellml::import_cellml(o);
+      CHECK(fs::exists(result.folder / "CMakeLists.txt"));
+      const std::string text = without_origin(read_text(result.folder / (model + ".cpp")));
+      if (first.empty()) first = text;
+      else CHECK_MESSAGE(text == first, model << " " << version);
+    }
+  }
+}
+
+TEST_CASE("import-cellml: refusals name the element and leave no plugin behind") {
+  const fs::path out = scratch("refused");
+  const std::string loop = import_error_of("algebraic_loop.cellml", out);
+  CHECK(loop.find("algebraic loop") != std::string::npos);
+  CHECK(loop.find("/model[@name='algebraic_loop']/component[@name='membrane']/math/apply[") != std::string::npos);
+  CHECK(loop.find("(line ") != std::string::npos);
+  const std::string element = import_error_of("unsupported_element.cellml", out);
+  CHECK(element.find("unsupported MathML element <factorial>") != std::string::npos);
+  CHECK(element.find("/component[@name='membrane']/math/apply/apply[2]/apply/factorial (line 11)") != std::string::npos);
+  const std::string units = import_error_of("inconsistent_units.cellml", out);
+  CHECK(units.find("inconsistent units") != std::string::npos);
+  CHECK(units.find("/model[@name='inconsistent_units']/connection/map_variables (line 18)") != std::string::npos);
+  const std::string sum = import_error_of("equation_units.cellml", out);
+  CHECK(sum.find("/component[@name='membrane']/math/apply/apply[2]/apply (line 11): inconsistent units: "
+                 "the operands of <plus> differ in units") != std::string::npos);
+  const std::string scale = import_error_of("scale_mismatch.cellml", out);
+  CHECK(scale.find("/component[@name='membrane']/math/apply[1] (line 17): inconsistent units: the two sides of "
+                   "the equation differ in units: the same dimension at 1e-09 and 1e-12 times ampere^1") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(out.parent_path()))
+    CHECK(entry.path().filename().string().find(".importing-") == std::string::npos);
+}
