@@ -203,7 +203,8 @@ std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRu
   write_plot(content.panels, dir);
   std::ofstream(dir / "sweep.md") << md.str();
   if (report) {
-    content.title = "fibrodem sweep: " + dir.filename().string();
+    const auto name = dir.filename().empty() ? dir.parent_path().filename() : dir.filename();  // "out/" too
+    content.title = "fibrodem sweep: " + name.string();
     content.plot_title = kPlotTitle;
     write_sweep_report(dir, content);
   }

@@ -30,11 +30,16 @@ namespace {
 const std::string kFibrodem = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem";
 
 // Printed when skipped: ctest reports the test as skipped on this text.
-constexpr const char* kSkipMessage = "SKIPPED: chromium is not installed (apt-get install chromium)";
+constexpr const char* kSkipMessage =
+    "SKIPPED: chromium is not installed (apt-get install chromium, or FIBRODEM_CHROMIUM=PATH)";
 
+// FIBRODEM_CHROMIUM names another browser binary (or a missing one, to see
+// the skip); else Debian's chromium.
 std::string chromium() {
-  for (const char* name : {"chromium", "chromium-browser"})
-    if (std::system(("command -v " + std::string(name) + " > /dev/null 2>&1").c_str()) == 0) return name;
+  std::vector<std::string> names = {"chromium", "chromium-browser"};
+  if (const char* chosen = std::getenv("FIBRODEM_CHROMIUM")) names = {chosen};
+  for (const auto& name : names)
+    if (std::system(("command -v '" + name + "' > /dev/null 2>&1").c_str()) == 0) return name;
   return "";
 }
 

@@ -22,7 +22,8 @@ struct CsvTable {
   std::vector<double> numbers(std::size_t column) const;
 };
 
-// nullopt if the file cannot be opened or has no header line.
+// nullopt if the file is not a regular file, cannot be opened or has no
+// header line.
 std::optional<CsvTable> read_csv_table(const std::filesystem::path& file);
 
 }  // namespace fibrodem

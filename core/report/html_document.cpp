@@ -4,7 +4,6 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 namespace fibrodem {
@@ -53,10 +52,16 @@ bool is_number(const std::string& s) {
   return end != nullptr && *end == '\0';
 }
 
+// The whole file in one read (a tissue run's snapshots are megabytes).
 std::string read_bytes(const std::filesystem::path& file, bool& ok) {
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file, error);
   std::ifstream in(file, std::ios::binary);
-  ok = static_cast<bool>(in);
-  return ok ? std::string(std::istreambuf_iterator<char>(in), {}) : std::string();
+  ok = !error && static_cast<bool>(in);
+  if (!ok) return {};
+  std::string bytes(size, '\0');
+  ok = static_cast<bool>(in.read(bytes.data(), static_cast<std::streamsize>(size)));
+  return ok ? bytes : std::string();
 }
 
 }  // namespace
@@ -88,9 +93,9 @@ std::string base64(const std::string& bytes) {
 HtmlDocument::HtmlDocument(std::string title) : title_(std::move(title)) {}
 
 void HtmlDocument::heading(int level, const std::string& text, const std::string& id) {
-  const std::string tag = "h" + std::to_string(level);
-  body_ << "<" << tag << (id.empty() ? "" : " id=\"" + html_escape(id) + "\"") << ">" << html_escape(text) << "</"
-        << tag << ">\n";
+  body_ << "<h" << level;
+  if (!id.empty()) body_ << " id=\"" << html_escape(id) << "\"";
+  body_ << ">" << html_escape(text) << "</h" << level << ">\n";
 }
 
 void HtmlDocument::paragraph(const std::string& text) { body_ << "<p>" << html_escape(text) << "</p>\n"; }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/csv_writer.hpp"
@@ -21,19 +23,31 @@ namespace {
 
 // The last lines of run.log shown in the page (the whole log is beside it).
 constexpr std::size_t kLogTailLines = 400;
+// CSV files above this size are not read into the page's plots (read as
+// text rows they would take ~15x their size in memory); the report says so.
+constexpr std::uintmax_t kMostCsvBytes = 128ull << 20;
 
 struct RunFolder {
   fs::path dir;
   json summary;  // null if summary.json is missing or unreadable
   std::string summary_problem;
   std::optional<CsvTable> traces, biomarkers;
+  std::vector<std::string> too_large;  // CSV files left out for their size
   std::vector<std::string> log_tail;
   std::vector<std::string> log_problems;  // [warning] and [error] lines of the whole log
 };
 
 RunFolder read_folder(const fs::path& dir) {
-  RunFolder f{dir, nullptr, "", read_csv_table(dir / "traces.csv"), read_csv_table(dir / "biomarkers.csv"), {}, {}};
-  if (std::ifstream in(dir / "summary.json"); !in) {
+  RunFolder f{dir, nullptr, "", std::nullopt, std::nullopt, {}, {}, {}};
+  std::error_code error;
+  for (auto [name, table] : {std::pair{"traces.csv", &f.traces}, std::pair{"biomarkers.csv", &f.biomarkers}}) {
+    const auto bytes = fs::file_size(dir / name, error);
+    if (!error && bytes > kMostCsvBytes)
+      f.too_large.push_back(std::string(name) + " (" + std::to_string(bytes >> 20) + " MB) is too large to plot here");
+    else
+      *table = read_csv_table(dir / name);
+  }
+  if (std::ifstream in(dir / "summary.json"); !in || !fs::is_regular_file(dir / "summary.json", error)) {
     f.summary_problem = "no summary.json: the run never started, or this is not a run's folder";
   } else {
     try {
@@ -42,7 +56,8 @@ RunFolder read_folder(const fs::path& dir) {
       f.summary_problem = std::string("summary.json cannot be read: ") + e.what();
     }
   }
-  std::ifstream log(dir / "run.log");
+  std::ifstream log;  // (a regular file only, as for the CSV files)
+  if (fs::is_regular_file(dir / "run.log", error)) log.open(dir / "run.log");
   std::deque<std::string> tail;
   for (std::string line; std::getline(log, line);) {
     if (line.find("] [warning] ") != std::string::npos || line.find("] [error] ") != std::string::npos ||
@@ -58,7 +73,11 @@ RunFolder read_folder(const fs::path& dir) {
 std::string text_of(const json& v) {
   if (v.is_null()) return "";
   if (v.is_string()) return v.get<std::string>();
-  if (v.is_number_float()) return fixed_decimals(v.get<double>(), 4, "n/a");
+  if (v.is_number_float()) {  // 6 significant digits: 500, 0.0886707, 684.763
+    std::ostringstream text;
+    text << std::setprecision(6) << v.get<double>();
+    return text.str();
+  }
   return v.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -74,6 +93,7 @@ std::string field(const json& s, const char* key) { return s.is_object() && s.co
 void status_section(HtmlDocument& page, const RunFolder& f) {
   if (f.summary.is_null()) {
     page.notice("error", f.summary_problem, {});
+    if (!f.too_large.empty()) page.notice("warning", "left out", f.too_large);
     return;
   }
   const std::string status = field(f.summary, "status");
@@ -93,6 +113,7 @@ void status_section(HtmlDocument& page, const RunFolder& f) {
     for (const auto& w : f.summary["warnings"]) warnings.push_back(text_of(w));
   for (const auto& line : f.log_problems)
     if (std::find(warnings.begin(), warnings.end(), line) == warnings.end()) warnings.push_back(line);
+  warnings.insert(warnings.end(), f.too_large.begin(), f.too_large.end());
   if (!warnings.empty()) page.notice("warning", std::to_string(warnings.size()) + " warning(s)", warnings);
 }
 
@@ -207,7 +228,8 @@ void pictures_section(HtmlDocument& page, const fs::path& dir) {
   for (auto& [label, file] : snapshots) {
     label.erase(0, label.find_first_not_of('0'));  // "000100.000_ms" -> "100.000_ms"
     if (label.empty() || label.front() == '.') label.insert(0, "0");
-    label = "t = " + label.replace(label.rfind('_'), 1, " ");
+    label.replace(label.rfind('_'), 1, " ");
+    label.insert(0, "t = ");
   }
   const bool tissue = fs::exists(dir / "tissue.png"), activation = fs::exists(dir / "activation_map.png");
   if (!tissue && !activation && snapshots.empty()) return;
@@ -226,12 +248,13 @@ fs::path write_run_report(const fs::path& dir) {
   const RunFolder f = read_folder(dir);
   const std::string name = f.summary.is_object() ? field(f.summary, "name") : dir.filename().string();
   HtmlDocument page("fibrodem run: " + name);
+  // Plots first, tables after (what a reader looks at first), problems above all.
   status_section(page, f);
-  if (f.summary.is_object()) scene_section(page, f.summary);
+  traces_section(page, f);
   biomarker_section(page, f);
   if (f.summary.is_object()) conduction_section(page, f.summary);
-  traces_section(page, f);
   pictures_section(page, dir);
+  if (f.summary.is_object()) scene_section(page, f.summary);
   std::string log;
   for (const auto& line : f.log_tail) log += line + "\n";
   page.heading(2, "run.log", "log");
