@@ -23,11 +23,18 @@ struct RunArgs {
   std::vector<std::string> overrides;
   bool quiet = false;
   bool overwrite = false;  // replace another run's files in the output folder
+  bool no_report = false;  // no report.html (as output.report: false)
 };
 
 struct ResumeArgs {
   std::string dir;  // a run's output folder
   bool quiet = false;
+  bool no_report = false;
+};
+
+// `fibrodem report DIR`: report.html of a run's folder, from what is on disk.
+struct ReportArgs {
+  std::string dir;
 };
 
 struct CompareArgs {
@@ -36,6 +43,7 @@ struct CompareArgs {
   std::vector<std::string> overrides, a_overrides, b_overrides;
   bool quiet = false;
   bool overwrite = false;
+  bool no_report = false;
   int seeds = 0;  // > 0: A and B on this many tissue seeds, paired statistics
 };
 
@@ -44,6 +52,7 @@ struct SweepArgs {
   std::string out;
   std::vector<std::string> overrides;  // --set, after the sweep file's own `set`
   bool overwrite = false;
+  bool no_report = false;  // neither the sweep's report.html nor its runs'
   unsigned jobs = 0;  // 0: one per core
 };
 
@@ -73,6 +82,7 @@ struct BenchHeadlineArgs {
 
 int run_command(const RunArgs& args);
 int resume_command(const ResumeArgs& args);
+int report_command(const ReportArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int validate_command(const RunArgs& args);

@@ -6,6 +6,7 @@
 #include "apps/commands.hpp"
 #include "compare/ab_comparison.hpp"
 #include "compare/paired_comparison.hpp"
+#include "report/compare_report.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {
@@ -17,13 +18,13 @@ struct Variant {
   json summary;
 };
 
-Variant run_variant(const std::string& label, json manifest, const std::filesystem::path& dir, bool quiet,
-                    bool overwrite) {
+Variant run_variant(const std::string& label, json manifest, const std::filesystem::path& dir, const CompareArgs& args) {
   Scene scene = parse_scene(manifest);
   scene.output.dir = (dir / label).string();
-  scene.output.overwrite = overwrite;
+  scene.output.overwrite = args.overwrite;
+  if (args.no_report) scene.output.report = false;
   RunOptions options;
-  options.console_log = !quiet;
+  options.console_log = !args.quiet;
   Simulation simulation(scene, nullptr, options);
   simulation.run();
   return {record_of(simulation, label.substr(label.rfind('/') + 1)), simulation.summary()};
@@ -36,19 +37,29 @@ std::string compare_over_seeds(const json& a, const json& b, const std::filesyst
   const long long first = a.contains("seed") && a["seed"].is_number_integer() ? a["seed"].get<long long>() : 0;
   std::vector<json> summaries_a, summaries_b;
   std::vector<long long> seeds;
+  std::vector<RunRecord> first_pair;
+  std::vector<std::string> first_dirs;
   for (int k = 0; k < args.seeds; ++k) {
     const long long seed = first + k;
     json a_k = a, b_k = b;
     a_k["seed"] = b_k["seed"] = seed;
     const std::string tissue = "seed_" + std::to_string(seed);
-    const Variant va = run_variant(tissue + "/A", a_k, dir, args.quiet, args.overwrite);
-    const Variant vb = run_variant(tissue + "/B", b_k, dir, args.quiet, args.overwrite);
-    if (k == 0) write_comparison(va.record, vb.record, dir);
+    Variant va = run_variant(tissue + "/A", a_k, dir, args);
+    Variant vb = run_variant(tissue + "/B", b_k, dir, args);
+    if (k == 0) {
+      write_comparison(va.record, vb.record, dir);
+      first_pair.emplace_back(std::move(va.record));
+      first_pair.emplace_back(std::move(vb.record));
+      first_dirs = {tissue + "/A", tissue + "/B"};
+    }
     summaries_a.push_back(va.summary);
     summaries_b.push_back(vb.summary);
     seeds.push_back(seed);
   }
-  return write_paired_comparison(summaries_a, summaries_b, seeds, dir);
+  const std::string paired = write_paired_comparison(summaries_a, summaries_b, seeds, dir);
+  if (!args.no_report)
+    write_compare_report(dir, {first_pair[0], first_pair[1], first_dirs[0], first_dirs[1], paired});
+  return paired;
 }
 
 }  // namespace
@@ -73,14 +84,15 @@ int compare_command(const CompareArgs& args) {
     for (const auto& s : args.b_overrides) std::cout << " " << s;
     if (args.seeds > 0) {
       std::cout << "\n\n" << compare_over_seeds(a, b, dir, args) << "\noutputs: " << dir.string()
-                << "/{paired.md,paired.csv,comparison.md,comparison.csv,traces.csv,traces.png,seed_*/A,seed_*/B}\n";
+                << "/{report.html,paired.md,paired.csv,comparison.md,comparison.csv,traces.csv,traces.png,seed_*/A,seed_*/B}\n";
       return 0;
     }
-    const Variant va = run_variant("A", a, dir, args.quiet, args.overwrite);
-    const Variant vb = run_variant("B", b, dir, args.quiet, args.overwrite);
+    const Variant va = run_variant("A", a, dir, args);
+    const Variant vb = run_variant("B", b, dir, args);
     write_comparison(va.record, vb.record, dir);
+    if (!args.no_report) write_compare_report(dir, {va.record, vb.record, "A", "B", ""});
     std::cout << "\n\n" << comparison_markdown(va.record, vb.record) << "\noutputs: " << dir.string()
-              << "/{comparison.md,comparison.csv,traces.csv,traces.png,A/,B/}\n";
+              << "/{report.html,comparison.md,comparison.csv,traces.csv,traces.png,A/,B/}\n";
     return 0;
   });
 }

@@ -39,11 +39,17 @@ int main(int argc, char** argv) {
   run->add_option("--set", run_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
   run->add_flag("--quiet", run_args.quiet, "log to run.log only");
   run->add_flag("--overwrite", run_args.overwrite, "replace another run's files in the output directory");
+  run->add_flag("--no-report", run_args.no_report, "write no report.html (as output.report: false)");
 
   fibrodem::cli::ResumeArgs resume_args;
   auto* resume = app.add_subcommand("resume", "Continue a stopped, interrupted or killed run from its last good checkpoint");
   resume->add_option("dir", resume_args.dir, "the run's output directory")->required();
   resume->add_flag("--quiet", resume_args.quiet, "log to run.log only");
+  resume->add_flag("--no-report", resume_args.no_report, "write no report.html");
+
+  fibrodem::cli::ReportArgs report_args;
+  auto* report = app.add_subcommand("report", "Write report.html of a run's folder (also a failed, interrupted or killed run's) from what is on disk");
+  report->add_option("dir", report_args.dir, "the run's output directory")->required();
 
   fibrodem::cli::RunArgs validate_args;
   auto* validate = app.add_subcommand("validate", "Check a manifest (and build its scene) without running it");
@@ -59,6 +65,7 @@ int main(int argc, char** argv) {
   compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
   compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
   compare->add_flag("--overwrite", compare_args.overwrite, "replace earlier runs' files in the output directory");
+  compare->add_flag("--no-report", compare_args.no_report, "write no report.html (neither the comparison's nor A's and B's)");
   compare->add_option("--seeds", compare_args.seeds, "run A and B on K tissue seeds (the manifest's and the next K - 1) and report paired differences with their 95 % CI and a paired t-test")
       ->check(CLI::Range(1, 10000));
 
@@ -69,6 +76,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core; under mpirun, per rank: the cores shared by the ranks on a host)");
   sweep->add_option("--set", sweep_args.overrides, "override a value of the sweep's manifest: PATH=VALUE (repeatable)");
   sweep->add_flag("--overwrite", sweep_args.overwrite, "run every point again, even those completed before with the same manifest");
+  sweep->add_flag("--no-report", sweep_args.no_report, "write no report.html (neither the sweep's nor its runs')");
 
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
@@ -93,6 +101,7 @@ int main(int argc, char** argv) {
 
   if (*run) return fibrodem::cli::run_command(run_args);
   if (*resume) return fibrodem::cli::resume_command(resume_args);
+  if (*report) return fibrodem::cli::report_command(report_args);
   if (*validate) return fibrodem::cli::validate_command(validate_args);
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "apps/commands.hpp"
+#include "report/run_report.hpp"
 #include "run/interrupt.hpp"
 #include "run/simulation.hpp"
 
@@ -28,6 +29,7 @@ int run_command(const RunArgs& args) {
     if (!args.out.empty()) scene.output.dir = args.out;
     if (scene.output.dir.empty()) scene.output.dir = "out/" + scene.name;
     scene.output.overwrite = args.overwrite;
+    if (args.no_report) scene.output.report = false;
     RunOptions options;
     options.console_log = !args.quiet;
     // A progress line only for a person at a terminal, never in logs or CI.
@@ -59,6 +61,7 @@ int resume_command(const ResumeArgs& args) {
     Scene scene = parse_scene(summary.at("manifest"));
     scene.output.dir = args.dir;
     scene.output.overwrite = true;  // its own files
+    if (args.no_report) scene.output.report = false;
     RunOptions options;
     options.console_log = !args.quiet;
     options.progress = !args.quiet && isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
@@ -74,6 +77,23 @@ int resume_command(const ResumeArgs& args) {
     install_interrupt_handlers();
     simulation.run();
     std::cout << "outputs: " << args.dir << "/{summary.json,biomarkers.csv,traces.csv,run.log}\n";
+    return 0;
+  });
+}
+
+// report.html of a run's folder as it is on disk (run/report_run).
+int report_command(const ReportArgs& args) {
+  return guarded([&] {
+    const std::filesystem::path dir = args.dir;
+    if (!std::filesystem::is_directory(dir)) throw ManifestError("", args.dir + " is not a folder");
+    if (std::filesystem::exists(dir / "sweep.csv"))
+      throw ManifestError("", args.dir + " is a sweep's folder: `fibrodem sweep` writes its report.html (run the "
+                                         "same command again: completed runs are kept, not run again)");
+    if (std::filesystem::exists(dir / "comparison.csv"))
+      throw ManifestError("", args.dir + " is a comparison's folder: `fibrodem compare` writes its report.html");
+    if (!std::filesystem::exists(dir / "summary.json") && !std::filesystem::exists(dir / "run.log"))
+      throw ManifestError("", args.dir + " holds no run (neither summary.json nor run.log)");
+    std::cout << "report: " << write_run_report(dir).string() << "\n";
     return 0;
   });
 }

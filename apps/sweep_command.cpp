@@ -63,7 +63,8 @@ json completed_before(const std::filesystem::path& dir, const std::string& manif
 
 // Runs one point as `fibrodem run` in a process of its own: its manifest goes
 // to dir/manifest.json, its summary.json comes back (or is kept from before).
-void run_point(const SweepFile& sweep, SweepRun& point, const std::filesystem::path& dir, bool overwrite) {
+void run_point(const SweepFile& sweep, SweepRun& point, const std::filesystem::path& dir, bool overwrite,
+               bool no_report) {
   try {
     const json manifest = point_manifest(sweep, point.values);
     parse_scene(manifest);  // a bad point is named here, before a process is spent on it
@@ -82,6 +83,7 @@ void run_point(const SweepFile& sweep, SweepRun& point, const std::filesystem::p
     // (The folder is the sweep's own: an earlier run of another manifest there is replaced.)
     std::vector<std::string> args = {self, "run", file.string(), "--quiet", "--out", dir.string(),
                                      "--set", "solver.threads=1", "--overwrite"};
+    if (no_report) args.push_back("--no-report");
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -158,7 +160,7 @@ int sweep_command(const SweepArgs& args) {
       workers.emplace_back([&] {
         for (std::size_t i; (i = next++) < mine.size();) {
           const std::size_t k = mine[i];
-          run_point(sweep, runs[k], dir / ("run_" + std::to_string(k)), args.overwrite);
+          run_point(sweep, runs[k], dir / ("run_" + std::to_string(k)), args.overwrite, args.no_report);
           std::lock_guard<std::mutex> lock(print);
           std::cerr << "run " << k + 1 << "/" << runs.size()
                     << (runs[k].reused ? " done before (same manifest): kept"
@@ -180,13 +182,13 @@ int sweep_command(const SweepArgs& args) {
     }
     std::size_t reused = 0;
     for (const auto& r : runs) reused += r.reused;
-    const std::string md = write_sweep_tables(sweep, runs, dir);
+    const std::string md = write_sweep_tables(sweep, runs, dir, !args.no_report);
     std::cout << md << "\n";
     if (reused > 0)
       std::cout << reused << " of " << runs.size() << " runs completed before with the same manifest: kept, not run again\n";
     if (ranks.launched()) std::cout << "over " << ranks.size() << " MPI ranks\n";
     std::cout << "outputs: " << dir.string() << "/{sweep.csv,sweep.md," << (sweep.seeds.empty() ? "" : "sweep_stats.csv,")
-              << "sweep.png,run_*/}\n";
+              << "sweep.png," << (args.no_report ? "" : "report.html,") << "run_*/}\n";
     for (const auto& r : runs)
       if (r.status != "completed") return 4;
     return 0;

@@ -7,6 +7,7 @@
 
 #include "io/csv_writer.hpp"
 #include "io/plot_png.hpp"
+#include "report/sweep_report.hpp"
 #include "measure/sample_statistics.hpp"
 #include "run/run_summary.hpp"
 
@@ -84,7 +85,7 @@ std::vector<std::vector<SampleSummary>> statistics(const std::vector<GridPoint>&
 
 void write_statistics(const std::vector<GridPoint>& points, const std::vector<SummaryMetric>& list,
                       const std::vector<std::vector<SampleSummary>>& stats, const std::filesystem::path& dir,
-                      std::ostringstream& md) {
+                      std::ostringstream& md, ReportTable& table) {
   std::vector<std::string> header;
   for (const auto& [path, v] : points.front().values) header.push_back(path);
   header.push_back("seeds_completed");
@@ -96,6 +97,7 @@ void write_statistics(const std::vector<GridPoint>& points, const std::vector<Su
   std::vector<std::string> md_header = header;
   for (const auto& m : list) md_header.push_back(m.name);
   markdown_header(md, md_header);
+  table.header = md_header;
   for (std::size_t k = 0; k < points.size(); ++k) {
     std::vector<std::string> row;
     for (const auto& [path, v] : points[k].values) row.push_back(cell_text(v));
@@ -114,13 +116,15 @@ void write_statistics(const std::vector<GridPoint>& points, const std::vector<Su
     }
     csv.end_row();
     markdown_row(md, md_row);
+    table.rows.push_back(md_row);
   }
 }
 
-// sweep.png: one panel per metric with a value, against the first grid
-// axis; one series per combination of the other axes; 95 % CI bars.
-void write_plot(const std::vector<GridPoint>& points, const std::vector<SummaryMetric>& list,
-                const std::vector<std::vector<SampleSummary>>& stats, const std::filesystem::path& dir) {
+// One panel per metric with a value, against the first grid axis; one
+// series per combination of the other axes; 95 % CI bars (sweep.png, and
+// the report's plot).
+std::vector<PlotPanel> sweep_panels(const std::vector<GridPoint>& points, const std::vector<SummaryMetric>& list,
+                                    const std::vector<std::vector<SampleSummary>>& stats) {
   const bool has_axis = !points.front().values.empty();
   const std::string axis = has_axis ? points.front().values.front().first : "grid point";
   std::vector<PlotPanel> panels;
@@ -146,18 +150,24 @@ void write_plot(const std::vector<GridPoint>& points, const std::vector<SummaryM
     }
     if (any) panels.push_back(std::move(panel));
   }
+  return panels;
+}
+
+constexpr const char* kPlotTitle = "sweep: mean over the seeds, bars 95 % confidence interval";
+
+void write_plot(const std::vector<PlotPanel>& panels, const std::filesystem::path& dir) {
   if (panels.empty()) return;
   const std::size_t columns = std::min<std::size_t>(4, panels.size()), rows = (panels.size() + columns - 1) / columns;
   write_plot_png(panels, dir / "sweep.png",
                  {.width_px = 400 * static_cast<int>(columns), .height_px = 30 + 360 * static_cast<int>(rows),
-                  .font_px = 13, .title = "sweep: mean over the seeds, bars 95 % confidence interval",
-                  .columns = columns});
+                  .font_px = 13, .title = kPlotTitle, .columns = columns});
 }
 
 }  // namespace
 
 std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRun>& runs,
-                               const std::filesystem::path& dir) {
+                               const std::filesystem::path& dir, bool report) {
+  SweepReportContent content;
   const std::vector<SummaryMetric>& list = summary_metrics();
   std::vector<std::string> header = {"run"};
   for (const auto& [path, v] : runs.front().values) header.push_back(path);
@@ -166,6 +176,7 @@ std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRu
   CsvWriter csv(dir / "sweep.csv", header);
   std::ostringstream md;
   markdown_header(md, header);
+  content.runs.header = header;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     std::vector<std::string> row = {std::to_string(k)};
     for (const auto& [path, v] : runs[k].values) row.push_back(cell_text(v));
@@ -174,19 +185,29 @@ std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRu
     for (const auto& c : row) csv.cell(c);
     csv.end_row();
     markdown_row(md, shown(row));
+    content.runs.rows.push_back(shown(row));
+    content.run_dirs.push_back("run_" + std::to_string(k));
   }
   const std::vector<GridPoint> points = grid_points(sweep, runs);
   const auto stats = statistics(points, list);
-  if (!sweep.seeds.empty()) write_statistics(points, list, stats, dir, md);
+  if (!sweep.seeds.empty()) write_statistics(points, list, stats, dir, md, content.statistics);
   bool any_failed = false;
   for (std::size_t k = 0; k < runs.size(); ++k)
     if (runs[k].status != "completed") {
       if (!any_failed) md << "\nRuns that did not complete:\n\n";
       any_failed = true;
       md << "- run " << k << ", " << runs[k].status << ": " << runs[k].error << "\n";
+      content.failures.push_back("run " + std::to_string(k) + ", " + runs[k].status + ": " + runs[k].error);
     }
-  write_plot(points, list, stats, dir);
+  content.panels = sweep_panels(points, list, stats);
+  write_plot(content.panels, dir);
   std::ofstream(dir / "sweep.md") << md.str();
+  if (report) {
+    const auto name = dir.filename().empty() ? dir.parent_path().filename() : dir.filename();  // "out/" too
+    content.title = "fibrodem sweep: " + name.string();
+    content.plot_title = kPlotTitle;
+    write_sweep_report(dir, content);
+  }
   return md.str();
 }
 

@@ -20,9 +20,9 @@ struct SweepRun {
   bool reused = false;  // completed by an earlier sweep with the same manifest
 };
 
-// Writes sweep.csv, sweep.md and (with seeds) sweep_stats.csv, and
-// sweep.png; returns sweep.md's text.
+// Writes sweep.csv, sweep.md and (with seeds) sweep_stats.csv, sweep.png
+// and (if `report`) report.html; returns sweep.md's text.
 std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRun>& runs,
-                               const std::filesystem::path& dir);
+                               const std::filesystem::path& dir, bool report = true);
 
 }  // namespace fibrodem::cli

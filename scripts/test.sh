@@ -2,6 +2,7 @@
 # Quick start 2: set up, build, and run the whole test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+# Chromium (headless) opens each kind of report.html in the suite's browser tests.
+FIBRODEM_EXTRA_PACKAGES="chromium ${FIBRODEM_EXTRA_PACKAGES:-}" scripts/setup.sh
 cd build
 ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)"

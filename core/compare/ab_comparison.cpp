@@ -37,7 +37,30 @@ double finest_interval(const std::vector<double>& t) {
 
 std::string fixed(double x, int digits) { return fixed_decimals(x, digits, "n/a"); }
 
+// (column of a, column of b) for each column both runs traced.
+std::vector<std::pair<std::size_t, std::size_t>> shared_columns(const RunRecord& a, const RunRecord& b) {
+  std::vector<std::pair<std::size_t, std::size_t>> shared;
+  for (std::size_t i = 0; i < a.columns.size(); ++i)
+    for (std::size_t j = 0; j < b.columns.size(); ++j)
+      if (a.columns[i] == b.columns[j]) shared.emplace_back(i, j);
+  return shared;
+}
+
 }  // namespace
+
+std::vector<PlotPanel> comparison_trace_panels(const RunRecord& a, const RunRecord& b) {
+  std::vector<PlotPanel> panels;
+  const auto shared = shared_columns(a, b);
+  for (std::size_t k = 0; k < shared.size() && k < kMostTracePanels; ++k) {
+    const auto [i, j] = shared[k];
+    PlotPanel panel{a.columns[i], "t [ms]", a.columns[i], false, false, {}, {}};
+    panel.series.push_back({a.label, a.times_ms, a.samples[i]});
+    panel.series.push_back({b.label, b.times_ms, b.samples[j]});
+    for (auto& series : panel.series) series.markers = false;  // dense samples: lines alone
+    panels.push_back(std::move(panel));
+  }
+  return panels;
+}
 
 double ComparisonRow::relative_diff() const {
   return a != 0 ? (b - a) / std::abs(a) : std::numeric_limits<double>::quiet_NaN();
@@ -67,17 +90,8 @@ std::string comparison_markdown(const RunRecord& a, const RunRecord& b) {
 namespace {
 
 // traces.png: each shared column (the first six) in a panel, A and B overlaid.
-void write_traces_plot(const RunRecord& a, const RunRecord& b,
-                       const std::vector<std::pair<std::size_t, std::size_t>>& shared,
-                       const std::filesystem::path& file) {
-  std::vector<PlotPanel> panels;
-  for (std::size_t k = 0; k < shared.size() && k < 6; ++k) {
-    const auto [i, j] = shared[k];
-    PlotPanel panel{a.columns[i], "t [ms]", a.columns[i], false, false, {}, {}};
-    panel.series.push_back({a.label, a.times_ms, a.samples[i]});
-    panel.series.push_back({b.label, b.times_ms, b.samples[j]});
-    panels.push_back(std::move(panel));
-  }
+void write_traces_plot(const RunRecord& a, const RunRecord& b, const std::filesystem::path& file) {
+  const std::vector<PlotPanel> panels = comparison_trace_panels(a, b);
   const std::size_t columns = std::min<std::size_t>(3, panels.size()), rows = (panels.size() + columns - 1) / columns;
   write_plot_png(panels, file,
                  {.width_px = 520 * static_cast<int>(columns), .height_px = 30 + 360 * static_cast<int>(rows),
@@ -100,10 +114,7 @@ void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesys
   }
 
   // Traces of the columns both runs have, on a common time base.
-  std::vector<std::pair<std::size_t, std::size_t>> shared;
-  for (std::size_t i = 0; i < a.columns.size(); ++i)
-    for (std::size_t j = 0; j < b.columns.size(); ++j)
-      if (a.columns[i] == b.columns[j]) shared.emplace_back(i, j);
+  const auto shared = shared_columns(a, b);
   std::vector<std::string> header = {"t_ms"};
   for (const auto& [i, j] : shared) {
     header.push_back(a.label + ":" + a.columns[i]);
@@ -111,7 +122,7 @@ void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesys
   }
   CsvWriter traces(dir / "traces.csv", header);
   if (shared.empty() || a.times_ms.size() < 2 || b.times_ms.size() < 2) return;
-  write_traces_plot(a, b, shared, dir / "traces.png");
+  write_traces_plot(a, b, dir / "traces.png");
   const double t0 = std::max(a.times_ms.front(), b.times_ms.front());
   const double t1 = std::min(a.times_ms.back(), b.times_ms.back());
   const double h = std::min(finest_interval(a.times_ms), finest_interval(b.times_ms));

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/plot_png.hpp"
 #include "run/run_record.hpp"
 
 namespace fibrodem {
@@ -24,6 +25,11 @@ std::vector<ComparisonRow> compare_biomarkers(const RunRecord& a, const RunRecor
 // for the columns both runs traced, linearly interpolated onto a grid over the
 // common time span at the finer of the two sampling intervals).
 void write_comparison(const RunRecord& a, const RunRecord& b, const std::filesystem::path& dir);
+
+// The columns both runs traced (the first kMostTracePanels), one panel each,
+// A and B overlaid: traces.png and the comparison's report.html.
+inline constexpr std::size_t kMostTracePanels = 6;
+std::vector<PlotPanel> comparison_trace_panels(const RunRecord& a, const RunRecord& b);
 
 std::string comparison_markdown(const RunRecord& a, const RunRecord& b);
 

@@ -1,4 +1,5 @@
 #include "io/plot_png.hpp"
+#include "io/plot_draw.hpp"
 #include "io/png_file.hpp"
 
 #include <cairo.h>
@@ -301,7 +302,7 @@ void draw_panel(cairo_t* c, const PlotPanel& panel, double x0, double y0, double
       }
       cairo_stroke(c);
     }
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n && s.markers; ++i) {
       if (!ax.drawable(s.x[i]) || !ay.drawable(s.y[i])) continue;
       cairo_set_source_rgb(c, col.r, col.g, col.b);
       marker(c, static_cast<int>(k), X(s.x[i]), Y(s.y[i]), 0.36 * font);
@@ -351,7 +352,7 @@ void draw_panel(cairo_t* c, const PlotPanel& panel, double x0, double y0, double
     cairo_move_to(c, lx + pad, cy);
     cairo_line_to(c, lx + pad + sample_w, cy);
     cairo_stroke(c);
-    marker(c, static_cast<int>(k), lx + pad + sample_w / 2, cy, 0.36 * font);
+    if (panel.series[k].markers) marker(c, static_cast<int>(k), lx + pad + sample_w / 2, cy, 0.36 * font);
     cairo_set_source_rgb(c, 0, 0, 0);
     draw_text(c, lx + 2 * pad + sample_w, cy + 0.35 * font, panel.series[k].label, 0.0);
   }
@@ -359,13 +360,7 @@ void draw_panel(cairo_t* c, const PlotPanel& panel, double x0, double y0, double
 
 }  // namespace
 
-void write_plot_png(const std::vector<PlotPanel>& panels, const std::filesystem::path& file,
-                    const PlotOptions& options) {
-  if (options.width_px <= 0 || options.height_px <= 0) throw std::runtime_error("plot: image size must be positive");
-  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
-      cairo_image_surface_create(CAIRO_FORMAT_RGB24, options.width_px, options.height_px), cairo_surface_destroy);
-  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), cairo_destroy);
-  cairo_t* c = cr.get();
+void draw_plot(cairo_t* c, const std::vector<PlotPanel>& panels, const PlotOptions& options) {
   cairo_set_source_rgb(c, 1, 1, 1);
   cairo_paint(c);
   cairo_select_font_face(c, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
@@ -388,6 +383,15 @@ void write_plot_png(const std::vector<PlotPanel>& panels, const std::filesystem:
   for (std::size_t i = 0; i < panels.size(); ++i)
     draw_panel(c, panels[i], pw * static_cast<double>(i % columns), y0 + ph * static_cast<double>(i / columns), pw, ph,
                font);
+}
+
+void write_plot_png(const std::vector<PlotPanel>& panels, const std::filesystem::path& file,
+                    const PlotOptions& options) {
+  if (options.width_px <= 0 || options.height_px <= 0) throw std::runtime_error("plot: image size must be positive");
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
+      cairo_image_surface_create(CAIRO_FORMAT_RGB24, options.width_px, options.height_px), cairo_surface_destroy);
+  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> cr(cairo_create(surface.get()), cairo_destroy);
+  draw_plot(cr.get(), panels, options);
   std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
   write_png_file(surface.get(), file);
 }

@@ -21,6 +21,8 @@ struct PlotSeries {
   // Error bars (e.g. a 95 % confidence interval): from y_low to y_high at
   // each x, where both are given and finite; empty: none.
   std::vector<double> y_low = {}, y_high = {};
+  // A marker at every point; off for dense samples (traces, histograms).
+  bool markers = true;
 };
 
 struct PlotGuide {

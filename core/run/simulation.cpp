@@ -36,6 +36,7 @@
 #include "run/run_summary.hpp"
 #include "run/tissue_snapshots.hpp"
 #include "run/trace_recorder.hpp"
+#include "report/run_report.hpp"
 
 namespace fibrodem {
 namespace fs = std::filesystem;
@@ -815,12 +816,35 @@ struct Simulation::Impl : StepObserver {
     }
     log_run_end();
     if (!out.empty()) {
+      std::error_code ignored;
       write_summary(out, summary());
+      if (scene.output.report) write_report();
+      else fs::remove(out / "report.html", ignored);  // an earlier run's, overwritten, would mislead
       log->info("outputs in {}", fs::absolute(out).string());
     }
     log->flush();
     if (status == "failed") throw std::runtime_error(error);
     if (status == "interrupted") throw InterruptedError(interrupted_by, error);
+  }
+
+  // report.html from the folder as written (a failed or interrupted run's
+  // too); its own time goes into summary.json as report_time_s, so its cost
+  // beside the run's wall time can be read off every run. A report that
+  // cannot be written is a warning: the run's results stand.
+  void write_report() {
+    log->flush();  // the report shows run.log
+    const auto start = Clock::now();
+    try {
+      write_run_report(out);
+    } catch (const std::exception& e) {
+      log->warn("report.html not written: {}", e.what());
+    }
+    const double report_s = seconds_since(start);
+    log->info("report.html written in {:.3f} s ({:.2f} % of the run's wall time)", report_s,
+              wall_s > 0 ? 100 * report_s / wall_s : 0.0);
+    json s = summary();
+    s["report_time_s"] = report_s;
+    write_summary(out, s);
   }
 
   void resume() {

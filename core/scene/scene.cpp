@@ -197,6 +197,7 @@ OutputSpec read_output(JsonReader r) {
   }
   o.tissue_picture = r.boolean("tissue_picture", false);
   o.maps = r.boolean("maps", false);
+  o.report = r.boolean("report", true);
   if (r.has("snapshots")) {
     JsonReader sn = r.object("snapshots");
     o.snapshots.every_ms = sn.number("every_ms", std::nullopt, 1e-6, kInf);

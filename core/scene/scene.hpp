@@ -138,6 +138,7 @@ struct OutputSpec {
   TraceSpec traces;
   bool tissue_picture = false;  // tissue.png (by cell type) and tissue.vtk at the start
   bool maps = false;            // activation_map.png and maps.vtk (last beat) at the end
+  bool report = true;           // report.html at the end (off: output.report false, --no-report)
   SnapshotSpec snapshots;
   double biomarkers_from_ms = 0;
   // output.biomarkers.rmp: "onset" (V at the beat's stimulus onset) or

@@ -1,0 +1,197 @@
+#include "report/html_document.hpp"
+
+#include <openssl/evp.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+
+namespace fibrodem {
+
+namespace {
+
+// Plain, readable at full width, printable; no web fonts (offline).
+constexpr const char* kStyle = R"(
+body{font-family:sans-serif;margin:0 auto;max-width:1400px;padding:0 1.5em 3em;color:#222;line-height:1.4}
+h1{border-bottom:2px solid #1f77b4;padding-bottom:.2em}
+h2{margin-top:1.6em;border-bottom:1px solid #ccc}
+table{border-collapse:collapse;margin:.5em 0;font-size:.92em}
+th,td{border:1px solid #ccc;padding:.2em .6em}
+th{background:#f0f4f8;text-align:left}
+td.num{text-align:right;font-variant-numeric:tabular-nums}
+dl{display:grid;grid-template-columns:max-content auto;gap:.15em 1em}
+dt{font-weight:bold}
+dd{margin:0}
+figure{margin:1em 0}
+figcaption{font-weight:bold;margin-bottom:.3em}
+figure img{max-width:100%;height:auto;border:1px solid #ddd}
+.row{display:flex;flex-wrap:wrap;gap:1.5em}
+.row>figure{flex:1 1 400px}
+.notice{padding:.6em 1em;margin:1em 0;border-left:6px solid}
+.notice.error{background:#fde8e8;border-color:#d62728}
+.notice.warning{background:#fff4e0;border-color:#ff7f0e}
+.notice.info{background:#eef4fb;border-color:#1f77b4}
+.notice.ok{background:#e8f5e8;border-color:#2ca02c}
+pre{background:#f7f7f7;padding:.6em;overflow:auto;max-height:40em;font-size:.85em}
+input[type=range]{width:100%}
+)";
+
+// One function for every snapshot slider: shows frame k of slider `id`.
+constexpr const char* kSliderScript = R"(
+function fibrodemShowFrame(id,k){
+  var frames=document.querySelectorAll('#'+id+' img');
+  for(var i=0;i<frames.length;++i)frames[i].style.display=(i==k)?'':'none';
+  document.getElementById(id+'-label').textContent=frames[k].alt;
+}
+)";
+
+bool is_number(const std::string& s) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  std::strtod(s.c_str(), &end);
+  return end != nullptr && *end == '\0';
+}
+
+// The whole file in one read (a tissue run's snapshots are megabytes).
+std::string read_bytes(const std::filesystem::path& file, bool& ok) {
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file, error);
+  std::ifstream in(file, std::ios::binary);
+  ok = !error && static_cast<bool>(in);
+  if (!ok) return {};
+  std::string bytes(size, '\0');
+  ok = static_cast<bool>(in.read(bytes.data(), static_cast<std::streamsize>(size)));
+  return ok ? bytes : std::string();
+}
+
+}  // namespace
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  std::string out(4 * ((bytes.size() + 2) / 3) + 1, '\0');
+  const int n = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(out.data()),
+                                reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<int>(bytes.size()));
+  out.resize(static_cast<std::size_t>(n));
+  return out;
+}
+
+HtmlDocument::HtmlDocument(std::string title) : title_(std::move(title)) {}
+
+void HtmlDocument::heading(int level, const std::string& text, const std::string& id) {
+  body_ << "<h" << level;
+  if (!id.empty()) body_ << " id=\"" << html_escape(id) << "\"";
+  body_ << ">" << html_escape(text) << "</h" << level << ">\n";
+}
+
+void HtmlDocument::paragraph(const std::string& text) { body_ << "<p>" << html_escape(text) << "</p>\n"; }
+
+void HtmlDocument::notice(const std::string& kind, const std::string& title, const std::vector<std::string>& lines) {
+  body_ << "<div class=\"notice " << html_escape(kind) << "\"><strong>" << html_escape(title) << "</strong>";
+  if (!lines.empty()) {
+    body_ << "<ul>";
+    for (const auto& line : lines) body_ << "<li>" << html_escape(line) << "</li>";
+    body_ << "</ul>";
+  }
+  body_ << "</div>\n";
+}
+
+void HtmlDocument::table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  std::vector<bool> numeric(header.size(), !rows.empty());
+  for (const auto& row : rows)
+    for (std::size_t c = 0; c < row.size() && c < numeric.size(); ++c)
+      if (!row[c].empty() && !is_number(row[c])) numeric[c] = false;
+  body_ << "<table><thead><tr>";
+  for (const auto& h : header) body_ << "<th>" << html_escape(h) << "</th>";
+  body_ << "</tr></thead><tbody>\n";
+  for (const auto& row : rows) {
+    body_ << "<tr>";
+    for (std::size_t c = 0; c < row.size(); ++c)
+      body_ << (c < numeric.size() && numeric[c] ? "<td class=\"num\">" : "<td>") << html_escape(row[c]) << "</td>";
+    body_ << "</tr>\n";
+  }
+  body_ << "</tbody></table>\n";
+}
+
+void HtmlDocument::definition_list(const std::vector<std::pair<std::string, std::string>>& items) {
+  body_ << "<dl>";
+  for (const auto& [key, value] : items) body_ << "<dt>" << html_escape(key) << "</dt><dd>" << html_escape(value) << "</dd>";
+  body_ << "</dl>\n";
+}
+
+void HtmlDocument::svg_figure(const std::string& title, const std::string& svg) {
+  body_ << "<figure><figcaption>" << html_escape(title) << "</figcaption>\n" << svg << "\n</figure>\n";
+}
+
+bool HtmlDocument::png_figure(const std::string& title, const std::filesystem::path& png) {
+  bool ok = false;
+  const std::string bytes = read_bytes(png, ok);
+  if (!ok) return false;
+  body_ << "<figure><figcaption>" << html_escape(title) << "</figcaption><img alt=\"" << html_escape(title)
+        << "\" src=\"data:image/png;base64," << base64(bytes) << "\"></figure>\n";
+  return true;
+}
+
+void HtmlDocument::png_slider(const std::string& title,
+                              const std::vector<std::pair<std::string, std::filesystem::path>>& frames) {
+  const std::string id = "fibrodem-slider-" + std::to_string(++slider_count_);
+  std::vector<std::pair<std::string, std::string>> read;
+  for (const auto& [label, file] : frames) {
+    bool ok = false;
+    std::string bytes = read_bytes(file, ok);
+    if (ok) read.emplace_back(label, std::move(bytes));
+  }
+  if (read.empty()) return;
+  body_ << "<figure><figcaption>" << html_escape(title) << ": <span id=\"" << id << "-label\">"
+        << html_escape(read.front().first) << "</span></figcaption>\n<input type=\"range\" min=\"0\" max=\""
+        << read.size() - 1 << "\" value=\"0\" aria-label=\"" << html_escape(title) << "\" oninput=\"fibrodemShowFrame('"
+        << id << "',this.value)\">\n<div id=\"" << id << "\">";
+  for (std::size_t k = 0; k < read.size(); ++k)
+    body_ << "<img alt=\"" << html_escape(read[k].first) << "\"" << (k == 0 ? "" : " style=\"display:none\"")
+          << " src=\"data:image/png;base64," << base64(read[k].second) << "\">";
+  body_ << "</div></figure>\n";
+}
+
+void HtmlDocument::details(const std::string& summary, const std::string& text, bool open) {
+  body_ << "<details" << (open ? " open" : "") << "><summary>" << html_escape(summary) << "</summary><pre>"
+        << html_escape(text) << "</pre></details>\n";
+}
+
+void HtmlDocument::raw(const std::string& html) { body_ << html; }
+void HtmlDocument::begin_row() { body_ << "<div class=\"row\">\n"; }
+void HtmlDocument::end_row() { body_ << "</div>\n"; }
+
+std::string HtmlDocument::str() const {
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>" << html_escape(title_)
+       << "</title>\n<style>" << kStyle << "</style>\n";
+  if (slider_count_ > 0) page << "<script>" << kSliderScript << "</script>\n";
+  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n" << body_.str() << "</body></html>\n";
+  return page.str();
+}
+
+void HtmlDocument::write(const std::filesystem::path& file) const {
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << str();
+    if (!out.flush()) throw std::runtime_error("cannot write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+}  // namespace fibrodem

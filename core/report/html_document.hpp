@@ -1,0 +1,55 @@
+// One self-contained HTML page, built section by section: inline CSS, inline
+// SVG, pictures as base64 data URIs, no network and no external scripts, so a
+// report opens offline in any browser and can be mailed as one file.
+#pragma once
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fibrodem {
+
+// Text made safe inside HTML elements and attribute values.
+std::string html_escape(const std::string& text);
+// RFC 4648 base64 (OpenSSL's encoder).
+std::string base64(const std::string& bytes);
+
+class HtmlDocument {
+ public:
+  explicit HtmlDocument(std::string title);
+
+  void heading(int level, const std::string& text, const std::string& id = "");
+  void paragraph(const std::string& text);
+  // A prominent box: kind "error" (red) or "warning" (amber); `lines` each a list item.
+  void notice(const std::string& kind, const std::string& title, const std::vector<std::string>& lines);
+  // Columns whose cells all read as numbers are right-aligned.
+  void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  // Key/value pairs, e.g. the scene's settings.
+  void definition_list(const std::vector<std::pair<std::string, std::string>>& items);
+  // A titled figure around SVG markup (io/plot_svg).
+  void svg_figure(const std::string& title, const std::string& svg);
+  // A titled figure showing a PNG file, embedded as a data URI; false (and
+  // nothing added) if the file cannot be read.
+  bool png_figure(const std::string& title, const std::filesystem::path& png);
+  // Pictures in time order under one slider (snapshots): one <img> whose
+  // source a range input switches, the frames kept as data URIs in the page.
+  void png_slider(const std::string& title, const std::vector<std::pair<std::string, std::filesystem::path>>& frames);
+  // Preformatted text folded away (a manifest, a log), open if asked.
+  void details(const std::string& summary, const std::string& text, bool open = false);
+  // Markup written by the caller (already escaped).
+  void raw(const std::string& html);
+  void begin_row();  // figures side by side until end_row()
+  void end_row();
+
+  std::string str() const;
+  // Written to a temporary file and renamed: a reader never sees half a page.
+  void write(const std::filesystem::path& file) const;
+
+ private:
+  std::string title_;
+  std::ostringstream body_;
+  int slider_count_ = 0;
+};
+
+}  // namespace fibrodem

@@ -1,0 +1,39 @@
+// traces.csv as plot panels: one panel per traced variable (V, Ca_i,
+// sarcomere_length, eps_xx, ...), the traced cells overlaid and labelled with
+// their index and, where known, their cell type.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/csv_table.hpp"
+#include "io/plot_png.hpp"
+
+namespace fibrodem {
+
+// A column name VAR_CELL split into the variable and the cell (-1: a
+// tissue-wide column such as eps_xx or dt_ms).
+struct TraceColumn {
+  std::string variable;
+  int cell = -1;
+};
+TraceColumn parse_trace_column(const std::string& name);
+
+// Most series a panel overlays (one colour each); the rest are left out and
+// the panel's title says how many.
+inline constexpr std::size_t kMostSeriesPerPanel = 10;
+// Samples above this many per series are thinned to the minimum and maximum
+// of each of kMostPoints / 2 time buckets, so upstrokes and peaks stay while
+// the page stays small.
+inline constexpr std::size_t kMostPoints = 3000;
+
+// `types`: cell index -> type name, for the legend (cells not in it are
+// labelled by index alone).
+std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, std::string>& types);
+
+// The min-max thinning described above (exposed for its test).
+void thin_min_max(const std::vector<double>& t, const std::vector<double>& y, std::size_t most_points,
+                  std::vector<double>& t_out, std::vector<double>& y_out);
+
+}  // namespace fibrodem
