@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzing (issue "Nothing lost"): builds the libFuzzer targets with clang,
-# AddressSanitizer and UndefinedBehaviorSanitizer into build-fuzz/, then runs
+# AddressSanitizer and UndefinedBehaviorSanitizer into build-asan/
+# (scripts/asan_build.sh, shared with scripts/sanitize.sh), then runs
 # each for RUNS inputs (default 100000), replaying its seed corpus first:
 #   fuzz_manifest    the manifest reader and scene set-up; seeds examples/*.json
 #                    and tests/fuzz/corpus/ (lines of --set overrides)
@@ -10,22 +11,14 @@
 #                    with contraction and DEM resumed from it); seed: a real
 #                    checkpoint's payload, written by the target itself
 # Any crash, hang, leak or unexpected exception stops it with the input saved
-# as build-fuzz/crash-*. The random seed is fixed (FUZZ_SEED, default 1), so
+# as build-asan/crash-*. The random seed is fixed (FUZZ_SEED, default 1), so
 # that a pass is repeatable, as CI needs; set another to explore further.
 #   scripts/fuzz.sh [RUNS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS="${1:-100000}"
-FIBRODEM_EXTRA_PACKAGES="clang libclang-rt-14-dev libomp-14-dev" scripts/setup.sh --deps-only
-# (float-cast-overflow off, as in scripts/sanitize.sh: xsimd's portable exp.)
-SAN="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize=float-cast-overflow -fno-sanitize-recover=undefined -g -O1"
-cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DFIBRODEM_FUZZ=ON -DFIBRODEM_BUILD_TESTS=OFF -DFIBRODEM_PYTHON=OFF -DCMAKE_CXX_FLAGS="$SAN" \
-  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined" > build-fuzz.log
-cmake --build build-fuzz --target fuzz_manifest fuzz_sweep fuzz_checkpoint fibrodem_colman fibrodem_rice \
-  -j "$(nproc 2>/dev/null || echo 2)" >> build-fuzz.log
-cd build-fuzz
+scripts/asan_build.sh fuzz_manifest fuzz_sweep fuzz_checkpoint fibrodem_colman fibrodem_rice
+cd build-asan
 rm -rf corpus corpus_sweep corpus_checkpoint
 mkdir -p corpus corpus_sweep corpus_checkpoint
 cp ../examples/*.json ../tests/fuzz/corpus/* corpus/

@@ -72,30 +72,16 @@ std::optional<ConductionFit> transit_conduction_velocity(const std::vector<Condu
 
 std::optional<ConductionFit> fit_conduction_velocity(const std::vector<ConductionSample>& cells,
                                                      double margin_fraction, int minimum_cells) {
-  // The stimulated region along the fibre, and which way the wave runs.
-  double stim_lo = std::numeric_limits<double>::infinity(), stim_hi = -stim_lo;
-  double lo = stim_lo, hi = -stim_lo;
-  for (const auto& c : cells) {
-    lo = std::min(lo, c.position_um);
-    hi = std::max(hi, c.position_um);
-    if (c.stimulated) {
-      stim_lo = std::min(stim_lo, c.position_um);
-      stim_hi = std::max(stim_hi, c.position_um);
-    }
-  }
-  if (!std::isfinite(stim_lo) || !(hi > lo)) return std::nullopt;
-  // Distance from the stimulated region towards the farther tissue edge.
-  const bool downwards = (stim_lo - lo) > (hi - stim_hi);
-  const double length = downwards ? stim_lo - lo : hi - stim_hi;
-  if (length <= 0) return std::nullopt;
+  const auto path = wave_path(cells);
+  if (!path) return std::nullopt;
   ConductionFit fit;
-  fit.from_um = margin_fraction * length;
-  fit.to_um = (1 - margin_fraction) * length;
+  fit.from_um = margin_fraction * path->length;
+  fit.to_um = (1 - margin_fraction) * path->length;
 
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
   for (const auto& c : cells) {
     if (c.stimulated || !c.activated) continue;
-    const double d = downwards ? stim_lo - c.position_um : c.position_um - stim_hi;
+    const double d = path->distance(c.position_um);
     if (d < fit.from_um || d > fit.to_um) continue;
     n += 1;
     sx += d;

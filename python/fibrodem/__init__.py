@@ -155,7 +155,11 @@ def run(scene, out=None, progress=None, overwrite=False):
     finally:
         if bar is not None:
             bar.close()
-    result = Result._from_core(raw)
+    return _ended(raw, Result._from_core(raw))
+
+
+def _ended(raw, result):
+    """`result`, or the exception its run's status calls for (with `.result`)."""
     if raw["status"] == "interrupted":
         stop = KeyboardInterrupt(raw["message"])
         stop.result = result
@@ -290,10 +294,4 @@ def simulate_cell(model, variant=None, parameters=None, stimulus=None, duration_
     logged.integration_s = raw["run_s"]
     logged.set_up_s = raw["set_up_s"]
     logged.integration_cpu_s = raw["run_cpu_s"]
-    if raw["status"] == "interrupted":
-        stop = KeyboardInterrupt(raw["message"])
-        stop.result = logged
-        raise stop
-    if raw["status"] == "failed":
-        raise RunError(raw["message"], logged)
-    return logged
+    return _ended(raw, logged)
