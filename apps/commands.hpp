@@ -76,6 +76,7 @@ int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
+int check_plugin_command(const std::string& file_or_name);
 int bench_command(const char* program, const std::vector<std::string>& args);
 int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.

@@ -74,6 +74,10 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
 
+  std::string check_plugin_target;
+  auto* check_plugin = app.add_subcommand("check-plugin", "Check a cell-model plugin against the plugin contract (metadata, derivatives written, finite, voltage_only, linear forms, bounds over a beat, block = single cell)");
+  check_plugin->add_option("plugin", check_plugin_target, "a plugin file (libfibrodem_NAME.so) or a model name on the search path")->required();
+
   auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
   bench->allow_extras();
   fibrodem::cli::BenchAccuracyArgs accuracy_args;
@@ -89,6 +93,7 @@ int main(int argc, char** argv) {
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
+  if (*check_plugin) return fibrodem::cli::check_plugin_command(check_plugin_target);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
   if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
