@@ -340,23 +340,24 @@ struct Simulation::Impl : StepObserver {
   // model calls for contraction.
   void derive_contraction_from_traces() {
     if (scene.effects_listed || plan.has("contraction")) return;
-    for (const auto& block : scene.output.traces.blocks)
-    for (const auto& var : block.variables)
-      for (const auto& cell : block.cells) {
-        if (cell >= static_cast<int>(tissue.cell_count())) continue;
-        const Population& host = system.populations[system.where[cell].first];
-        const auto& spec = scene.cells.at(host.type);
-        if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
-        const ModelInfo& info = registry->load(spec.myofilament->model)->info();
-        if (find_state(info, var) >= 0 || find_output(info, var) >= 0) {
-          plan.built.push_back({"contraction", "output.traces records " + var + " of the myofilament model " + info.name});
-          plan.notes.erase(std::remove_if(plan.notes.begin(), plan.notes.end(),
-                                          [](const std::string& n) { return n.rfind("myofilament model", 0) == 0 ||
-                                                                            n.find("calcium_feedback") != std::string::npos; }),
-                           plan.notes.end());
-          return;
+    for (const auto& block : scene.output.traces.blocks) {
+      for (const auto& var : block.variables)
+        for (const auto& cell : block.cells) {
+          if (cell >= static_cast<int>(tissue.cell_count())) continue;
+          const Population& host = system.populations[system.where[cell].first];
+          const auto& spec = scene.cells.at(host.type);
+          if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
+          const ModelInfo& info = registry->load(spec.myofilament->model)->info();
+          if (find_state(info, var) >= 0 || find_output(info, var) >= 0) {
+            plan.built.push_back({"contraction", "output.traces records " + var + " of the myofilament model " + info.name});
+            plan.notes.erase(std::remove_if(plan.notes.begin(), plan.notes.end(),
+                                            [](const std::string& n) { return n.rfind("myofilament model", 0) == 0 ||
+                                                                              n.find("calcium_feedback") != std::string::npos; }),
+                             plan.notes.end());
+            return;
+          }
         }
-      }
+    }
   }
 
   // One myofilament population per cell type that names one, over the same cells.
