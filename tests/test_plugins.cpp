@@ -197,3 +197,28 @@ TEST_CASE("plugin_path must name existing directories") {
   m["plugin_path"] = 3;
   CHECK_THROWS_AS(parse_scene(m), ManifestError);
 }
+
+TEST_CASE("adaptive: a model whose rate turns NaN is named, with the cell's last finite states") {
+  auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
+  json m = testing::passive_cell_manifest();
+  m["cells"]["fibroblast"] = {{"model", "misbehaves"}, {"parameters", {{"fault", 3}}}};
+  m["duration_ms"] = 20;
+  m["solver"] = {{"method", "adaptive"}};
+  m["output"].erase("dir");
+  Simulation sim(parse_scene(m), registry);
+  std::string message;
+  try {
+    sim.run();
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.find("model misbehaves computes it (check it with: fibrodem check-plugin misbehaves)") !=
+        std::string::npos);
+  // The step's start, restored: V finite there (the fault starts after 5 ms,
+  // V then near its start of -50 mV plus 1 pA / 10 pF x 5 ms = -49.5 mV).
+  const auto at = message.find("(its last finite values): V = ");
+  REQUIRE(at != std::string::npos);
+  const double V = std::stod(message.substr(at + std::string("(its last finite values): V = ").size()));
+  CHECK(V == doctest::Approx(-49.5).epsilon(0.01));
+}
