@@ -164,6 +164,7 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
     if (!base.contains("output") || !base["output"].is_object()) base["output"] = json::object();
     base["output"].erase("dir");
     json& traces = base["output"]["traces"];
+    if (traces.is_array() && !traces.empty()) traces = json(traces[0]);  // a list of blocks: V of the first block's cells
     if (!traces.is_object()) traces = json::object();
     traces["variables"] = json::array({"V"});
     if (args.every_ms > 0) traces["every_ms"] = args.every_ms;
@@ -302,7 +303,7 @@ int bench_accuracy_command(const BenchAccuracyArgs& args) {
     std::ostringstream md;
     const auto& tr = scene.output.traces;
     std::string traced;
-    for (int c : tr.cells) traced += (traced.empty() ? "" : ", ") + std::to_string(c);
+    for (int c : tr.blocks.front().cells) traced += (traced.empty() ? "" : ", ") + std::to_string(c);
     md << "# Accuracy against cost: " << scene.name << "\n\n";
     md << "`fibrodem bench accuracy " << args.manifest;
     for (const auto& o : args.overrides) md << " --set " << o;

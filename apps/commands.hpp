@@ -89,6 +89,7 @@ int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
 // `fibrodem plot SPEC.json --out FILE.png` (apps/plot_command.cpp).
 int plot_command(const std::string& spec_file, const std::string& out);
+int check_plugin_command(const std::string& file_or_name);
 int bench_command(const char* program, const std::vector<std::string>& args);
 int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.

@@ -7,6 +7,7 @@
 #include "compare/ab_comparison.hpp"
 #include "compare/paired_comparison.hpp"
 #include "report/compare_report.hpp"
+#include "run/output_dir.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {
@@ -30,11 +31,34 @@ Variant run_variant(const std::string& label, json manifest, const std::filesyst
   return {record_of(simulation, label.substr(label.rfind('/') + 1)), simulation.summary()};
 }
 
+long long first_seed(const json& a) {
+  return a.contains("seed") && a["seed"].is_number_integer() ? a["seed"].get<long long>() : 0;
+}
+
+// Both variants' scenes built (tissue, plugins, names, traces) and their output
+// folders checked before either runs, so that a bad B is found before A has
+// run; errors say which variant.
+void validate_variants(const std::vector<std::pair<std::string, const json*>>& variants, const std::filesystem::path& dir,
+                       bool overwrite) {
+  for (const auto& [label, manifest] : variants) {
+    try {
+      Scene scene = parse_scene(*manifest);
+      prepare_output_dir(dir / label, overwrite);
+      scene.output.dir.clear();  // validating writes nothing
+      Simulation check(scene);
+    } catch (const ManifestError& e) {
+      throw ManifestError(label + ": " + e.path(), std::string(e.what()).substr(std::string("manifest: ").size()));
+    } catch (const PluginError& e) {
+      throw PluginError(label + ": " + e.what());
+    }
+  }
+}
+
 // --seeds K: A and B on each of K tissues (the manifest's seed and the K - 1
 // after it), then the paired statistics; the first pair's comparison and
 // traces as without seeds.
 std::string compare_over_seeds(const json& a, const json& b, const std::filesystem::path& dir, const CompareArgs& args) {
-  const long long first = a.contains("seed") && a["seed"].is_number_integer() ? a["seed"].get<long long>() : 0;
+  const long long first = first_seed(a);
   std::vector<json> summaries_a, summaries_b;
   std::vector<long long> seeds;
   std::vector<RunRecord> first_pair;
@@ -82,6 +106,15 @@ int compare_command(const CompareArgs& args) {
     for (const auto& s : args.a_overrides) std::cout << " " << s;
     std::cout << "\nB: " << args.manifests.back();
     for (const auto& s : args.b_overrides) std::cout << " " << s;
+    // --seeds: each seed's tissue is built when its pair runs (the first is checked here).
+    if (args.seeds > 0) {
+      json a0 = a, b0 = b;
+      a0["seed"] = b0["seed"] = first_seed(a);
+      const std::string tissue = "seed_" + std::to_string(first_seed(a));
+      validate_variants({{tissue + "/A", &a0}, {tissue + "/B", &b0}}, dir, args.overwrite);
+    } else {
+      validate_variants({{"A", &a}, {"B", &b}}, dir, args.overwrite);
+    }
     if (args.seeds > 0) {
       std::cout << "\n\n" << compare_over_seeds(a, b, dir, args) << "\noutputs: " << dir.string()
                 << "/{report.html,paired.md,paired.csv,comparison.md,comparison.csv,traces.csv,traces.png,seed_*/A,seed_*/B}\n";

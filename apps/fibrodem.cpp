@@ -86,6 +86,9 @@ int main(int argc, char** argv) {
   auto* plot = app.add_subcommand("plot", "Draw line plots (PNG) from a JSON description of panels and series");
   plot->add_option("spec", plot_spec, "JSON: {title, columns, panels: [{title, x_label, y_label, series: [{label, x, y}]}]}")->required();
   plot->add_option("--out", plot_out, "the PNG file to write")->required();
+  std::string check_plugin_target;
+  auto* check_plugin = app.add_subcommand("check-plugin", "Check a cell-model plugin against the plugin contract (metadata, derivatives written, finite, voltage_only, linear forms, bounds over a beat, block = single cell)");
+  check_plugin->add_option("plugin", check_plugin_target, "a plugin file (libfibrodem_NAME.so) or a model name on the search path")->required();
 
   auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
   bench->allow_extras();
@@ -108,6 +111,7 @@ int main(int argc, char** argv) {
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
   if (*import_cellml) return fibrodem::cli::import_cellml_command(import_args);
+  if (*check_plugin) return fibrodem::cli::check_plugin_command(check_plugin_target);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
   if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());

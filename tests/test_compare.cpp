@@ -2,6 +2,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sys/wait.h>
 
 #include "compare/ab_comparison.hpp"
 #include "support/scenes.hpp"
@@ -113,4 +115,21 @@ TEST_CASE("compare --seeds: A and B on the same tissues, paired differences of k
   CHECK(cells[8] < 0.05);                                      // p
   CHECK(std::filesystem::exists(dir / "out" / "traces.png"));  // A and B overlaid (first tissue)
   CHECK(testing::read_file(dir / "out" / "paired.md").find("paired t-test") != std::string::npos);
+}
+
+TEST_CASE("compare checks A and B before running either: a bad B stops it with nothing of A run") {
+  const auto dir = testing::scratch_dir("compare_bad_b");
+  json m = testing::passive_cell_manifest();
+  m["duration_ms"] = 5;
+  std::ofstream(dir / "m.json") << m.dump();
+  const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem compare --quiet " + (dir / "m.json").string() +
+                              " --b cells.fibroblast.parameters.no_such_parameter=1 --out " + (dir / "out").string() +
+                              " > " + (dir / "stdout.txt").string() + " 2> " + (dir / "stderr.txt").string();
+  const int status = std::system(command.c_str());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 2);  // a manifest error
+  const std::string err = testing::read_file(dir / "stderr.txt");
+  CAPTURE(err);
+  CHECK(err.find("manifest: B: cells.fibroblast.parameters.no_such_parameter") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "out" / "A" / "summary.json"));  // A never ran
 }

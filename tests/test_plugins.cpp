@@ -125,3 +125,100 @@ TEST_CASE("a model that throws from evaluate() stops the run naming it, outputs 
       CHECK(testing::read_file(dir / "traces.csv").find("\n5,") != std::string::npos);
   }
 }
+
+TEST_CASE("a model whose rate turns NaN at a step far below the stability limit is blamed, not the step") {
+  const auto dir = testing::scratch_dir("nan_model");
+  auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
+  json m = testing::passive_cell_manifest();
+  m["cells"]["fibroblast"] = {{"model", "misbehaves"}, {"parameters", {{"fault", 3}}}};
+  m["duration_ms"] = 20;
+  m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};  // one uncoupled cell: no explicit limit at all
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m), registry);
+  std::string message;
+  try {
+    sim.run();
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.find("state 'V' = nan") != std::string::npos);
+  CHECK(message.find("so the model is the likely cause, not the step: model misbehaves (") != std::string::npos);
+  CHECK(message.find("libfibrodem_misbehaves.so") != std::string::npos);
+  CHECK(message.find("The cell's states after that step (each finite one is its last finite value") != std::string::npos);
+  CHECK(message.find("fibrodem check-plugin misbehaves") != std::string::npos);
+  CHECK(message.find("try a smaller solver.dt_ms") == std::string::npos);
+  const json summary = json::parse(testing::read_file(dir / "summary.json"));
+  CHECK(summary["status"] == "failed");
+}
+
+TEST_CASE("summary.json records every parameter value used, run.log warns of variant overrides and shadowed plugins") {
+  const auto dir = testing::scratch_dir("parameters_used");
+  // A copy of a bundled plugin earlier on the search path hides the bundled one.
+  const auto shadow = testing::scratch_dir("shadowing_plugins");
+  std::filesystem::copy_file(kPlugins / "libfibrodem_maleckar_active2.so", shadow / "libfibrodem_maleckar_active2.so");
+  json m = testing::passive_cell_manifest();
+  // Variant "depolarised" sets its own values; the manifest replaces one of them.
+  PluginRegistry probe({kPlugins});
+  const ModelInfo& info = probe.load("maleckar_active2")->info();
+  const VariantInfo* depolarised = nullptr;
+  for (const auto& v : info.variants)
+    if (v.name == "depolarised") depolarised = &v;
+  REQUIRE(depolarised != nullptr);
+  REQUIRE(!depolarised->parameters.empty());
+  const auto& [name, variant_value] = *depolarised->parameters.begin();
+  const double manifest_value = variant_value * 1.01 + 0.01;
+  m["cells"]["fibroblast"] = {{"model", "maleckar_active2"}, {"variant", "depolarised"},
+                              {"parameters", {{name, manifest_value}}}};
+  m["duration_ms"] = 2;
+  m["plugin_path"] = shadow.string();
+  m["output"]["dir"] = dir.string();
+  Simulation(parse_scene(m)).run();
+  const json summary = json::parse(testing::read_file(dir / "summary.json"));
+  const json& used = summary["models"]["fibroblast"];
+  CHECK(used["model"] == "maleckar_active2");
+  CHECK(used["variant"] == "depolarised");
+  CHECK(used["parameters"].size() == info.parameters.size());  // every parameter, not only those set
+  CHECK(used["parameters"][name].get<double>() == manifest_value);
+  for (const auto& [other, value] : depolarised->parameters)
+    if (other != name) CHECK(used["parameters"][other].get<double>() == value);
+  CHECK(summary["plugins"][0]["file"].get<std::string>().find("shadowing_plugins") != std::string::npos);
+  const std::string log = testing::read_file(dir / "run.log");
+  CHECK(log.find("cells.fibroblast.parameters." + name + " = ") != std::string::npos);
+  CHECK(log.find("replaces variant depolarised's value") != std::string::npos);
+  CHECK(log.find("hides " + (kPlugins / "libfibrodem_maleckar_active2.so").string()) != std::string::npos);
+}
+
+TEST_CASE("plugin_path must name existing directories") {
+  json m = testing::passive_cell_manifest();
+  m["plugin_path"] = json::array({"/no/such/plugin/dir"});
+  CHECK_THROWS_WITH_AS(parse_scene(m), doctest::Contains("plugin_path[0]: expected an existing directory"),
+                       ManifestError);
+  m["plugin_path"] = 3;
+  CHECK_THROWS_AS(parse_scene(m), ManifestError);
+}
+
+TEST_CASE("adaptive: a model whose rate turns NaN is named, with the cell's last finite states") {
+  auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
+  json m = testing::passive_cell_manifest();
+  m["cells"]["fibroblast"] = {{"model", "misbehaves"}, {"parameters", {{"fault", 3}}}};
+  m["duration_ms"] = 20;
+  m["solver"] = {{"method", "adaptive"}};
+  m["output"].erase("dir");
+  Simulation sim(parse_scene(m), registry);
+  std::string message;
+  try {
+    sim.run();
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.find("model misbehaves computes it (check it with: fibrodem check-plugin misbehaves)") !=
+        std::string::npos);
+  // The step's start, restored: V finite there (the fault starts after 5 ms,
+  // V then near its start of -50 mV plus 1 pA / 10 pF x 5 ms = -49.5 mV).
+  const auto at = message.find("(its last finite values): V = ");
+  REQUIRE(at != std::string::npos);
+  const double V = std::stod(message.substr(at + std::string("(its last finite values): V = ").size()));
+  CHECK(V == doctest::Approx(-49.5).epsilon(0.01));
+}

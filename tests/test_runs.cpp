@@ -268,3 +268,34 @@ TEST_CASE("a scene too large for the machine is refused at set-up with the estim
   Simulation fits(parse_scene(testing::passive_cell_manifest()));
   CHECK(fits.resource_estimate().find("memory ~") == 0);
 }
+
+TEST_CASE("output.traces as a list of blocks: a fibroblast-only variable beside the myocyte's, one time axis") {
+  const auto dir = testing::scratch_dir("trace_blocks");
+  json m = json::parse(R"({"fibrodem": 1, "name": "pair", "duration_ms": 4,
+    "tissue": {"builder": "cell_pair", "fibroblasts": 1},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
+    "coupling": {"D_f_nS": 1},
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"traces": [{"cells": [0], "variables": ["V", "Ca_i"], "every_ms": 1},
+                          {"cells": [1], "variables": ["V", "I_Kv"]}]}})");
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const std::string csv = testing::read_file(dir / "traces.csv");
+  CHECK(csv.substr(0, csv.find('\n')) == "t_ms,V_0,Ca_i_0,V_1,I_Kv_1");
+  CHECK(sim.trace_times().size() == 5);  // 0, 1, 2, 3, 4 ms: the first block's every_ms for all
+  // I_Kv is an output of maleckar_active2 alone (`fibrodem plugins`): as one
+  // block over both cells it is refused for cell 0, the myocyte, naming it.
+  m["output"].erase("dir");  // the checks below write nothing
+  json single = m;
+  single["output"]["traces"] = {{"cells", {0, 1}}, {"variables", {"V", "I_Kv"}}};
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(single)), doctest::Contains("output.traces.variables[1]"), ManifestError);
+  // Blocks disagreeing on the time axis, and an unknown variable in the second block, are named.
+  json clash = m;
+  clash["output"]["traces"][1]["every_ms"] = 0.5;
+  CHECK_THROWS_WITH_AS(parse_scene(clash), doctest::Contains("output.traces[1].every_ms: expected 1.0 as output.traces[0].every_ms gives"),
+                       ManifestError);
+  json unknown = m;
+  unknown["output"]["traces"][1]["variables"] = {"V", "no_such_state"};
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(unknown)), doctest::Contains("output.traces[1].variables[1]"), ManifestError);
+}

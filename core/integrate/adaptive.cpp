@@ -411,6 +411,8 @@ void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err
   try_step(system, t, h);
   std::string worst = "?";
   double worst_error = -1;
+  const Population* worst_pop = nullptr;
+  std::size_t worst_cell = 0;
   for (const Buffers& buf : buffers_) {
     const Population& pop = *buf.pop;
     const std::size_t n = pop.size();
@@ -422,6 +424,8 @@ void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err
         if (e > worst_error) {
           const StateInfo& state = pop.info().states[k];
           worst_error = e;
+          worst_pop = &pop;
+          worst_cell = c;
           worst = fmt::format("cell {} ({}, model {}), state '{}' = {:.9g} {}, expected within [{:g}, {:g}]",
                               pop.cells[c], cell_type_name(pop.type), pop.info().name, state.name, y, state.unit,
                               state.lower, state.upper);
@@ -429,11 +433,20 @@ void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err
       }
   }
   restore();
-  if (!std::isfinite(err))
+  if (!std::isfinite(err)) {
+    // Restored to the step's start: the cell's last finite states.
+    std::string states;
+    if (worst_pop)
+      for (std::size_t k = 0; k < worst_pop->n_states(); ++k)
+        states += fmt::format("{}{} = {:.9g}", k ? ", " : "", worst_pop->info().states[k].name,
+                              worst_pop->state(static_cast<int>(k), worst_cell));
     throw std::runtime_error(fmt::format(
         "blow-up at t = {:.6g} ms: even a step of {:.3g} ms takes {} out of its range or to NaN, so the solution "
-        "itself leaves it: the scene drives the cell there (a stimulus too strong for the cell's capacitance?)",
-        t, h, worst));
+        "itself leaves it: the scene drives the cell there (a stimulus too strong for the cell's capacitance?) or "
+        "model {} computes it (check it with: fibrodem check-plugin {}). The cell's states at the step's start (its "
+        "last finite values): {}",
+        t, h, worst, worst_pop ? worst_pop->info().name : "?", worst_pop ? worst_pop->info().name : "?", states));
+  }
   throw std::runtime_error(fmt::format(
       "adaptive step control failed at t = {:.6g} ms: a step of {:.3g} ms still has a local error {:.3g} times the "
       "tolerance (rtol {:g}, atol {:g}; worst: {}); loosen solver.rtol and solver.atol, or use solver.method "

@@ -27,7 +27,27 @@
 namespace fibrodem {
 
 // Bumped whenever anything in this header changes layout or meaning.
-inline constexpr int kPluginAbiVersion = 3;
+// (4: plugins also export the C++ standard library they were built with.)
+inline constexpr int kPluginAbiVersion = 4;
+
+// The C++ standard library and its ABI this code is compiled against. ModelInfo
+// holds std::string, std::vector and std::map, whose layout differs between
+// libstdc++'s old and new (C++11) string ABI and libc++: a plugin and a core
+// that disagree here read each other's metadata as garbage (std::bad_alloc), so
+// the loader compares the plugin's value with its own.
+#if defined(_LIBCPP_VERSION)
+#define FIBRODEM_STRINGIFY_(x) #x
+#define FIBRODEM_STRINGIFY(x) FIBRODEM_STRINGIFY_(x)
+inline constexpr const char* kStdlibAbi = "libc++ (ABI " FIBRODEM_STRINGIFY(_LIBCPP_ABI_VERSION) ")";
+#elif defined(__GLIBCXX__)
+#if _GLIBCXX_USE_CXX11_ABI
+inline constexpr const char* kStdlibAbi = "libstdc++ (_GLIBCXX_USE_CXX11_ABI=1)";
+#else
+inline constexpr const char* kStdlibAbi = "libstdc++ (_GLIBCXX_USE_CXX11_ABI=0)";
+#endif
+#else
+inline constexpr const char* kStdlibAbi = "unknown C++ standard library";
+#endif
 
 enum class ModelKind { ionic, myofilament };
 
@@ -128,6 +148,10 @@ class CellModel {
 #define FIBRODEM_CELL_MODEL_PLUGIN(ModelClass)                                  \
   extern "C" __attribute__((visibility("default"))) int fibrodem_abi_version() { \
     return ::fibrodem::kPluginAbiVersion;                                       \
+  }                                                                             \
+  extern "C" __attribute__((visibility("default"))) const char*                 \
+  fibrodem_stdlib_abi() {                                                       \
+    return ::fibrodem::kStdlibAbi;                                              \
   }                                                                             \
   extern "C" __attribute__((visibility("default")))                             \
   ::fibrodem::CellModel* fibrodem_create_cell_model() {                         \

@@ -82,10 +82,7 @@ fs::path PluginRegistry::find_file(const std::string& name) const {
                     "; set FIBRODEM_PLUGIN_PATH to add a directory)");
 }
 
-std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
-  if (auto it = models_.find(name); it != models_.end()) return it->second;
-  const fs::path file = find_file(name);
-
+std::shared_ptr<const CellModel> open_cell_model_file(const fs::path& file) {
   auto library = std::make_shared<boost::dll::shared_library>();
   boost::dll::fs::error_code ec;
   library->load(file, ec, boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local);
@@ -99,56 +96,118 @@ std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
     throw PluginError("plugin " + file.string() + " was built for plugin ABI " +
                       std::to_string(abi) + " but this fibrodem expects ABI " +
                       std::to_string(kPluginAbiVersion) + "; rebuild the plugin");
+  // The standard library's ABI before anything of the plugin's is read: a
+  // mismatch makes every std::string in ModelInfo garbage.
+  if (!library->has("fibrodem_stdlib_abi"))
+    throw PluginError("plugin " + file.string() + " has no entry point 'fibrodem_stdlib_abi' "
+                      "(define it with FIBRODEM_CELL_MODEL_PLUGIN)");
+  const std::string stdlib = library->get<const char*()>("fibrodem_stdlib_abi")();
+  if (stdlib != kStdlibAbi)
+    throw PluginError("plugin " + file.string() + " was built against the C++ standard library " + stdlib +
+                      " but this fibrodem uses " + kStdlibAbi +
+                      "; rebuild the plugin with the same standard library and ABI (the compiler fibrodem was "
+                      "built with, and no -D_GLIBCXX_USE_CXX11_ABI or -stdlib option of its own)");
 
   CellModel* raw = library->get<CellModel*()>("fibrodem_create_cell_model")();
   if (raw == nullptr) throw PluginError("plugin " + file.string() + " created no model");
   // The deleter owns the library: it is unloaded only after the model is gone.
-  std::shared_ptr<const CellModel> model(raw, [library](const CellModel* m) { delete m; });
+  return std::shared_ptr<const CellModel>(raw, [library](const CellModel* m) { delete m; });
+}
+
+std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
+  if (auto it = models_.find(name); it != models_.end()) return it->second;
+  const fs::path file = find_file(name);
+  std::shared_ptr<const CellModel> model = open_cell_model_file(file);
   if (model->info().name != name)
     throw PluginError("plugin " + file.string() + " calls its model '" + model->info().name +
                       "', expected '" + name + "'");
   check_model_info(model->info(), file);
 
-  records_[name] = PluginRecord{name, model->info().version, file, sha256_of_file(file)};
+  PluginRecord record{name, model->info().version, file, sha256_of_file(file), {}};
+  // Files of the same name later on the search path: this one hides them.
+  bool after = false;
+  for (const auto& dir : search_path_) {
+    const fs::path candidate = dir / (kPrefix + name + kSuffix);
+    std::error_code ec;
+    if (!fs::is_regular_file(candidate, ec)) continue;
+    if (after && !fs::equivalent(candidate, file, ec)) record.shadowed.push_back(candidate);
+    if (fs::equivalent(candidate, file, ec)) after = true;
+  }
+  records_[name] = record;
   models_[name] = model;
   return model;
 }
 
-// A model's metadata must be consistent before anything relies on it: names
-// present and unique, bounds in order around the initial value, indices in range.
-void check_model_info(const ModelInfo& info, const fs::path& file) {
-  const std::string who = "plugin " + file.string() + " (model " + info.name + "): ";
-  if (info.states.empty()) throw PluginError(who + "declares no states");
+std::vector<std::string> model_info_problems(const ModelInfo& info) {
+  std::vector<std::string> problems;
+  auto problem = [&](const std::string& what) { problems.push_back(what); };
+  if (info.states.empty()) problem("declares no states");
   auto check_names = [&](const auto& list, const char* what) {
     std::set<std::string> seen;
     for (std::size_t k = 0; k < list.size(); ++k) {
-      if (list[k].name.empty()) throw PluginError(who + what + " " + std::to_string(k) + " has no name");
-      if (!seen.insert(list[k].name).second) throw PluginError(who + "two " + what + "s are named '" + list[k].name + "'");
+      if (list[k].name.empty()) problem(std::string(what) + " " + std::to_string(k) + " has no name");
+      else if (!seen.insert(list[k].name).second)
+        problem(std::string("two ") + what + "s are named '" + list[k].name + "'");
     }
   };
   check_names(info.states, "state");
   check_names(info.parameters, "parameter");
   check_names(info.inputs, "input");
   check_names(info.outputs, "output");
+  check_names(info.variants, "variant");
   for (const StateInfo& s : info.states) {
     if (!(s.lower <= s.upper))
-      throw PluginError(who + "state '" + s.name + "' has its bounds reversed (lower " + std::to_string(s.lower) +
-                        " > upper " + std::to_string(s.upper) + ")");
-    if (!(s.initial >= s.lower && s.initial <= s.upper))
-      throw PluginError(who + "state '" + s.name + "' starts at " + std::to_string(s.initial) +
-                        ", outside its bounds [" + std::to_string(s.lower) + ", " + std::to_string(s.upper) + "]");
+      problem("state '" + s.name + "' has its bounds reversed (lower " + std::to_string(s.lower) + " > upper " +
+              std::to_string(s.upper) + ")");
+    else if (!(s.initial >= s.lower && s.initial <= s.upper))
+      problem("state '" + s.name + "' starts at " + std::to_string(s.initial) + ", outside its bounds [" +
+              std::to_string(s.lower) + ", " + std::to_string(s.upper) + "]");
   }
   const auto n_states = static_cast<int>(info.states.size()), n_params = static_cast<int>(info.parameters.size());
   if (info.voltage_state >= n_states)
-    throw PluginError(who + "voltage_state " + std::to_string(info.voltage_state) + " is not one of its " +
-                      std::to_string(n_states) + " states");
+    problem("voltage_state " + std::to_string(info.voltage_state) + " is not one of its " +
+            std::to_string(n_states) + " states");
+  const bool capacitance_known = info.capacitance_parameter >= 0 && info.capacitance_parameter < n_params;
   if (info.capacitance_parameter >= n_params)
-    throw PluginError(who + "capacitance_parameter " + std::to_string(info.capacitance_parameter) +
-                      " is not one of its " + std::to_string(n_params) + " parameters");
-  if (info.capacitance_parameter >= 0 && !(info.parameters[info.capacitance_parameter].default_value > 0))
-    throw PluginError(who + "its capacitance parameter '" + info.parameters[info.capacitance_parameter].name +
-                      "' defaults to " + std::to_string(info.parameters[info.capacitance_parameter].default_value) +
-                      ", expected > 0 pF");
+    problem("capacitance_parameter " + std::to_string(info.capacitance_parameter) + " is not one of its " +
+            std::to_string(n_params) + " parameters");
+  if (capacitance_known && !(info.parameters[info.capacitance_parameter].default_value > 0))
+    problem("its capacitance parameter '" + info.parameters[info.capacitance_parameter].name + "' defaults to " +
+            std::to_string(info.parameters[info.capacitance_parameter].default_value) + ", expected > 0 pF");
+  // A variant is checked whether or not a manifest selects it.
+  for (const VariantInfo& v : info.variants) {
+    for (const auto& [name, value] : v.parameters) {
+      int k = -1;
+      for (int i = 0; i < n_params; ++i)
+        if (info.parameters[i].name == name) k = i;
+      if (k < 0) problem("variant '" + v.name + "' sets parameter '" + name + "', which the model does not have");
+      else if (k == info.capacitance_parameter && !(value > 0))
+        problem("variant '" + v.name + "' sets the capacitance '" + name + "' to " + std::to_string(value) +
+                ", expected > 0 pF");
+    }
+    for (const auto& [name, value] : v.initial_state) {
+      const StateInfo* state = nullptr;
+      for (const StateInfo& s : info.states)
+        if (s.name == name) state = &s;
+      if (!state) problem("variant '" + v.name + "' sets the initial value of state '" + name +
+                          "', which the model does not have");
+      else if (!(value >= state->lower && value <= state->upper))
+        problem("variant '" + v.name + "' starts state '" + name + "' at " + std::to_string(value) +
+                ", outside its bounds [" + std::to_string(state->lower) + ", " + std::to_string(state->upper) + "]");
+    }
+  }
+  return problems;
+}
+
+// A model's metadata must be consistent before anything relies on it: names
+// present and unique, bounds in order around the initial value, indices in
+// range, variants naming what the model has.
+void check_model_info(const ModelInfo& info, const fs::path& file) {
+  const auto problems = model_info_problems(info);
+  if (problems.empty()) return;
+  std::string all = problems.front();
+  if (problems.size() > 1) all += " (and " + std::to_string(problems.size() - 1) + " more: fibrodem check-plugin lists them)";
+  throw PluginError("plugin " + file.string() + " (model " + info.name + "): " + all);
 }
 
 std::vector<PluginRecord> PluginRegistry::loaded() const {

@@ -25,14 +25,25 @@ class PluginError : public std::runtime_error {
 
 // Throws PluginError naming `file` and the fault if a model's metadata is
 // inconsistent: no states, an empty or repeated name, bounds reversed or not
-// around the initial value, an index out of range, a capacitance <= 0.
+// around the initial value, an index out of range, a capacitance <= 0, a
+// variant naming a parameter or state the model lacks or starting a state
+// outside its bounds.
 void check_model_info(const ModelInfo& info, const std::filesystem::path& file);
+// The same rules, every fault found (empty: consistent), without throwing.
+std::vector<std::string> model_info_problems(const ModelInfo& info);
+
+// Loads one plugin file and creates its model, after checking its entry
+// points, plugin ABI and C++ standard-library ABI (PluginError naming the file
+// otherwise); its metadata is not checked (check_model_info).
+std::shared_ptr<const CellModel> open_cell_model_file(const std::filesystem::path& file);
 
 struct PluginRecord {
   std::string name;
   std::string version;
   std::filesystem::path file;
   std::string sha256;
+  // Plugins of the same name later on the search path, hidden by this one.
+  std::vector<std::filesystem::path> shadowed;
 };
 
 class PluginRegistry {
@@ -58,8 +69,11 @@ class PluginRegistry {
 
   const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
 
- private:
+  // The file a model of this name loads from (the first on the search path);
+  // throws PluginError as load() does if there is none.
   std::filesystem::path find_file(const std::string& name) const;
+
+ private:
 
   std::vector<std::filesystem::path> search_path_;
   std::map<std::string, std::shared_ptr<const CellModel>> models_;

@@ -35,7 +35,8 @@ void check_myofilament_contract(const ModelInfo& info) {
 
 }  // namespace
 
-Population make_population(CellType type, const ModelSpec& spec, ModelKind kind, PluginRegistry& registry) {
+Population make_population(CellType type, const ModelSpec& spec, ModelKind kind, PluginRegistry& registry,
+                           std::vector<std::string>* warnings) {
   Population pop;
   pop.type = type;
   try {
@@ -86,6 +87,10 @@ Population make_population(CellType type, const ModelSpec& spec, ModelKind kind,
       throw ManifestError(join_path(params_path, name),
                           "model " + info.name + " has no parameter \"" + name + "\" (it has: " +
                               names_of(info.parameters) + ")");
+    if (warnings && variant && variant->parameters.count(name) && variant->parameters.at(name) != value)
+      warnings->push_back(join_path(params_path, name) + " = " + format_number(value) + " replaces variant " +
+                          variant->name + "'s value " + format_number(variant->parameters.at(name)) + " " +
+                          info.parameters[static_cast<std::size_t>(k)].unit + " (model " + info.name + ")");
     pop.params[k] = value;
   }
   const std::string states_path = join_path(spec.path, "initial_state");

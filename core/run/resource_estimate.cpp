@@ -82,7 +82,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   }
   const auto& tr = scene.output.traces;
   const double trace_samples = samples(scene.duration_ms, tr.from_ms, tr.every_ms);
-  const double columns = static_cast<double>(tr.cells.size() * tr.variables.size()) + (mechanics ? 3 : 0);
+  double columns = mechanics ? 3 : 0;
+  for (const auto& block : tr.blocks) columns += static_cast<double>(block.cells.size() * block.variables.size());
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
   if (mechanics)

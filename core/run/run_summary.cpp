@@ -53,6 +53,22 @@ json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vecto
   return per_beat;
 }
 
+namespace {
+json model_used(const Population& pop) {
+  json parameters = json::object();
+  for (std::size_t k = 0; k < pop.params.size(); ++k) parameters[pop.info().parameters[k].name] = pop.params[k];
+  return {{"model", pop.info().name}, {"variant", pop.variant}, {"parameters", parameters}};
+}
+}  // namespace
+
+json models_used(const CellSystem& system) {
+  json models = json::object();
+  for (const auto& pop : system.populations) models[cell_type_name(pop.type)] = model_used(pop);
+  for (const auto& m : system.myofilaments)
+    models[cell_type_name(system.populations[static_cast<std::size_t>(m.host)].type)]["myofilament"] = model_used(m.pop);
+  return models;
+}
+
 json run_summary(const RunFacts& f) {
   json s;
   s["fibrodem_version"] = FIBRODEM_VERSION;
@@ -64,6 +80,7 @@ json run_summary(const RunFacts& f) {
   for (const auto& r : f.registry.loaded())
     s["plugins"].push_back({{"name", r.name}, {"version", r.version}, {"file", r.file.string()},
                             {"sha256", r.sha256}});
+  s["models"] = models_used(f.system);
   s["effects"] = json::array();
   s["processes"] = json::array();
   for (const auto& p : f.plan.built) {

@@ -62,6 +62,12 @@ struct RunFacts {
 
 json run_summary(const RunFacts& facts);
 
+// Per cell type, the model, variant and every parameter value the run used
+// (defaults, variant, manifest and what the set-up changed, e.g. calcium
+// feedback's troponin_buffer_scale), with its myofilament model's under
+// "myofilament": summary.json's "models".
+json models_used(const CellSystem& system);
+
 // A number summary.json reports, by name (sweep tables, paired comparisons):
 // fm_ratio, <type>_<biomarker> per cell type (rmp_mV, apo_mV, apd90_ms,
 // dvdt_max_mV_per_ms), cv_cm_per_s, peak_eps_xx, peak_eps_yy. NaN where the

@@ -114,7 +114,13 @@ struct Simulation::Impl : StepObserver {
     ScopeTimer timer(set_up_seconds);
     // Before any computation: a folder that cannot take the outputs stops here.
     if (!scene.output.dir.empty()) prepare_output_dir(scene.output.dir, scene.output.overwrite);
-    if (!registry) registry = std::make_shared<PluginRegistry>();
+    if (!registry) {
+      std::vector<fs::path> search(scene.plugin_path.begin(), scene.plugin_path.end());
+      for (auto& dir : PluginRegistry::default_search_path()) search.push_back(std::move(dir));
+      registry = std::make_shared<PluginRegistry>(std::move(search));
+    } else if (!scene.plugin_path.empty()) {
+      warnings.push_back("plugin_path ignored: this run was given its own plugin registry");
+    }
     make_logger();
     tissue = scene.tissue->build(scene.seed);
     plan = plan_processes(scene, tissue);
@@ -123,6 +129,7 @@ struct Simulation::Impl : StepObserver {
     build_populations();
     derive_contraction_from_traces();
     build_myofilaments();
+    warn_of_shadowed_plugins();
     if (!scene.solver.simd) {
       system.for_each_population([](Population& pop) { pop.scalar_reference = true; });
       plan.notes.push_back("solver.simd false: cell models evaluated one cell at a time in double");
@@ -138,6 +145,15 @@ struct Simulation::Impl : StepObserver {
     check_explicit_stability();
     plan_checkpoints();
     guard_resources();
+  }
+
+  // A plugin earlier on the search path (plugin_path, FIBRODEM_PLUGIN_PATH)
+  // hides any of the same name after it, such as a bundled one.
+  void warn_of_shadowed_plugins() {
+    for (const auto& record : registry->loaded())
+      for (const auto& hidden : record.shadowed)
+        warnings.push_back("plugin " + record.name + " loaded from " + record.file.string() + " hides " +
+                           hidden.string() + ", of the same name later on the search path");
   }
 
   // initial_state: the cells start from another run's checkpoint (the same
@@ -275,7 +291,7 @@ struct Simulation::Impl : StepObserver {
                             "the tissue has " + std::to_string(count) + " " + cell_type_name(type) +
                                 "(s) but the manifest gives them no cell model");
       population_of[type] = static_cast<int>(system.populations.size());
-      system.populations.push_back(make_population(type, spec->second.ionic, ModelKind::ionic, *registry));
+      system.populations.push_back(make_population(type, spec->second.ionic, ModelKind::ionic, *registry, &warnings));
       settle(system.populations.back(), spec->second);
     }
     system.where.resize(tissue.cell_count());
@@ -331,22 +347,24 @@ struct Simulation::Impl : StepObserver {
   // model calls for contraction.
   void derive_contraction_from_traces() {
     if (scene.effects_listed || plan.has("contraction")) return;
-    for (const auto& var : scene.output.traces.variables)
-      for (const auto& cell : scene.output.traces.cells) {
-        if (cell >= static_cast<int>(tissue.cell_count())) continue;
-        const Population& host = system.populations[system.where[cell].first];
-        const auto& spec = scene.cells.at(host.type);
-        if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
-        const ModelInfo& info = registry->load(spec.myofilament->model)->info();
-        if (find_state(info, var) >= 0 || find_output(info, var) >= 0) {
-          plan.built.push_back({"contraction", "output.traces records " + var + " of the myofilament model " + info.name});
-          plan.notes.erase(std::remove_if(plan.notes.begin(), plan.notes.end(),
-                                          [](const std::string& n) { return n.rfind("myofilament model", 0) == 0 ||
-                                                                            n.find("calcium_feedback") != std::string::npos; }),
-                           plan.notes.end());
-          return;
+    for (const auto& block : scene.output.traces.blocks) {
+      for (const auto& var : block.variables)
+        for (const auto& cell : block.cells) {
+          if (cell >= static_cast<int>(tissue.cell_count())) continue;
+          const Population& host = system.populations[system.where[cell].first];
+          const auto& spec = scene.cells.at(host.type);
+          if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
+          const ModelInfo& info = registry->load(spec.myofilament->model)->info();
+          if (find_state(info, var) >= 0 || find_output(info, var) >= 0) {
+            plan.built.push_back({"contraction", "output.traces records " + var + " of the myofilament model " + info.name});
+            plan.notes.erase(std::remove_if(plan.notes.begin(), plan.notes.end(),
+                                            [](const std::string& n) { return n.rfind("myofilament model", 0) == 0 ||
+                                                                              n.find("calcium_feedback") != std::string::npos; }),
+                             plan.notes.end());
+            return;
+          }
         }
-      }
+    }
   }
 
   // One myofilament population per cell type that names one, over the same cells.
@@ -357,7 +375,7 @@ struct Simulation::Impl : StepObserver {
       const CellTypeSpec& spec = scene.cells.at(host.type);
       if (!spec.myofilament) continue;
       Myofilament m;
-      m.pop = make_population(host.type, *spec.myofilament, ModelKind::myofilament, *registry);
+      m.pop = make_population(host.type, *spec.myofilament, ModelKind::myofilament, *registry, &warnings);
       m.pop.cells = host.cells;
       m.pop.reset();
       m.host = static_cast<int>(p);
@@ -731,6 +749,26 @@ struct Simulation::Impl : StepObserver {
     });
   }
 
+  // A blow-up at a step this many times below the stability estimate is
+  // blamed on the model: the case was 300x; 10x leaves no doubt that
+  // an explicit scheme is stable there.
+  static constexpr double kModelBlameFactor = 10;
+
+  std::string plugin_file(const Population& pop) const {
+    for (const auto& r : registry->loaded())
+      if (r.name == pop.info().name) return r.file.string();
+    return "plugin";
+  }
+
+  // "V = -80.1 mV, n = nan, ...": every state of local cell c.
+  static std::string cell_states(const Population& pop, std::size_t c) {
+    std::string s;
+    for (std::size_t k = 0; k < pop.n_states(); ++k)
+      s += (k ? ", " : "") + pop.info().states[k].name + " = " + format_number(pop.state(static_cast<int>(k), c)) +
+           (pop.info().states[k].unit.empty() || pop.info().states[k].unit == "1" ? "" : " " + pop.info().states[k].unit);
+    return s;
+  }
+
   [[noreturn]] void blow_up(double t, const Population& pop, std::size_t k, std::size_t c, double value) const {
     std::ostringstream s;
     s << "blow-up at t = " << format_number(t) << " ms: cell " << pop.cells[c] << " ("
@@ -738,7 +776,21 @@ struct Simulation::Impl : StepObserver {
       << "' = " << format_number(value) << " " << pop.info().states[k].unit << ", expected within ["
       << format_number(pop.info().states[k].lower) << ", " << format_number(pop.info().states[k].upper)
       << "]";
-    if (scene.solver.fixed_step()) {
+    // A step far below the estimated stability limit (or with none: gates by
+    // Rush-Larsen, no explicit coupling) is not what went wrong: the model is.
+    const double dt = scene.solver.dt_ms;
+    if (scene.solver.fixed_step() && dt * kModelBlameFactor <= stability.limit_ms()) {
+      s << "; the step (solver.dt_ms = " << format_number(dt) << " ms) is "
+        << (std::isfinite(stability.limit_ms())
+                ? fmt::format("{:.3g}x below the estimated explicit stability limit ({:.3g} ms)",
+                              stability.limit_ms() / dt, stability.limit_ms())
+                : std::string("not limited by any explicit stability estimate (gates by Rush-Larsen, no explicit "
+                              "coupling)"))
+        << ", so the model is the likely cause, not the step: model " << pop.info().name << " (" << plugin_file(pop)
+        << ") took '" << pop.info().states[k].name << "' there. The cell's states after that step (each finite one "
+        << "is its last finite value; a non-finite one had a non-finite rate in that step): " << cell_states(pop, c)
+        << ". Check the model with: fibrodem check-plugin " << pop.info().name;
+    } else if (scene.solver.fixed_step()) {
       s << "; " << integrator->describe() << " may be unstable here";
       if (std::isfinite(stability.limit_ms()))
         s << fmt::format(" (estimated explicit stability limit {:.3g} ms, set by {}; a stable step: solver.dt_ms <= {:.3g})",

@@ -41,20 +41,20 @@ TraceRecorder::TraceRecorder(const Scene& scene, CellSystem& system, bool with_m
       until_ms_(scene.duration_ms) {
   if (with_mechanics)  // the tissue strain is always traced with mechanics
     for (int k = 0; k < 3; ++k) columns_.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k});
-  const auto& vars = scene.output.traces.variables;
+  const auto vars = scene.output.traces.all_variables();
   if (std::find(vars.begin(), vars.end(), kStepVariable) != vars.end())
     columns_.push_back({kStepVariable, 0, 0, 0, false, false, 0, -1, true});
-  add_cell_columns(scene.output.traces, system, with_mechanics, contraction);
+  for (const auto& block : scene.output.traces.blocks) add_cell_columns(block, system, with_mechanics, contraction);
   samples_.assign(columns_.size(), {});
   if (scene.solver.fixed_step()) check_sampling_grid(scene.output.traces, scene.solver);
 }
 
-void TraceRecorder::add_cell_columns(const TraceSpec& spec, CellSystem& system, bool with_mechanics,
+void TraceRecorder::add_cell_columns(const TraceBlock& spec, CellSystem& system, bool with_mechanics,
                                      bool contraction) {
   for (std::size_t i = 0; i < spec.cells.size(); ++i) {
     const int cell = spec.cells[i];
     if (cell >= static_cast<int>(system.cell_count()))
-      throw ManifestError(index_path("output.traces.cells", i),
+      throw ManifestError(index_path(spec.path + ".cells", i),
                           "cell " + std::to_string(cell) + " does not exist (the tissue has " +
                               std::to_string(system.cell_count()) + " cells)");
     for (std::size_t j = 0; j < spec.variables.size(); ++j) {
@@ -62,7 +62,7 @@ void TraceRecorder::add_cell_columns(const TraceSpec& spec, CellSystem& system, 
       if (var == kStepVariable) continue;  // one column for the whole tissue
       if (is_strain_variable(var)) {
         if (!with_mechanics)
-          throw ManifestError(index_path("output.traces.variables", j),
+          throw ManifestError(index_path(spec.path + ".variables", j),
                               "\"" + var + "\" is the tissue strain, which needs the effect mechanics");
         continue;
       }
@@ -80,14 +80,16 @@ void TraceRecorder::add_cell_columns(const TraceSpec& spec, CellSystem& system, 
           for (const auto& s : pop.info().states) names.push_back(s.name);
           for (const auto& o : pop.info().outputs) names.push_back(o.name);
         });
-        throw ManifestError(index_path("output.traces.variables", j),
+        throw ManifestError(index_path(spec.path + ".variables", j),
                             "\"" + var + "\" is neither a state nor an output of the models of cell " +
                                 std::to_string(cell) + " (" + system.populations[p].info().name +
                                 (contraction ? "" : "; myofilament models are loaded only with contraction") +
                                 "); they have: " + list_names(names));
       }
       need_outputs_ = need_outputs_ || col.is_output;
-      columns_.push_back(col);
+      // A column two blocks both ask for is recorded once.
+      if (std::none_of(columns_.begin(), columns_.end(), [&](const TraceColumn& c) { return c.name() == col.name(); }))
+        columns_.push_back(col);
     }
   }
 }

@@ -65,7 +65,7 @@ class TraceRecorder {
   const std::vector<double>& trace(const std::string& variable, int cell) const;
 
  private:
-  void add_cell_columns(const TraceSpec& spec, CellSystem& system, bool with_mechanics, bool contraction);
+  void add_cell_columns(const TraceBlock& spec, CellSystem& system, bool with_mechanics, bool contraction);
   static void check_sampling_grid(const TraceSpec& spec, const SolverSpec& solver);
 
   std::vector<TraceColumn> columns_;

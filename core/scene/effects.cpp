@@ -44,7 +44,7 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
                            " cell-graph edges carry no current");
   } else {
     plan.built.push_back({"electrophysiology", "the scene records membrane potentials and biomarkers"});
-    for (const auto& v : scene.output.traces.variables)
+    for (const auto& v : scene.output.traces.all_variables())
       if (is_strain_variable(v) && !plan.has("mechanics")) {
         plan.built.push_back({"mechanics", "output.traces records the tissue strain " + v});
         plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});

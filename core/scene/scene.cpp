@@ -1,6 +1,9 @@
 #include "scene/scene.hpp"
 
+#include <filesystem>
 #include <fstream>
+#include <optional>
+#include <tuple>
 #include <limits>
 #include <regex>
 
@@ -177,24 +180,48 @@ SolverSpec read_solver(JsonReader r) {
   return s;
 }
 
+// output.traces: {cells, variables, every_ms, from_ms}, or a list of such
+// blocks; every_ms and from_ms, where blocks give them, must agree (one
+// traces.csv, one time axis).
+static TraceSpec read_traces(const json& raw, const std::string& path) {
+  TraceSpec spec;
+  const bool listed = raw.is_array();
+  if (listed && raw.empty()) throw ManifestError(path, "expected at least one block {cells, variables}, got []");
+  spec.blocks.clear();
+  std::optional<std::pair<double, std::string>> every, from;
+  for (std::size_t i = 0; i < (listed ? raw.size() : 1); ++i) {
+    const std::string block_path = listed ? index_path(path, i) : path;
+    JsonReader t(listed ? raw[i] : raw, block_path);
+    TraceBlock block;
+    block.path = block_path;
+    const json& cells = t.raw("cells");
+    if (!cells.is_null()) {
+      if (!cells.is_array())
+        throw ManifestError(t.path_of("cells"), "expected a list of cell indices, got " + describe_json(cells));
+      block.cells = read_cell_indices(cells, t.path_of("cells"));
+    }
+    block.variables = t.text_list("variables", block.variables);
+    // Each of every_ms and from_ms: the first block that gives it sets it.
+    for (auto [key, value, first] : {std::tuple{"every_ms", &spec.every_ms, &every}, std::tuple{"from_ms", &spec.from_ms, &from}}) {
+      if (!t.has(key)) continue;
+      const double given = t.number(key, std::nullopt, std::string(key) == "every_ms" ? 1e-6 : 0.0, kInf);
+      if (*first && given != (*first)->first)
+        throw ManifestError(t.path_of(key), "expected " + describe_json((*first)->first) + " as " + (*first)->second +
+                                                " gives (one traces.csv has one time axis), got " + describe_json(given));
+      if (!*first) *first = std::pair{given, t.path_of(key)};
+      *value = given;
+    }
+    t.finish();
+    spec.blocks.push_back(std::move(block));
+  }
+  return spec;
+}
+
 OutputSpec read_output(JsonReader r) {
   OutputSpec o;
   o.dir = r.text("dir", std::string());
   o.progress_every_s = r.number("progress_every_s", 1.0, 0.0, kInf);
-  if (r.has("traces")) {
-    JsonReader t = r.object("traces");
-    const json& cells = t.raw("cells");
-    if (!cells.is_null()) {
-      if (!cells.is_array())
-        throw ManifestError(t.path_of("cells"), "expected a list of cell indices, got " +
-                                                    describe_json(cells));
-      o.traces.cells = read_cell_indices(cells, t.path_of("cells"));
-    }
-    o.traces.variables = t.text_list("variables", o.traces.variables);
-    o.traces.every_ms = t.number("every_ms", o.traces.every_ms, 1e-6, kInf);
-    o.traces.from_ms = t.number("from_ms", 0.0, 0.0, kInf);
-    t.finish();
-  }
+  if (r.has("traces")) o.traces = read_traces(r.raw("traces"), r.path_of("traces"));
   o.tissue_picture = r.boolean("tissue_picture", false);
   o.maps = r.boolean("maps", false);
   o.report = r.boolean("report", true);
@@ -243,6 +270,24 @@ CouplingSpec read_coupling(JsonReader r) {
   return c;
 }
 }  // namespace
+
+// plugin_path: a directory or a list of them, each an existing directory
+// (relative to the working directory, as every path of a manifest).
+static std::vector<std::string> read_plugin_path(JsonReader& top) {
+  if (!top.has("plugin_path")) return {};
+  const json& raw = top.raw("plugin_path");
+  std::vector<std::string> dirs;
+  if (raw.is_string()) dirs = {raw.get<std::string>()};
+  else dirs = top.text_list("plugin_path", {});
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const std::string where = raw.is_string() ? std::string("plugin_path") : index_path("plugin_path", i);
+    std::error_code ec;
+    if (dirs[i].empty() || !std::filesystem::is_directory(dirs[i], ec))
+      throw ManifestError(where, "expected an existing directory of plugins (libfibrodem_NAME.so), got \"" +
+                                     dirs[i] + "\"" + (dirs[i].empty() ? "" : " (no such directory)"));
+  }
+  return dirs;
+}
 
 Scene parse_scene(const json& manifest) {
   JsonReader top(manifest, "");
@@ -308,6 +353,7 @@ Scene parse_scene(const json& manifest) {
     scene.initial_state.time_ms = init.number("time_ms", -1.0, 0.0, 1e9);
     init.finish();
   }
+  scene.plugin_path = read_plugin_path(top);
   top.finish();
   return scene;
 }

@@ -110,11 +110,25 @@ struct SolverSpec {
   bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 
-struct TraceSpec {
+// One block of output.traces: these variables of these cells.
+struct TraceBlock {
   std::vector<int> cells = {0};
   std::vector<std::string> variables = {"V"};
+  std::string path = "output.traces";  // where it sits in the manifest, for errors
+};
+
+// output.traces: one object, or a list of blocks (so that variables of one
+// cell type's model are traced beside another's) sharing one time axis.
+struct TraceSpec {
+  std::vector<TraceBlock> blocks = {TraceBlock{}};
   double every_ms = 0.1;
   double from_ms = 0;
+  // Every variable of every block (repeats included).
+  std::vector<std::string> all_variables() const {
+    std::vector<std::string> all;
+    for (const auto& b : blocks) all.insert(all.end(), b.variables.begin(), b.variables.end());
+    return all;
+  }
 };
 
 // Pictures (PNG) and ParaView files (VTK) of the tissue coloured by V, taken
@@ -173,6 +187,9 @@ struct Scene {
   SolverSpec solver;
   OutputSpec output;
   InitialStateSpec initial_state;
+  // plugin_path: directories searched for plugins before $FIBRODEM_PLUGIN_PATH
+  // and the bundled ones (each checked to exist).
+  std::vector<std::string> plugin_path;
   json manifest;  // the manifest as resolved (after --set), for summary.json
 };
 

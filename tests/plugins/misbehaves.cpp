@@ -1,7 +1,9 @@
 // A test model that breaks the plugin contract on request, through its
 // parameter `fault`: 1, evaluate() throws once t passes 5 ms (the run must
 // stop naming the model, outputs kept); 2, it takes its process down with
-// SIGSEGV (a sweep must survive it in its other points); 0, it behaves.
+// SIGSEGV (a sweep must survive it in its other points); 3, V's rate turns
+// NaN once t passes 5 ms (a model bug, whatever the step); 0, it behaves.
+#include <cmath>
 #include <csignal>
 #include <stdexcept>
 
@@ -15,7 +17,7 @@ class Misbehaves final : public fibrodem::CellModel {
     info_.name = "misbehaves";
     info_.version = "test";
     info_.states = {{"V", "mV", -50.0, -500.0, 500.0, false}};
-    info_.parameters = {{"C_pF", "pF", 10.0, ""}, {"fault", "1", 0.0, "1: throw after 5 ms; 2: SIGSEGV"}};
+    info_.parameters = {{"C_pF", "pF", 10.0, ""}, {"fault", "1", 0.0, "1: throw after 5 ms; 2: SIGSEGV; 3: NaN rate after 5 ms"}};
     info_.inputs = {{"i_ext", "pA", ""}};
     info_.voltage_state = 0;
     info_.capacitance_parameter = 0;
@@ -27,7 +29,7 @@ class Misbehaves final : public fibrodem::CellModel {
     if (fault == 2) std::raise(SIGSEGV);
     for (std::size_t c = block.begin; c < block.end; ++c) {
       const fibrodem::CellAccess cell(block, c);
-      cell.rate(0, cell.input(0) / cell.param(0));
+      cell.rate(0, fault == 3 && t_ms > 5 ? std::nan("") : cell.input(0) / cell.param(0));
     }
   }
 
