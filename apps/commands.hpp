@@ -76,6 +76,14 @@ int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
+
+// `fibrodem new-model`: a plugin skeleton that builds out of tree.
+struct NewModelArgs {
+  std::string name;
+  std::string kind = "ionic";  // ionic | myofilament | contact-law
+  std::string dir;             // default ./NAME
+};
+int new_model_command(const NewModelArgs& args);
 int bench_command(const char* program, const std::vector<std::string>& args);
 int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.

@@ -74,6 +74,13 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
 
+  fibrodem::cli::NewModelArgs new_model_args;
+  auto* new_model = app.add_subcommand("new-model", "Write a plugin skeleton (source, CMakeLists.txt, test manifest) that builds out of tree against an installed fibrodem");
+  new_model->add_option("name", new_model_args.name, "the plugin's name (lower-case letters, digits, '_')")->required();
+  new_model->add_option("--kind", new_model_args.kind, "ionic (default), myofilament or contact-law")
+      ->check(CLI::IsMember({"ionic", "myofilament", "contact-law"}));
+  new_model->add_option("--dir", new_model_args.dir, "directory to write (default ./NAME); existing files are never overwritten");
+
   auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
   bench->allow_extras();
   fibrodem::cli::BenchAccuracyArgs accuracy_args;
@@ -89,6 +96,7 @@ int main(int argc, char** argv) {
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
+  if (*new_model) return fibrodem::cli::new_model_command(new_model_args);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
   if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());

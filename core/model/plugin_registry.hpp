@@ -1,4 +1,6 @@
-// Finds cell-model plugins on a search path and loads them with Boost.DLL.
+// Finds plugins on a search path and loads them with Boost.DLL: cell models
+// (`libfibrodem_<name>.so`, loaded here) and contact laws
+// (`libfibrodem_contact_law_<name>.so`, through open(); mechanics/contact_law.hpp).
 //
 // Search path, in order: every directory of $FIBRODEM_PLUGIN_PATH (':'-separated),
 // then `plugins/` next to the running executable and one level up (the build
@@ -28,6 +30,18 @@ class PluginError : public std::runtime_error {
 // around the initial value, an index out of range, a capacitance <= 0.
 void check_model_info(const ModelInfo& info, const std::filesystem::path& file);
 
+// The file of a contact-law plugin starts with this (after which comes its
+// name); every other `libfibrodem_<name>.so` is a cell model.
+inline constexpr const char* kContactLawFilePrefix = "libfibrodem_contact_law_";
+
+// A plugin library, loaded and checked: its file, a handle that keeps it
+// loaded while any copy lives, and the address of its factory function.
+struct OpenedPlugin {
+  std::filesystem::path file;
+  std::shared_ptr<void> library;
+  void (*factory)() = nullptr;  // cast to the kind's factory type
+};
+
 struct PluginRecord {
   std::string name;
   std::string version;
@@ -45,8 +59,16 @@ class PluginRegistry {
   // the search path and the models that were found if there is none.
   std::shared_ptr<const CellModel> load(const std::string& name);
 
-  // Names of every plugin file found on the search path (not loaded).
+  // Names of every cell-model plugin file found on the search path (not loaded).
   std::vector<std::string> available() const;
+  // Names of the files `<file_prefix><name>.so` on the search path.
+  std::vector<std::string> available(const std::string& file_prefix) const;
+
+  // Finds `file_name` on the search path, loads it and checks that it exports
+  // `factory_symbol` and that `abi_symbol` returns `abi_version` (else
+  // PluginError naming the file, with `macro` as the way to define them).
+  OpenedPlugin open(const std::string& file_name, const char* factory_symbol, const char* abi_symbol,
+                    int abi_version, const char* macro) const;
 
   // Provenance of each model loaded so far.
   std::vector<PluginRecord> loaded() const;
@@ -54,7 +76,8 @@ class PluginRegistry {
   const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
 
  private:
-  std::filesystem::path find_file(const std::string& name) const;
+  std::filesystem::path find_file(const std::string& file_name, const std::string& what,
+                                  const std::string& file_prefix) const;
 
   std::vector<std::filesystem::path> search_path_;
   std::map<std::string, std::shared_ptr<const CellModel>> models_;
