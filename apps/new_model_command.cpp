@@ -92,6 +92,7 @@ int new_model_command(const NewModelArgs& args) {
     out = replace_all(out, "@CLASS@", class_name(args.name));
     out = replace_all(out, "@KIND@", args.kind);
     out = replace_all(out, "@ADD_FUNCTION@", add_function);
+    out = replace_all(out, "@TARGET@", (args.kind == "contact-law" ? "fibrodem_contact_law_" : "fibrodem_") + args.name);
     std::ofstream stream(file);
     stream << out;
     if (!stream.flush()) {

@@ -25,7 +25,7 @@ enable_testing()
 add_test(NAME @NAME@_runs
          COMMAND ${FIBRODEM_EXECUTABLE} run ${CMAKE_CURRENT_SOURCE_DIR}/@NAME@_test.json
                  --out ${CMAKE_CURRENT_BINARY_DIR}/test_run --overwrite --quiet)
-set_tests_properties(@NAME@_runs PROPERTIES ENVIRONMENT "FIBRODEM_PLUGIN_PATH=${CMAKE_CURRENT_BINARY_DIR}")
+set_tests_properties(@NAME@_runs PROPERTIES ENVIRONMENT "FIBRODEM_PLUGIN_PATH=$<TARGET_FILE_DIR:@TARGET@>")
 )TPL";
 
 // ---- ionic ------------------------------------------------------------------

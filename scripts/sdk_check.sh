@@ -6,7 +6,7 @@
 # plugin's headers come from the SDK and the C++ library only, and run each
 # skeleton's test manifest with `fibrodem run` (ctest in the skeleton).
 #   scripts/sdk_check.sh [BUILD_DIR]   (default build; built already)
-# About 30-40 s on 2 cores (mostly the three test runs).
+# About 10 s on 2 cores (70 s with the machine loaded by other jobs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=$(realpath "${1:-build}")
