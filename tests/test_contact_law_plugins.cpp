@@ -12,7 +12,10 @@
 #include "mechanics/contact_law.hpp"
 #include "mechanics/dem_spec.hpp"
 #include "model/plugin_registry.hpp"
+#include "run/simulation.hpp"
 #include "scene/json_reader.hpp"
+#include "scene/scene.hpp"
+#include "support/scenes.hpp"
 
 using namespace fibrodem;
 
@@ -254,4 +257,31 @@ TEST_CASE("contact laws: a law built out of tree loads from FIBRODEM_PLUGIN_PATH
   CHECK(k.fn[7] / k.fn[6] == doctest::Approx(std::pow(2.0, 1.5)).epsilon(1e-12));
   // Tangent stiffness 2 E* sqrt(R* d_max) sets the stable step.
   CHECK(law->stable_step_stiffness(26, false) == doctest::Approx(2 * E * std::sqrt(R * 2e-6)).epsilon(1e-12));
+}
+
+TEST_CASE("contact laws: summary.json records the law's plugin and every parameter value used") {
+  // A myocyte and two fibroblasts, bonded, for 30 ms of DEM.
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "law_summary", "seed": 1, "duration_ms": 30,
+    "effects": ["electrophysiology", "coupling", "mechanics"],
+    "tissue": {"builder": "cell_pair", "fibroblasts": 2},
+    "cells": {"myocyte": {"model": "colman", "myofilament": "rice"}, "fibroblast": {"model": "passive_fibroblast"}},
+    "coupling": {"law": "gap_junction", "D_f_nS": 0.5},
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "mechanics": {"contact_law": "linear_parallel_bond", "friction": 0.3,
+                  "contact_law_parameters": {"bond_radius_multiplier": 0.8}}
+  })");
+  const auto dir = testing::scratch_dir("contact_law_summary");
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const json summary = json::parse(testing::read_file(dir / "summary.json"));
+  const json& law = summary["contact_law"];
+  CHECK(law["name"] == "linear_parallel_bond");
+  CHECK(law["sha256"].get<std::string>().size() == 64);
+  CHECK(law["file"].get<std::string>().find("libfibrodem_contact_law_linear_parallel_bond.so") != std::string::npos);
+  CHECK(law["parameters"]["friction"] == 0.3);                // the mechanics key
+  CHECK(law["parameters"]["bond_radius_multiplier"] == 0.8);  // contact_law_parameters
+  CHECK(law["parameters"]["damping_ratio_normal"] == 0.1);    // the default
+  CHECK(law["parameters"].size() == 6);
 }

@@ -17,6 +17,7 @@ std::string file_of(const std::string& name) { return kContactLawFilePrefix + na
 struct LoadedLaws {
   std::mutex mutex;
   std::map<std::string, std::shared_ptr<const ContactLaw>> laws;
+  std::map<std::string, ContactLawRecord> records;
 };
 LoadedLaws& loaded_laws() {
   static LoadedLaws loaded;
@@ -51,7 +52,16 @@ std::shared_ptr<const ContactLaw> load_contact_law(const std::string& name) {
   std::shared_ptr<const ContactLaw> law(raw, [library = plugin.library](const ContactLaw* l) { delete l; });
   check_law_info(law->info(), name, plugin.file.string());
   loaded.laws[name] = law;
+  loaded.records[name] = {name, law->info().version, plugin.file.string(), sha256_of_file(plugin.file)};
   return law;
+}
+
+ContactLawRecord contact_law_record(const std::string& name) {
+  LoadedLaws& loaded = loaded_laws();
+  std::lock_guard<std::mutex> lock(loaded.mutex);
+  const auto it = loaded.records.find(name);
+  if (it == loaded.records.end()) throw PluginError("contact law '" + name + "' was not loaded");
+  return it->second;
 }
 
 std::vector<std::string> available_contact_laws() {

@@ -47,6 +47,12 @@ class BoundContactLaw {
 // (PluginRegistry::default_search_path(), read again for a name not loaded
 // yet); throws PluginError naming the search path and the laws found.
 std::shared_ptr<const ContactLaw> load_contact_law(const std::string& name);
+// Where a loaded law came from (for summary.json), by name; throws
+// PluginError for a law not loaded.
+struct ContactLawRecord {
+  std::string name, version, file, sha256;
+};
+ContactLawRecord contact_law_record(const std::string& name);
 // The names of the contact laws on the default search path.
 std::vector<std::string> available_contact_laws();
 
