@@ -90,6 +90,14 @@ int plugins_command(bool as_json);
 // `fibrodem plot SPEC.json --out FILE.png` (apps/plot_command.cpp).
 int plot_command(const std::string& spec_file, const std::string& out);
 int check_plugin_command(const std::string& file_or_name);
+
+// `fibrodem new-model`: a plugin skeleton that builds out of tree.
+struct NewModelArgs {
+  std::string name;
+  std::string kind = "ionic";  // ionic | myofilament | contact-law
+  std::string dir;             // default ./NAME
+};
+int new_model_command(const NewModelArgs& args);
 int bench_command(const char* program, const std::vector<std::string>& args);
 int bench_accuracy_command(const BenchAccuracyArgs& args);
 // Adds `accuracy` (its options into `args`) under the `bench` subcommand.

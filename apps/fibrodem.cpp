@@ -89,6 +89,12 @@ int main(int argc, char** argv) {
   std::string check_plugin_target;
   auto* check_plugin = app.add_subcommand("check-plugin", "Check a cell-model plugin against the plugin contract (metadata, derivatives written, finite, voltage_only, linear forms, bounds over a beat, block = single cell)");
   check_plugin->add_option("plugin", check_plugin_target, "a plugin file (libfibrodem_NAME.so) or a model name on the search path")->required();
+  fibrodem::cli::NewModelArgs new_model_args;
+  auto* new_model = app.add_subcommand("new-model", "Write a plugin skeleton (source, CMakeLists.txt, test manifest) that builds out of tree against an installed fibrodem");
+  new_model->add_option("name", new_model_args.name, "the plugin's name (lower-case letters, digits, '_')")->required();
+  new_model->add_option("--kind", new_model_args.kind, "ionic (default), myofilament or contact-law")
+      ->check(CLI::IsMember({"ionic", "myofilament", "contact-law"}));
+  new_model->add_option("--dir", new_model_args.dir, "directory to write (default ./NAME); existing files are never overwritten");
 
   auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
   bench->allow_extras();
@@ -112,6 +118,7 @@ int main(int argc, char** argv) {
   if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
   if (*import_cellml) return fibrodem::cli::import_cellml_command(import_args);
   if (*check_plugin) return fibrodem::cli::check_plugin_command(check_plugin_target);
+  if (*new_model) return fibrodem::cli::new_model_command(new_model_args);
   if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
   if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
   if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());

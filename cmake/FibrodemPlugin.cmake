@@ -1,17 +1,61 @@
 # fibrodem_add_cell_model(NAME source...)
-# Builds a cell-model plugin as a shared module named libfibrodem_<NAME>.so in the
-# plugin directory. A plugin sees the header-only plugin contract of the core
-# (core/model/cell_model.hpp, block_access.hpp, simd.hpp; xsimd is header-only)
-# and links nothing of the core.
+# fibrodem_add_contact_law(NAME source...)
+# Build a plugin as a shared module: libfibrodem_<NAME>.so (target
+# fibrodem_<NAME>) for a cell model, libfibrodem_contact_law_<NAME>.so (target
+# fibrodem_contact_law_<NAME>) for a contact law. One definition for
+# both routes: the in-tree build (plugins/, tests/) and an out-of-tree plugin
+# after `find_package(fibrodem)`, which includes this file from the install.
+#
+# A plugin compiles against the target fibrodem::plugin_sdk only: the
+# header-only plugin contract (model/cell_model.hpp, block_access.hpp,
+# simd.hpp with xsimd; mechanics/contact_law_plugin.hpp) and links nothing.
+#
+# Optional variables, read when the function is called:
+#   FIBRODEM_PLUGIN_OUTPUT_DIR   where the .so is built (default: the
+#                                project's build directory)
+#   FIBRODEM_PLUGIN_INSTALL_DIR  where `cmake --install` puts it (default:
+#                                lib/fibrodem/plugins, where an installed
+#                                fibrodem of the same prefix looks)
+#   FIBRODEM_PLUGIN_NO_INSTALL   TRUE: no install rule (test plugins)
 function(fibrodem_add_cell_model name)
-  set(target fibrodem_${name})
+  _fibrodem_add_plugin(fibrodem_${name} ${name} ${ARGN})
+endfunction()
+
+function(fibrodem_add_contact_law name)
+  _fibrodem_add_plugin(fibrodem_contact_law_${name} ${name} ${ARGN})
+endfunction()
+
+function(_fibrodem_add_plugin target name)
+  if(NOT name MATCHES "^[a-z][a-z0-9_]*$")
+    message(FATAL_ERROR "fibrodem plugin name '${name}': expected lower-case letters, digits and '_', starting with a letter")
+  endif()
+  if(NOT ARGN)
+    message(FATAL_ERROR "fibrodem plugin '${name}': no source files given")
+  endif()
+  if(NOT TARGET fibrodem::plugin_sdk)
+    message(FATAL_ERROR "fibrodem plugin '${name}': the target fibrodem::plugin_sdk is missing; "
+                        "call find_package(fibrodem REQUIRED) first")
+  endif()
+  set(output_dir ${CMAKE_BINARY_DIR})
+  if(DEFINED FIBRODEM_PLUGIN_OUTPUT_DIR)
+    set(output_dir ${FIBRODEM_PLUGIN_OUTPUT_DIR})
+  endif()
+  set(install_dir lib/fibrodem/plugins)
+  if(DEFINED FIBRODEM_PLUGIN_INSTALL_DIR)
+    set(install_dir ${FIBRODEM_PLUGIN_INSTALL_DIR})
+  endif()
+
   add_library(${target} MODULE ${ARGN})
-  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/core)
-  target_link_libraries(${target} PRIVATE fibrodem_xsimd)
+  target_link_libraries(${target} PRIVATE fibrodem::plugin_sdk)
   set_target_properties(${target} PROPERTIES
-    LIBRARY_OUTPUT_DIRECTORY ${FIBRODEM_PLUGIN_OUTPUT_DIR}
+    PREFIX "lib"
+    OUTPUT_NAME ${target}
+    SUFFIX ".so"
+    LIBRARY_OUTPUT_DIRECTORY ${output_dir}
     CXX_VISIBILITY_PRESET hidden
     VISIBILITY_INLINES_HIDDEN ON)
-  install(TARGETS ${target} LIBRARY DESTINATION ${FIBRODEM_PLUGIN_INSTALL_DIR})
+  if(NOT FIBRODEM_PLUGIN_NO_INSTALL)
+    install(TARGETS ${target} LIBRARY DESTINATION ${install_dir})
+  endif()
   set_property(GLOBAL APPEND PROPERTY FIBRODEM_PLUGIN_TARGETS ${target})
 endfunction()

@@ -4,15 +4,42 @@
 #include "integrate/cvode_integrator.hpp"
 #include "integrate/fixed_step.hpp"
 
+#include <stdexcept>
+
 namespace fibrodem {
 
-std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver) {
-  if (solver.method == "cvode") return std::make_unique<CvodeIntegrator>(solver);
-  if (solver.method == "adaptive") return std::make_unique<AdaptiveIntegrator>(solver);
-  const auto rule = solver.method == "euler"          ? FixedStepIntegrator::Rule::euler
-                    : solver.method == "rush_larsen2" ? FixedStepIntegrator::Rule::rush_larsen2
-                                                      : FixedStepIntegrator::Rule::rush_larsen;
+namespace {
+template <FixedStepIntegrator::Rule rule>
+std::unique_ptr<Integrator> make_fixed_step(const SolverSpec& solver) {
   return std::make_unique<FixedStepIntegrator>(rule, solver.dt_ms);
+}
+template <class Method>
+std::unique_ptr<Integrator> make(const SolverSpec& solver) {
+  return std::make_unique<Method>(solver);
+}
+}  // namespace
+
+const std::vector<IntegratorEntry>& integrators() {
+  static const std::vector<IntegratorEntry> entries = {
+      {"euler", true, make_fixed_step<FixedStepIntegrator::Rule::euler>},
+      {"rush_larsen", true, make_fixed_step<FixedStepIntegrator::Rule::rush_larsen>},
+      {"rush_larsen2", true, make_fixed_step<FixedStepIntegrator::Rule::rush_larsen2>},
+      {"cvode", false, make<CvodeIntegrator>},
+      {"adaptive", false, make<AdaptiveIntegrator>},
+  };
+  return entries;
+}
+
+bool SolverSpec::fixed_step(const std::string& method) {
+  for (const auto& entry : integrators())
+    if (method == entry.name) return entry.fixed_step;
+  return false;
+}
+
+std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver) {
+  for (const auto& entry : integrators())
+    if (solver.method == entry.name) return entry.make(solver);
+  throw std::invalid_argument("no integrator named '" + solver.method + "'");
 }
 
 }  // namespace fibrodem

@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <memory>
+#include <vector>
 #include <string>
 
 #include "integrate/cell_system.hpp"
@@ -44,6 +45,17 @@ class Integrator {
   virtual std::string report() const { return {}; }
 };
 
+// The integrators by `solver.method` name: the one place that registers one
+// (README "Adding an integrator or a tissue builder"). "auto" is not here: it
+// chooses among these (method_choice.hpp).
+struct IntegratorEntry {
+  const char* name;
+  bool fixed_step;  // steps of solver.dt_ms (Euler, Rush-Larsen); else error-controlled
+  std::unique_ptr<Integrator> (*make)(const SolverSpec& solver);
+};
+const std::vector<IntegratorEntry>& integrators();
+
+// The solver's method's integrator (std::invalid_argument for an unknown one).
 std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver);
 
 }  // namespace fibrodem

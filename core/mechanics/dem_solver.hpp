@@ -121,7 +121,7 @@ class DemSolver final : public MechanicsSolver {
   static constexpr std::size_t kBlock = 512;
 
   DemSpec spec_;
-  std::unique_ptr<ContactLaw> law_;
+  std::unique_ptr<BoundContactLaw> law_;
   std::size_t cells_ = 0;
 
   // Bodies (SoA, SI).

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "mechanics/contact_law.hpp"
+#include "model/plugin_registry.hpp"
 
 namespace fibrodem {
 
@@ -23,9 +24,23 @@ DemSpec read_dem_spec(JsonReader& r) {
   constexpr double big = std::numeric_limits<double>::max();
   DemSpec s;
   s.solver = r.text("solver", s.solver, {"dem"});
-  std::vector<std::string> laws;
-  for (const auto& [name, factory] : contact_laws()) laws.push_back(name);
-  s.contact_law = r.text("contact_law", s.contact_law, laws);
+  s.contact_law = r.text("contact_law", s.contact_law);
+  std::shared_ptr<const ContactLaw> law;
+  try {
+    law = load_contact_law(s.contact_law);
+  } catch (const PluginError& e) {
+    throw ManifestError(r.path_of("contact_law"), e.what());
+  }
+  const json& parameters = r.raw("contact_law_parameters");
+  if (!parameters.is_null()) {
+    const std::string path = r.path_of("contact_law_parameters");
+    if (!parameters.is_object())
+      throw ManifestError(path, "expected an object {name: value} of the law's parameters, got " +
+                                    describe_json(parameters));
+    JsonReader values(parameters, path);
+    for (const auto& item : parameters.items())
+      s.contact_law_parameters[item.key()] = values.number(item.key(), std::nullopt, -big, big);
+  }
   s.kn_N_per_m = r.number("kn_N_per_m", s.kn_N_per_m, 1e-12, 1e12);
   s.ks_N_per_m = r.number("ks_N_per_m", s.ks_N_per_m, 0, 1e12);
   s.damping_ratio_normal = r.number("damping_ratio_normal", s.damping_ratio_normal, 0, 10);
@@ -57,6 +72,16 @@ DemSpec read_dem_spec(JsonReader& r) {
                         : StrainBodies::particles;
   s.contact_detection = r.boolean("contact_detection", s.contact_detection);
   s.contact_skin_um = r.number("contact_skin_um", s.contact_skin_um, 1e-3, 1e3);
+  // Names the law does not declare are refused here, by path.
+  for (const auto& [name, value] : s.contact_law_parameters) {
+    try {
+      DemSpec one = s;
+      one.contact_law_parameters = {{name, value}};
+      contact_law_parameter_values(law->info(), one);
+    } catch (const std::invalid_argument& e) {
+      throw ManifestError(join_path(r.path_of("contact_law_parameters"), name), e.what());
+    }
+  }
   return s;
 }
 

@@ -3,6 +3,7 @@
 // Units at this boundary: N/m, N, kg/m^3, ms; inside the solver SI.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "scene/json_reader.hpp"
@@ -33,7 +34,11 @@ enum class StiffnessInheritance {
 
 struct DemSpec {
   std::string solver = "dem";
-  std::string contact_law = "linear_bond";
+  std::string contact_law = "linear_bond";  // a contact-law plugin (contact_law_plugin.hpp)
+  // Values of the law's declared parameters by name (manifest
+  // `contact_law_parameters`); the rest keep their defaults, or the values of
+  // the keys below of the same names (contact_law.hpp).
+  std::map<std::string, double> contact_law_parameters;
   double kn_N_per_m = 26.0;               // Table 1
   double ks_N_per_m = 0.26;               // Table 1
   double damping_ratio_normal = 0.1;      // beta_n, Table 1
@@ -64,7 +69,8 @@ struct DemSpec {
 };
 
 // Reads the keys of a `mechanics` object (all optional; defaults as above):
-// solver, contact_law, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
+// solver, contact_law (loaded from the plugin search path to check it and its
+// contact_law_parameters), contact_law_parameters, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
 // damping_ratio_shear, tensile_strength_N, shear_strength_N, friction, local_damping,
 // fibroblast_stiffness_factor, bond_radius_multiplier, stiffness_inheritance (contact|series),
 // density_kg_per_m3, safety_factor, dt_ms, area_rule (union|capsule|rectangle),

@@ -53,65 +53,89 @@ PluginRegistry::PluginRegistry(std::vector<fs::path> search_path)
     : search_path_(std::move(search_path)) {}
 
 std::vector<std::string> PluginRegistry::available() const {
+  std::vector<std::string> names;
+  for (const auto& name : available(kPrefix))
+    if (("libfibrodem_" + name).rfind(kContactLawFilePrefix, 0) != 0) names.push_back(name);
+  return names;
+}
+
+std::vector<std::string> PluginRegistry::available(const std::string& prefix) const {
   std::set<std::string> names;
   for (const auto& dir : search_path_) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) continue;
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
       const std::string file = entry.path().filename().string();
-      if (file.rfind(kPrefix, 0) == 0 && file.size() > std::string(kPrefix).size() + 3 &&
+      if (file.rfind(prefix, 0) == 0 && file.size() > prefix.size() + 3 &&
           file.substr(file.size() - 3) == kSuffix)
-        names.insert(file.substr(std::string(kPrefix).size(),
-                                 file.size() - std::string(kPrefix).size() - 3));
+        names.insert(file.substr(prefix.size(), file.size() - prefix.size() - 3));
     }
   }
   return {names.begin(), names.end()};
 }
 
-fs::path PluginRegistry::find_file(const std::string& name) const {
+fs::path PluginRegistry::find_file(const std::string& file_name, const std::string& what,
+                                   const std::string& file_prefix) const {
   for (const auto& dir : search_path_) {
-    const fs::path candidate = dir / (kPrefix + name + kSuffix);
+    const fs::path candidate = dir / file_name;
     std::error_code ec;
     if (fs::is_regular_file(candidate, ec)) return candidate;
   }
   std::string found;
-  for (const auto& n : available()) found += (found.empty() ? "" : ", ") + n;
-  throw PluginError("no cell-model plugin named '" + name + "' (looked for " + kPrefix + name +
-                    kSuffix + " in: " + join_paths(search_path_) +
-                    "; models found: " + (found.empty() ? "none" : found) +
-                    "; set FIBRODEM_PLUGIN_PATH to add a directory)");
+  for (const auto& n : file_prefix == kPrefix ? available() : available(file_prefix))
+    found += (found.empty() ? "" : ", ") + n;
+  throw PluginError("no " + what + " (looked for " + file_name + " in: " + join_paths(search_path_) + "; " +
+                    (file_prefix == kPrefix ? "models" : "contact laws") + " found: " +
+                    (found.empty() ? "none" : found) + "; set FIBRODEM_PLUGIN_PATH to add a directory)");
 }
 
-std::shared_ptr<const CellModel> open_cell_model_file(const fs::path& file) {
+OpenedPlugin open_plugin_file(const fs::path& file, const char* factory_symbol, const char* abi_symbol,
+                              int abi_version, const char* macro) {
   auto library = std::make_shared<boost::dll::shared_library>();
   boost::dll::fs::error_code ec;
   library->load(file, ec, boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local);
   if (ec) throw PluginError("cannot load plugin " + file.string() + ": " + ec.message());
-  for (const char* symbol : {"fibrodem_abi_version", "fibrodem_create_cell_model"})
+  for (const char* symbol : {abi_symbol, factory_symbol, "fibrodem_stdlib_abi"})
     if (!library->has(symbol))
-      throw PluginError("plugin " + file.string() + " has no entry point '" + symbol +
-                        "' (define it with FIBRODEM_CELL_MODEL_PLUGIN)");
-  const int abi = library->get<int()>("fibrodem_abi_version")();
-  if (abi != kPluginAbiVersion)
-    throw PluginError("plugin " + file.string() + " was built for plugin ABI " +
-                      std::to_string(abi) + " but this fibrodem expects ABI " +
-                      std::to_string(kPluginAbiVersion) + "; rebuild the plugin");
+      throw PluginError("plugin " + file.string() + " has no entry point '" + symbol + "' (define it with " + macro +
+                        ")");
+  const int abi = library->get<int()>(abi_symbol)();
+  if (abi != abi_version)
+    throw PluginError("plugin " + file.string() + " was built for plugin ABI " + std::to_string(abi) +
+                      " but this fibrodem expects ABI " + std::to_string(abi_version) + "; rebuild the plugin");
   // The standard library's ABI before anything of the plugin's is read: a
-  // mismatch makes every std::string in ModelInfo garbage.
-  if (!library->has("fibrodem_stdlib_abi"))
-    throw PluginError("plugin " + file.string() + " has no entry point 'fibrodem_stdlib_abi' "
-                      "(define it with FIBRODEM_CELL_MODEL_PLUGIN)");
+  // mismatch makes every std::string in its metadata garbage.
   const std::string stdlib = library->get<const char*()>("fibrodem_stdlib_abi")();
   if (stdlib != kStdlibAbi)
     throw PluginError("plugin " + file.string() + " was built against the C++ standard library " + stdlib +
                       " but this fibrodem uses " + kStdlibAbi +
                       "; rebuild the plugin with the same standard library and ABI (the compiler fibrodem was "
                       "built with, and no -D_GLIBCXX_USE_CXX11_ABI or -stdlib option of its own)");
+  auto* factory = reinterpret_cast<void (*)()>(&library->get<void*()>(factory_symbol));
+  return OpenedPlugin{file, library, factory};
+}
 
-  CellModel* raw = library->get<CellModel*()>("fibrodem_create_cell_model")();
+std::shared_ptr<const CellModel> open_cell_model_file(const fs::path& file) {
+  const OpenedPlugin plugin = open_plugin_file(file, "fibrodem_create_cell_model", "fibrodem_abi_version",
+                                               kPluginAbiVersion, "FIBRODEM_CELL_MODEL_PLUGIN");
+  CellModel* raw = reinterpret_cast<CellModel* (*)()>(plugin.factory)();
   if (raw == nullptr) throw PluginError("plugin " + file.string() + " created no model");
   // The deleter owns the library: it is unloaded only after the model is gone.
-  return std::shared_ptr<const CellModel>(raw, [library](const CellModel* m) { delete m; });
+  return std::shared_ptr<const CellModel>(raw, [library = plugin.library](const CellModel* m) { delete m; });
+}
+
+fs::path PluginRegistry::find_file(const std::string& name) const {
+  return find_file(kPrefix + name + kSuffix, "cell-model plugin named '" + name + "'", kPrefix);
+}
+
+OpenedPlugin PluginRegistry::open(const std::string& file_name, const char* factory_symbol, const char* abi_symbol,
+                                  int abi_version, const char* macro) const {
+  const std::string prefix = file_name.rfind(kContactLawFilePrefix, 0) == 0 ? kContactLawFilePrefix : kPrefix;
+  const std::string name = file_name.substr(prefix.size(), file_name.size() - prefix.size() - 3);
+  const fs::path file = find_file(file_name,
+                                  (prefix == kPrefix ? "cell-model plugin named '" : "contact law named '") + name + "'",
+                                  prefix);
+  return open_plugin_file(file, factory_symbol, abi_symbol, abi_version, macro);
 }
 
 std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {

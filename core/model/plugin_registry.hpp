@@ -1,4 +1,6 @@
-// Finds cell-model plugins on a search path and loads them with Boost.DLL.
+// Finds plugins on a search path and loads them with Boost.DLL: cell models
+// (`libfibrodem_<name>.so`, loaded here) and contact laws
+// (`libfibrodem_contact_law_<name>.so`, through open(); mechanics/contact_law.hpp).
 //
 // Search path, in order: every directory of $FIBRODEM_PLUGIN_PATH (':'-separated),
 // then `plugins/` next to the running executable and one level up (the build
@@ -37,6 +39,24 @@ std::vector<std::string> model_info_problems(const ModelInfo& info);
 // otherwise); its metadata is not checked (check_model_info).
 std::shared_ptr<const CellModel> open_cell_model_file(const std::filesystem::path& file);
 
+// The file of a contact-law plugin starts with this (after which comes its
+// name); every other `libfibrodem_<name>.so` is a cell model.
+inline constexpr const char* kContactLawFilePrefix = "libfibrodem_contact_law_";
+
+// A plugin library, loaded and checked: its file, a handle that keeps it
+// loaded while any copy lives, and the address of its factory function.
+struct OpenedPlugin {
+  std::filesystem::path file;
+  std::shared_ptr<void> library;
+  void (*factory)() = nullptr;  // cast to the kind's factory type
+};
+
+// Loads a plugin file of any kind and checks its entry points (the factory,
+// its ABI version, the C++ standard-library ABI): PluginError naming the file
+// and, for a missing entry point, `macro` as the way to define it.
+OpenedPlugin open_plugin_file(const std::filesystem::path& file, const char* factory_symbol, const char* abi_symbol,
+                              int abi_version, const char* macro);
+
 struct PluginRecord {
   std::string name;
   std::string version;
@@ -61,8 +81,16 @@ class PluginRegistry {
   // the search path and the models that were found if there is none.
   std::shared_ptr<const CellModel> load(const std::string& name);
 
-  // Names of every plugin file found on the search path (not loaded).
+  // Names of every cell-model plugin file found on the search path (not loaded).
   std::vector<std::string> available() const;
+  // Names of the files `<file_prefix><name>.so` on the search path.
+  std::vector<std::string> available(const std::string& file_prefix) const;
+
+  // Finds `file_name` on the search path, loads it and checks that it exports
+  // `factory_symbol` and that `abi_symbol` returns `abi_version` (else
+  // PluginError naming the file, with `macro` as the way to define them).
+  OpenedPlugin open(const std::string& file_name, const char* factory_symbol, const char* abi_symbol,
+                    int abi_version, const char* macro) const;
 
   // Provenance of each model loaded so far.
   std::vector<PluginRecord> loaded() const;
@@ -74,6 +102,8 @@ class PluginRegistry {
   std::filesystem::path find_file(const std::string& name) const;
 
  private:
+  std::filesystem::path find_file(const std::string& file_name, const std::string& what,
+                                  const std::string& file_prefix) const;
 
   std::vector<std::filesystem::path> search_path_;
   std::map<std::string, std::shared_ptr<const CellModel>> models_;

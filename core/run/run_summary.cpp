@@ -7,6 +7,7 @@
 #include <map>
 
 #include "measure/conduction_velocity.hpp"
+#include "mechanics/contact_law.hpp"
 
 namespace fibrodem {
 
@@ -59,6 +60,17 @@ json model_used(const Population& pop) {
   for (std::size_t k = 0; k < pop.params.size(); ++k) parameters[pop.info().parameters[k].name] = pop.params[k];
   return {{"model", pop.info().name}, {"variant", pop.variant}, {"parameters", parameters}};
 }
+
+// The DEM's contact law: its plugin's provenance and every parameter value used.
+json contact_law_summary(const DemSpec& spec) {
+  const auto law = load_contact_law(spec.contact_law);  // loaded already: a look-up
+  const ContactLawRecord record = contact_law_record(spec.contact_law);
+  const std::vector<double> values = contact_law_parameter_values(law->info(), spec);
+  json parameters = json::object();
+  for (std::size_t k = 0; k < values.size(); ++k) parameters[law->info().parameters[k].name] = values[k];
+  return {{"name", record.name}, {"version", record.version}, {"file", record.file}, {"sha256", record.sha256},
+          {"parameters", parameters}};
+}
 }  // namespace
 
 json models_used(const CellSystem& system) {
@@ -108,6 +120,7 @@ json run_summary(const RunFacts& f) {
   s["peak_strain"] = f.mechanics ? json{{"xx", f.peak_strain[0]}, {"yy", f.peak_strain[1]}, {"xy", f.peak_strain[2]}}
                                  : json(nullptr);
   if (f.mechanics) s["mechanics_step_ms"] = f.mechanics_step_ms;  // the smallest step taken
+  if (f.mechanics) s["contact_law"] = contact_law_summary(f.scene.mechanics);
   // Where the run's wall time went (s); `other` is what no entry accounts for.
   // Set-up (tissue, plugins, tables) precedes the run and has its own key.
   const double ionic = f.system.seconds[CellSystem::kIonic], coupling = f.system.seconds[CellSystem::kCoupling],

@@ -1,6 +1,8 @@
 #include "scene/scene.hpp"
 
 #include <filesystem>
+#include "integrate/integrator.hpp"
+
 #include <fstream>
 #include <optional>
 #include <tuple>
@@ -150,7 +152,9 @@ StimulusSpec read_stimulus(JsonReader r) {
 
 SolverSpec read_solver(JsonReader r) {
   SolverSpec s;
-  s.method = r.text("method", s.method, {"auto", "euler", "rush_larsen", "rush_larsen2", "cvode", "adaptive"});
+  std::vector<std::string> methods = {"auto"};
+  for (const auto& entry : integrators()) methods.push_back(entry.name);
+  s.method = r.text("method", s.method, methods);
   // auto chooses the step or the tolerances itself: a manifest gives one or the other.
   for (const char* key : {"dt_ms", "rtol", "atol"}) {
     if (s.method == "auto" && r.has(key))

@@ -104,9 +104,7 @@ struct SolverSpec {
   std::optional<bool> lookup_tables;
   bool use_lookup_tables() const { return lookup_tables.value_or(method != "cvode"); }
   bool fixed_step() const { return fixed_step(method); }
-  static bool fixed_step(const std::string& method) {
-    return method == "euler" || method == "rush_larsen" || method == "rush_larsen2";
-  }
+  static bool fixed_step(const std::string& method);  // integrate/integrator.cpp, from the registry
   bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 
