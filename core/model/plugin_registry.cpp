@@ -95,7 +95,7 @@ OpenedPlugin open_plugin_file(const fs::path& file, const char* factory_symbol, 
   boost::dll::fs::error_code ec;
   library->load(file, ec, boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local);
   if (ec) throw PluginError("cannot load plugin " + file.string() + ": " + ec.message());
-  for (const char* symbol : {abi_symbol, factory_symbol, "fibrodem_stdlib_abi"})
+  for (const char* symbol : {abi_symbol, factory_symbol})
     if (!library->has(symbol))
       throw PluginError("plugin " + file.string() + " has no entry point '" + symbol + "' (define it with " + macro +
                         ")");
@@ -105,6 +105,9 @@ OpenedPlugin open_plugin_file(const fs::path& file, const char* factory_symbol, 
                       " but this fibrodem expects ABI " + std::to_string(abi_version) + "; rebuild the plugin");
   // The standard library's ABI before anything of the plugin's is read: a
   // mismatch makes every std::string in its metadata garbage.
+  if (!library->has("fibrodem_stdlib_abi"))
+    throw PluginError("plugin " + file.string() + " has no entry point 'fibrodem_stdlib_abi' (define it with " +
+                      macro + ")");
   const std::string stdlib = library->get<const char*()>("fibrodem_stdlib_abi")();
   if (stdlib != kStdlibAbi)
     throw PluginError("plugin " + file.string() + " was built against the C++ standard library " + stdlib +
