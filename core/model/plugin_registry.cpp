@@ -114,6 +114,11 @@ std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
   return model;
 }
 
+const PluginRecord* PluginRegistry::record(const std::string& name) const {
+  const auto it = records_.find(name);
+  return it == records_.end() ? nullptr : &it->second;
+}
+
 // A model's metadata must be consistent before anything relies on it: names
 // present and unique, bounds in order around the initial value, indices in range.
 void check_model_info(const ModelInfo& info, const fs::path& file) {
