@@ -165,6 +165,11 @@ std::shared_ptr<const CellModel> PluginRegistry::load(const std::string& name) {
   return model;
 }
 
+const PluginRecord* PluginRegistry::record(const std::string& name) const {
+  const auto it = records_.find(name);
+  return it == records_.end() ? nullptr : &it->second;
+}
+
 std::vector<std::string> model_info_problems(const ModelInfo& info) {
   std::vector<std::string> problems;
   auto problem = [&](const std::string& what) { problems.push_back(what); };

@@ -94,6 +94,8 @@ class PluginRegistry {
 
   // Provenance of each model loaded so far.
   std::vector<PluginRecord> loaded() const;
+  // Provenance of the loaded model `name`, or null if it was not loaded.
+  const PluginRecord* record(const std::string& name) const;
 
   const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
 

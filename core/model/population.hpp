@@ -37,6 +37,9 @@ struct ModelFault {
 struct Population {
   CellType type = CellType::myocyte;
   std::shared_ptr<const CellModel> model;
+  // Where the model was loaded from: its plugin file and that file's SHA-256
+  // (empty for a model that came from no registry). Keys the table cache.
+  std::string model_origin;
   std::string variant;
   std::vector<int> cells;  // global cell index of each local cell
   std::vector<double> params;

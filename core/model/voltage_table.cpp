@@ -6,21 +6,29 @@
 
 #include "model/population.hpp"
 #include "model/simd.hpp"
+#include "model/voltage_table_cache.hpp"
 
 namespace fibrodem {
 
 std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double v_min_mV, double v_max_mV,
                                                   double step_mV) {
   if (pop.voltage_state < 0 || !(v_max_mV > v_min_mV) || !(step_mV > 0)) return nullptr;
-  auto table = std::make_shared<VoltageTable>();
   const auto& states = pop.info().states;
+  bool any_gate = false;
+  for (const auto& s : states) any_gate = any_gate || s.voltage_only;
+  if (!any_gate) return nullptr;
+  VoltageTableKey key = VoltageTableKey::of(pop, v_min_mV, v_max_mV, step_mV);
+  auto& cache = VoltageTableCache::instance();
+  if (auto rows = cache.find(key)) return std::make_shared<VoltageTable>(std::move(rows));
+
+  auto table = std::make_shared<VoltageTableRows>();
+  table->key = std::move(key);
   for (std::size_t k = 0; k < states.size(); ++k)
-    if (states[k].voltage_only) table->gates_.push_back(static_cast<int>(k));
-  if (table->gates_.empty()) return nullptr;
-  table->v_min_ = v_min_mV;
-  table->step_ = step_mV;
-  table->inv_step_ = 1.0 / step_mV;
-  table->points_ = static_cast<std::size_t>(std::llround((v_max_mV - v_min_mV) / step_mV)) + 1;
+    if (states[k].voltage_only) table->gates.push_back(static_cast<int>(k));
+  table->v_min = v_min_mV;
+  table->step = step_mV;
+  table->inv_step = 1.0 / step_mV;
+  table->points = static_cast<std::size_t>(std::llround((v_max_mV - v_min_mV) / step_mV)) + 1;
 
   // The probe: one cell per table point, exact model (no table on the probe).
   Population probe;
@@ -30,35 +38,38 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
   probe.initial_state = pop.initial_state;
   probe.voltage_state = pop.voltage_state;
   probe.scalar_reference = pop.scalar_reference;
-  const std::size_t n = table->points_;
+  const std::size_t n = table->points;
   probe.cells.resize(n);
   probe.reset();
   for (std::size_t c = 0; c < n; ++c)
     probe.state(pop.voltage_state, c) = v_min_mV + step_mV * static_cast<double>(c);
   probe.evaluate(0.0);
 
-  const std::size_t g = table->gates_.size();
-  table->rows_.resize(n * 2 * g);
+  const std::size_t g = table->gates.size();
+  table->rows.resize(n * 2 * g);
   for (std::size_t c = 0; c < n; ++c)
     for (std::size_t i = 0; i < g; ++i) {
-      const std::size_t k = static_cast<std::size_t>(table->gates_[i]);
-      table->rows_[c * 2 * g + 2 * i] = probe.a[k * n + c];
-      table->rows_[c * 2 * g + 2 * i + 1] = probe.b[k * n + c];
+      const std::size_t k = static_cast<std::size_t>(table->gates[i]);
+      table->rows[c * 2 * g + 2 * i] = probe.a[k * n + c];
+      table->rows[c * 2 * g + 2 * i + 1] = probe.b[k * n + c];
     }
-  return table;
+  return std::make_shared<VoltageTable>(cache.insert(std::move(table)));
 }
 
 void VoltageTable::fill(const BlockView& block, int voltage_state) const {
-  const std::size_t g = gates_.size(), width = 2 * g;
+  const VoltageTableRows& d = *data_;
+  const int* gates = d.gates.data();
+  const double* rows = d.rows.data();
+  const std::size_t g = d.gates.size(), width = 2 * g;
   const double* V = block.y + static_cast<std::size_t>(voltage_state) * block.stride;
   const std::size_t ab_stride = block.ab_stride ? block.ab_stride : block.stride;
   long long clamped = 0;
   for (std::size_t c = block.begin; c < block.end; ++c) {
-    const auto [i, w] = position(V[c], clamped);
-    const double* r0 = rows_.data() + i * width;
+    const auto [i, w] = position(d, V[c], clamped);
+    const double* r0 = rows + i * width;
     const double* r1 = r0 + width;
     for (std::size_t q = 0; q < g; ++q) {
-      const std::size_t at = static_cast<std::size_t>(gates_[q]) * ab_stride + c;
+      const std::size_t at = static_cast<std::size_t>(gates[q]) * ab_stride + c;
       block.a[at] = r0[2 * q] + w * (r1[2 * q] - r0[2 * q]);
       block.b[at] = r0[2 * q + 1] + w * (r1[2 * q + 1] - r0[2 * q + 1]);
     }
@@ -67,23 +78,23 @@ void VoltageTable::fill(const BlockView& block, int voltage_state) const {
 }
 
 std::shared_ptr<VoltageTable> VoltageTable::with_rush_larsen_step(double dt_ms) const {
-  for (std::size_t r = 1; r < rows_.size(); r += 2)
-    if (rows_[r] == 0.0) return nullptr;  // a gate standing still there has no y_inf
-  auto t = std::make_shared<VoltageTable>();
-  t->v_min_ = v_min_;
-  t->step_ = step_;
-  t->inv_step_ = inv_step_;
-  t->points_ = points_;
-  t->gates_ = gates_;
-  t->rows_ = rows_;
-  t->rl_dt_ = dt_ms;
-  t->rl_rows_.resize(rows_.size());
-  for (std::size_t r = 0; r < rows_.size(); r += 2) {
-    const double a = rows_[r], b = rows_[r + 1];
-    t->rl_rows_[r] = -a / b;
-    t->rl_rows_[r + 1] = std::exp(b * dt_ms);
+  const VoltageTableRows& d = *data_;
+  VoltageTableKey key = d.key;
+  key.rush_larsen_dt_ms = dt_ms;
+  auto& cache = VoltageTableCache::instance();
+  if (auto rows = cache.find(key)) return std::make_shared<VoltageTable>(std::move(rows));
+  for (std::size_t r = 1; r < d.rows.size(); r += 2)
+    if (d.rows[r] == 0.0) return nullptr;  // a gate standing still there has no y_inf
+  auto t = std::make_shared<VoltageTableRows>(d);
+  t->key = std::move(key);
+  t->rl_dt = dt_ms;
+  t->rl_rows.resize(d.rows.size());
+  for (std::size_t r = 0; r < d.rows.size(); r += 2) {
+    const double a = d.rows[r], b = d.rows[r + 1];
+    t->rl_rows[r] = -a / b;
+    t->rl_rows[r + 1] = std::exp(b * dt_ms);
   }
-  return t;
+  return std::make_shared<VoltageTable>(cache.insert(std::move(t)));
 }
 
 void VoltageTable::advance_gates(double* y, std::size_t stride, const double* V, std::size_t begin,
@@ -93,28 +104,33 @@ void VoltageTable::advance_gates(double* y, std::size_t stride, const double* V,
   using simd::Real;
   using Index = xsimd::batch<std::int64_t>;
   static_assert(Index::size == Real::size);
-  const std::size_t g = gates_.size(), width = 2 * g;
-  const double last = static_cast<double>(points_ - 1);
+  const VoltageTableRows& d = *data_;
+  const int* gates = d.gates.data();
+  const double* rl_rows = d.rl_rows.data();
+  const double v_min = d.v_min, inv_step = d.inv_step;
+  const std::size_t points = d.points;
+  const std::size_t g = d.gates.size(), width = 2 * g;
+  const double last = static_cast<double>(points - 1);
   long long clamped = 0;
   for (std::size_t c = begin; c < end; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, end - c);
     // Table position, as position() does it: below the table or NaN -> row 0,
     // above -> the last row; both counted.
-    Real x = (simd::load(V + c, n) - v_min_) * inv_step_;
+    Real x = (simd::load(V + c, n) - v_min) * inv_step;
     const auto below = !(x >= 0.0), above = x > last;
     alignas(64) bool out[simd::kLanes];
     (below | above).store_aligned(out);
     for (std::size_t i = 0; i < n; ++i) clamped += out[i];
     x = simd::select(below, 0.0, simd::select(above, last, x));
-    const Index row = xsimd::min(xsimd::to_int(simd::floor(x)), Index(static_cast<std::int64_t>(points_) - 2));
+    const Index row = xsimd::min(xsimd::to_int(simd::floor(x)), Index(static_cast<std::int64_t>(points) - 2));
     const Real w = x - xsimd::to_float(row);
     const Index at = row * static_cast<std::int64_t>(width);
     for (std::size_t q = 0; q < g; ++q) {
-      const double* column = rl_rows_.data() + 2 * q;
+      const double* column = rl_rows + 2 * q;
       const Real y0 = Real::gather(column, at), y1 = Real::gather(column + width, at);
       const Real e0 = Real::gather(column + 1, at), e1 = Real::gather(column + 1 + width, at);
       const Real y_inf = y0 + w * (y1 - y0), E = e0 + w * (e1 - e0);
-      double* gate = y + static_cast<std::size_t>(gates_[q]) * stride + c;
+      double* gate = y + static_cast<std::size_t>(gates[q]) * stride + c;
       simd::store(gate, y_inf + (simd::load(gate, n) - y_inf) * E, n);
     }
   }

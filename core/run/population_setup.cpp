@@ -41,6 +41,9 @@ Population make_population(CellType type, const ModelSpec& spec, ModelKind kind,
   pop.type = type;
   try {
     pop.model = registry.load(spec.model);
+    // The file's identity keys the lookup-table cache (model/voltage_table_cache.hpp).
+    if (const PluginRecord* r = registry.record(spec.model))
+      pop.model_origin = r->file.string() + " sha256:" + r->sha256;
   } catch (const PluginError& e) {
     throw ManifestError(join_path(spec.path, "model"), e.what());
   }
