@@ -17,7 +17,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS="${1:-100000}"
-scripts/asan_build.sh fuzz_manifest fuzz_sweep fuzz_checkpoint fibrodem_colman fibrodem_rice
+scripts/asan_build.sh fuzz_manifest fuzz_sweep fuzz_checkpoint fibrodem_colman fibrodem_rice \
+  fibrodem_contact_law_linear_bond fibrodem_contact_law_linear_parallel_bond
 cd build-asan
 rm -rf corpus corpus_sweep corpus_checkpoint
 mkdir -p corpus corpus_sweep corpus_checkpoint

@@ -4,7 +4,8 @@
 # build each out of tree against the install (CMake: find_package(fibrodem);
 # the ionic one also with pkg-config and a bare compiler line), check that a
 # plugin's headers come from the SDK and the C++ library only, and run each
-# skeleton's test manifest with `fibrodem run` (ctest in the skeleton).
+# skeleton's test manifest with `fibrodem run` (ctest in the skeleton); and
+# the same for a CellML model through `fibrodem import-cellml`.
 #   scripts/sdk_check.sh [BUILD_DIR]   (default build; built already)
 # About 10 s on 2 cores (70 s with the machine loaded by other jobs).
 set -euo pipefail
@@ -54,6 +55,28 @@ for kind in ionic myofilament contact-law; do
     { echo "sdk_check: $name's test run did not complete" >&2; exit 1; }
   echo "sdk_check: $kind skeleton $name built out of tree and ran"
 done
+
+# A CellML model imported with `fibrodem import-cellml` builds out of tree
+# with the CMakeLists.txt it writes, and runs (Hodgkin-Huxley 1952, written
+# for the importer's tests).
+"$fibrodem" import-cellml tests/cellml/hh_1952_1_0.cellml --name sdk_hh --out "$work/sdk_hh" >/dev/null
+cmake -S "$work/sdk_hh" -B "$work/sdk_hh/build" -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF >/dev/null
+cmake --build "$work/sdk_hh/build" >/dev/null
+so=$(find "$work/sdk_hh/build" -name 'libfibrodem_sdk_hh.so' | head -1)
+[ -n "$so" ] || { echo "sdk_check: the imported sdk_hh built no libfibrodem_sdk_hh.so" >&2; exit 1; }
+cat > "$work/sdk_hh.json" <<JSON
+{"fibrodem": 1, "name": "sdk_hh", "duration_ms": 20,
+ "tissue": {"builder": "single_cell", "type": "myocyte"},
+ "cells": {"myocyte": {"model": "sdk_hh"}},
+ "stimulus": [{"target": "myocyte", "start_ms": 2, "duration_ms": 1, "amplitude_pA": 2000}],
+ "solver": {"method": "rush_larsen", "dt_ms": 0.01}}
+JSON
+FIBRODEM_PLUGIN_PATH=$(dirname "$so") "$fibrodem" run "$work/sdk_hh.json" --out "$work/sdk_hh_run" --quiet \
+  --no-report >/dev/null
+grep -q '"status": "completed"' "$work/sdk_hh_run/summary.json" ||
+  { echo "sdk_check: the imported sdk_hh's run did not complete" >&2; exit 1; }
+echo "sdk_check: CellML import sdk_hh built out of tree and ran"
 
 # Other build systems: pkg-config and a bare compiler line.
 mkdir -p "$work/pc"

@@ -110,6 +110,9 @@ TEST_CASE("a run writes report.html with its cost in summary.json, and output.re
   CHECK(page.find("<title>fibrodem run: passive_cell</title>") != std::string::npos);
   CHECK(page.find("completed: 100") != std::string::npos);
   CHECK(page.find("<svg ") != std::string::npos);  // the V trace
+  // Every parameter value used, from summary.json's models (the plugin's defaults here).
+  CHECK(page.find("parameters used: fibroblast (passive_fibroblast") != std::string::npos);
+  CHECK(page.find("R_GOhm = 10.7") != std::string::npos);
   const json summary = json::parse(testing::read_file(dir / "on" / "summary.json"));
   CHECK(summary["report_time_s"].get<double>() > 0);
   CHECK(testing::read_file(dir / "on" / "run.log").find("report.html written in") != std::string::npos);

@@ -10,8 +10,11 @@ namespace fibrodem {
 void BlockSchedule::plan(const std::vector<CellRange>& blocks, int threads) {
   const auto n_threads = static_cast<std::size_t>(threads);
   if (cost_per_cell_s_.size() != blocks.size()) cost_per_cell_s_.assign(blocks.size(), 1.0);  // unknown: even
-  if (run_count_ != threads) {
-    runs_ = std::make_unique<Run[]>(n_threads);
+  if (run_count_ != threads) {  // (solver.threads auto switches between counts: no allocation then)
+    if (threads > run_capacity_) {
+      runs_ = std::make_unique<Run[]>(n_threads);
+      run_capacity_ = threads;
+    }
     run_count_ = threads;
     late_s_.assign(n_threads, 0.0);
     entered_s_.assign(n_threads, 0.0);

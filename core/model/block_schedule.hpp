@@ -103,7 +103,7 @@ class BlockSchedule {
   std::vector<double> block_s_;           // wall time of each block, this step
   double busy_s_ = 0;
   std::unique_ptr<Run[]> runs_;
-  int run_count_ = 0;
+  int run_count_ = 0, run_capacity_ = 0;
   ThreadGovernor governor_;
 };
 

@@ -148,6 +148,18 @@ void scene_section(HtmlDocument& page, const json& s) {
   for (const auto& p : member(s, "plugins"))
     plugins.push_back({field(p, "name"), field(p, "version"), field(p, "sha256").substr(0, 16), field(p, "file")});
   page.table({"plugin", "version", "SHA-256 (first 16)", "file"}, plugins);
+  // Every parameter value used (summary.json `models`, `contact_law`), folded away.
+  auto parameters_used = [&](const std::string& title, const json& model) {
+    std::string lines;
+    for (const auto& [name, value] : member(model, "parameters").items()) lines += name + " = " + text_of(value) + "\n";
+    if (!lines.empty()) page.details("parameters used: " + title, lines);
+  };
+  for (const auto& [type, model] : member(s, "models").items()) {
+    parameters_used(type + " (" + field(model, "model") + ", variant " + field(model, "variant") + ")", model);
+    if (model.contains("myofilament"))
+      parameters_used(type + " myofilament (" + field(model["myofilament"], "model") + ")", model["myofilament"]);
+  }
+  if (s.contains("contact_law")) parameters_used("contact law " + field(s["contact_law"], "name"), s["contact_law"]);
 
   page.heading(3, "Effects built, and why");
   std::vector<std::vector<std::string>> processes;
