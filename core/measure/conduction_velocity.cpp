@@ -37,15 +37,22 @@ std::optional<Path> wave_path(const std::vector<ConductionSample>& cells) {
   return p;
 }
 
+// The stretch of the path both measurements use: its length less a margin
+// at each end (the stimulated region's edge, the far tissue edge).
+ConductionFit measured_stretch(const Path& path, double margin_fraction) {
+  ConductionFit fit;
+  fit.from_um = margin_fraction * path.length;
+  fit.to_um = (1 - margin_fraction) * path.length;
+  return fit;
+}
+
 }  // namespace
 
 std::optional<ConductionFit> transit_conduction_velocity(const std::vector<ConductionSample>& cells,
                                                          double margin_fraction, double band_fraction) {
   const auto path = wave_path(cells);
   if (!path) return std::nullopt;
-  ConductionFit fit;
-  fit.from_um = margin_fraction * path->length;
-  fit.to_um = (1 - margin_fraction) * path->length;
+  ConductionFit fit = measured_stretch(*path, margin_fraction);
   const double band = band_fraction * path->length;
   double n_near = 0, d_near = 0, t_near = 0, n_far = 0, d_far = 0, t_far = 0;
   for (const auto& c : cells) {
@@ -74,9 +81,7 @@ std::optional<ConductionFit> fit_conduction_velocity(const std::vector<Conductio
                                                      double margin_fraction, int minimum_cells) {
   const auto path = wave_path(cells);
   if (!path) return std::nullopt;
-  ConductionFit fit;
-  fit.from_um = margin_fraction * path->length;
-  fit.to_um = (1 - margin_fraction) * path->length;
+  ConductionFit fit = measured_stretch(*path, margin_fraction);
 
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
   for (const auto& c : cells) {
