@@ -3,6 +3,7 @@
 // allowed, a connected cell graph, determinism per seed; and the tissue
 // picture (PNG) and VTK writers.
 #include <doctest/doctest.h>
+#include <png.h>
 
 #include <cmath>
 #include <fstream>
@@ -283,8 +284,55 @@ TEST_CASE("tissue picture (PNG) and VTK files parse") {
   CHECK(all.find("SCALARS V_mV double 1") != std::string::npos);
   CHECK(all.find("SCALARS cell_type int 1") != std::string::npos);
   // Every point line parses as three numbers.
+  // (to 9 significant digits, as printf's %.9g)
   double x, y, z;
-  std::size_t read = 0;
-  for (; read < n && (in >> x >> y >> z); ++read) {}
+  std::size_t read = 0, exact = 0;
+  for (; read < n && (in >> x >> y >> z); ++read)
+    exact += std::abs(x - t.particles[read].x_um) <= 1e-8 * std::abs(t.particles[read].x_um) &&
+             std::abs(y - t.particles[read].y_um) <= 1e-8 * std::abs(t.particles[read].y_um) && z == 0;
   CHECK(read == n);
+  CHECK(exact == n);
+}
+
+// A snapshot's picture (antialias off) fills its disks span by span instead
+// of through Cairo's path fill: every particle's centre pixel must still show
+// its cell's colour, as the antialiased picture (Cairo) draws it there.
+TEST_CASE("an unantialiased tissue picture colours each particle's centre as Cairo does") {
+  const auto dir = testing::scratch_dir("tissue_picture_fast");
+  const Tissue t = build({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 0.8}}, 1);
+  std::vector<double> v(t.cell_count());
+  for (std::size_t c = 0; c < v.size(); ++c) v[c] = -80 + 120 * static_cast<double>(c % 7) / 6;
+  PictureOptions options;
+  options.height_px = 1200;  // disks of several pixels: the centre pixel is wholly inside
+  write_tissue_png(t, dir / "smooth.png", &v, options);
+  options.antialias = false;
+  write_tissue_png(t, dir / "fast.png", &v, options);
+  auto read = [](const std::filesystem::path& file, png_image& image) {
+    image = {};
+    image.version = PNG_IMAGE_VERSION;
+    REQUIRE(png_image_begin_read_from_file(&image, file.c_str()) != 0);
+    image.format = PNG_FORMAT_RGB;
+    std::vector<unsigned char> pixels(PNG_IMAGE_SIZE(image));
+    REQUIRE(png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr) != 0);
+    return pixels;
+  };
+  png_image smooth_info, fast_info;
+  const auto smooth = read(dir / "smooth.png", smooth_info), fast = read(dir / "fast.png", fast_info);
+  REQUIRE(smooth_info.width == fast_info.width);
+  REQUIRE(smooth_info.height == fast_info.height);
+  // The picture's frame, as write_tissue_png lays it out (margin 20 px, a title-less top).
+  const auto b = t.bounds_um();
+  const double scale = options.height_px / (b[3] - b[2]);
+  std::size_t same = 0, coloured = 0;
+  for (const Particle& p : t.particles) {
+    const auto x = static_cast<std::size_t>(20 + (p.x_um - b[0]) * scale);
+    const auto y = static_cast<std::size_t>(20 + (b[3] - p.y_um) * scale);
+    const std::size_t at = 3 * (y * smooth_info.width + x);
+    bool equal = true;
+    for (int k = 0; k < 3; ++k) equal &= std::abs(int(smooth[at + k]) - int(fast[at + k])) <= 1;
+    same += equal;
+    coloured += !(fast[at] == 255 && fast[at + 1] == 255 && fast[at + 2] == 255);
+  }
+  CHECK(coloured == t.particles.size());
+  CHECK(same == t.particles.size());
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -40,6 +41,26 @@ Rgb colour_map(double t) {
 
 Rgb type_colour(CellType t) {
   return t == CellType::myocyte ? Rgb{0.20, 0.40, 0.85} : Rgb{0.15, 0.70, 0.25};
+}
+
+// Cairo's RGB24 pixel, 0x00RRGGBB.
+std::uint32_t rgb24(const Rgb& col) {
+  const auto byte = [](double v) { return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255)); };
+  return byte(col.r) << 16 | byte(col.g) << 8 | byte(col.b);
+}
+
+// Sets the pixels of an RGB24 image whose centres lie within radius r of (cx, cy).
+void fill_disk(unsigned char* data, int stride, int width, int height, double cx, double cy, double r,
+               std::uint32_t pixel) {
+  const int y0 = std::max(0, static_cast<int>(std::ceil(cy - r - 0.5)));
+  const int y1 = std::min(height - 1, static_cast<int>(std::floor(cy + r - 0.5)));
+  for (int y = y0; y <= y1; ++y) {
+    const double dy = y + 0.5 - cy, half = std::sqrt(std::max(0.0, r * r - dy * dy));
+    const int x0 = std::max(0, static_cast<int>(std::ceil(cx - half - 0.5)));
+    const int x1 = std::min(width - 1, static_cast<int>(std::floor(cx + half - 0.5)));
+    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
+    if (x1 >= x0) std::fill(row + x0, row + x1 + 1, pixel);
+  }
 }
 
 std::string format_value(double v) {
@@ -92,21 +113,36 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
     if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0, hi = 1;
     if (hi <= lo) hi = lo + 1;
   }
-  // Disks of a few pixels: a coarser arc tolerance (0.25 px) is invisible.
-  cairo_set_tolerance(c, 0.25);
-  if (!options.antialias) cairo_set_antialias(c, CAIRO_ANTIALIAS_NONE);
-  // Consecutive particles of one colour (a myocyte's seven) are filled as one
-  // path: one rasterisation instead of seven.
-  for (std::size_t i = 0; i < tissue.particles.size();) {
-    const int cell = tissue.particles[i].cell;
-    const Rgb col = values ? colour_map(((*values)[cell] - lo) / (hi - lo)) : type_colour(tissue.type[cell]);
-    cairo_set_source_rgb(c, col.r, col.g, col.b);
-    for (; i < tissue.particles.size() && tissue.particles[i].cell == cell; ++i) {
-      const Particle& p = tissue.particles[i];
-      cairo_new_sub_path(c);
-      cairo_arc(c, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), 0, 2 * M_PI);
+  if (options.antialias) {
+    // Disks of a few pixels: a coarser arc tolerance (0.25 px) is invisible.
+    cairo_set_tolerance(c, 0.25);
+    // Consecutive particles of one colour (a myocyte's seven) are filled as one
+    // path: one rasterisation instead of seven.
+    for (std::size_t i = 0; i < tissue.particles.size();) {
+      const int cell = tissue.particles[i].cell;
+      const Rgb col = values ? colour_map(((*values)[cell] - lo) / (hi - lo)) : type_colour(tissue.type[cell]);
+      cairo_set_source_rgb(c, col.r, col.g, col.b);
+      for (; i < tissue.particles.size() && tissue.particles[i].cell == cell; ++i) {
+        const Particle& p = tissue.particles[i];
+        cairo_new_sub_path(c);
+        cairo_arc(c, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), 0, 2 * M_PI);
+      }
+      cairo_fill(c);
     }
-    cairo_fill(c);
+  } else {
+    // Each pixel one colour: the pixels whose centres fall in a disk, span by
+    // span, as Cairo's unantialiased fill would choose them. (Cairo's general
+    // path fill costs ~0.6 us per disk of ~2 px here, the spans ~0.05 us: a
+    // snapshot of the Fig. 3 tissue has 16 653 particles.)
+    cairo_surface_flush(surface.get());
+    auto* data = cairo_image_surface_get_data(surface.get());
+    const int stride = cairo_image_surface_get_stride(surface.get());
+    for (const Particle& p : tissue.particles) {
+      const int cell = p.cell;
+      const Rgb col = values ? colour_map(((*values)[cell] - lo) / (hi - lo)) : type_colour(tissue.type[cell]);
+      fill_disk(data, stride, width, height, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), rgb24(col));
+    }
+    cairo_surface_mark_dirty(surface.get());
   }
   if (options.draw_bonds) {
     cairo_set_source_rgb(c, 0.9, 0.1, 0.1);
