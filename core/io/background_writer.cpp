@@ -28,6 +28,11 @@ void BackgroundWriter::finish() {
   if (failure_) rethrow_failure();
 }
 
+void BackgroundWriter::run_here(const std::function<void()>& job) {
+  finish();
+  job();
+}
+
 void BackgroundWriter::rethrow_failure() {
   std::exception_ptr failure = failure_;
   failure_ = nullptr;  // thrown once

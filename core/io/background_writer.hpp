@@ -22,6 +22,9 @@ class BackgroundWriter {
   BackgroundWriter& operator=(const BackgroundWriter&) = delete;
 
   void post(std::function<void()> job);
+  // Runs `job` on the calling thread once every job posted before is done
+  // (for a caller with no core to spare: see Simulation's write_file).
+  void run_here(const std::function<void()>& job);
   // Waits until every job is done; rethrows the first failure.
   void finish();
 
