@@ -141,7 +141,9 @@ TEST_CASE("results do not depend on the thread count") {
   // 2100 cells: nine blocks of cells, cut between the threads at measured
   // costs (inside a block) and taken over by a thread done early, each piece
   // computing its own gap-junction currents inside the parallel loop; the
-  // biomarkers of most steps measured on the same threads.
+  // biomarkers of most steps measured on the same threads. Pictures and
+  // snapshots are written on the writer's thread with a core to spare (1
+  // thread on 2 cores), else by the run's own thread: the same files.
   json m = json::parse(R"({
     "fibrodem": 1, "name": "threads", "duration_ms": 6,
     "tissue": {"builder": "strand", "type": "myocyte", "cells": 2100},
@@ -149,7 +151,8 @@ TEST_CASE("results do not depend on the thread count") {
     "coupling": {"D_m_nS": 1000},
     "stimulus": [{"target": [0, 1, 2, 3], "start_ms": 1, "duration_ms": 2, "amplitude_pA": 8000}],
     "solver": {"method": "rush_larsen", "dt_ms": 0.01},
-    "output": {"traces": {"cells": [0, 100, 2099], "variables": ["V", "Ca_i"], "every_ms": 0.1}}
+    "output": {"traces": {"cells": [0, 100, 2099], "variables": ["V", "Ca_i"], "every_ms": 0.1},
+               "snapshots": {"every_ms": 2, "vtk": true}, "tissue_picture": true}
   })");
   std::string first;
   for (int threads : {1, 2, 3}) {
@@ -157,7 +160,12 @@ TEST_CASE("results do not depend on the thread count") {
     m["solver"]["threads"] = threads;
     const auto dir = testing::scratch_dir("threads_" + std::to_string(threads));
     run_to(m, dir);
-    const std::string traces = testing::read_file(dir / "traces.csv") + testing::read_file(dir / "biomarkers.csv");
+    std::string traces = testing::read_file(dir / "traces.csv") + testing::read_file(dir / "biomarkers.csv");
+    for (const char* t : {"0.010", "2.000", "4.000", "6.000"}) {
+      CHECK(std::filesystem::exists(dir / ("snapshot_0000" + std::string(t) + "_ms.png")));
+      traces += testing::read_file(dir / ("snapshot_0000" + std::string(t) + "_ms.vtk"));
+    }
+    CHECK(std::filesystem::exists(dir / "tissue.png"));
     if (first.empty()) first = traces;
     CHECK(traces == first);
   }
