@@ -21,21 +21,13 @@ void CellSystem::scatter_voltage() {
 }
 
 void CellSystem::record_rest_lengths() {
+  stretch_by_cell_.assign(cell_count(), 1.0);
   for (auto& m : myofilaments) {
     m.pop.evaluate(0.0);
     const std::size_t n = m.pop.size();
     m.rest_sarcomere_length.assign(m.pop.outputs.begin() + m.sarcomere_output * n,
                                    m.pop.outputs.begin() + (m.sarcomere_output + 1) * n);
   }
-}
-
-double CellSystem::stretch(int population, std::size_t local) const {
-  for (const auto& m : myofilaments)
-    if (m.host == population) {
-      const std::size_t n = m.pop.size();
-      return m.pop.outputs[m.sarcomere_output * n + local] / m.rest_sarcomere_length[local];
-    }
-  return 1.0;
 }
 
 // i_ext of the cells [begin, end) of ionic population p: the stimulus (step 2),
@@ -117,6 +109,11 @@ void CellSystem::evaluate_myofilament(Myofilament& m, const CellRange& piece, do
             m.pop.inputs.begin() + piece.begin);
   if (!after) m.pop.evaluate_cells(piece.begin, piece.end, t_ms);
   else m.pop.evaluate_cells(piece.begin, piece.end, t_ms, [&](const BlockView& block) { after(m.pop, block); });
+  if (!m.rest_sarcomere_length.empty()) {  // (recorded: the run has started)
+    const double* length = m.pop.outputs.data() + m.sarcomere_output * n;
+    for (std::size_t c = piece.begin; c < piece.end; ++c)
+      stretch_by_cell_[host.cells[c]] = length[c] / m.rest_sarcomere_length[c];
+  }
   if (m.host_trpn_input < 0) return;
   // Troponin flux back into the host's Ca balance (calcium feedback).
   Population& host_inputs = populations[static_cast<std::size_t>(m.host)];

@@ -118,8 +118,10 @@ struct CellSystem {
   }
   // Records each cell's sarcomere length as its rest length (call at t = 0).
   void record_rest_lengths();
-  // Length of the cell relative to rest (SL / SL_rest); 1 without a myofilament.
-  double stretch(int population, std::size_t local) const;
+  // Per global cell, its length relative to rest (SL / SL_rest) at the last
+  // evaluation; 1 without a myofilament. (Taken piece by piece in the cells'
+  // parallel loop: over the Fig. 3 tissue a serial pass cost ~5 us a step.)
+  const std::vector<double>& stretch_by_cell() const { return stretch_by_cell_; }
 
  private:
   void block_inputs(std::size_t population, std::size_t begin, std::size_t end);
@@ -130,6 +132,7 @@ struct CellSystem {
   void evaluate_myofilament(Myofilament& m, const CellRange& piece, double t_ms, const AfterPopulationBlock& after);
   std::vector<bool> hosts_myofilament_;  // per ionic population
   std::vector<CellRange> blocks_;  // every block of every ionic population
+  std::vector<double> stretch_by_cell_;
   BlockSchedule schedule_;  // which thread runs which of blocks_
 };
 

@@ -295,28 +295,34 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
   if (ratio.size() != cells_)
     throw std::invalid_argument("set_cell_length_ratios: " + std::to_string(ratio.size()) +
                                 " ratios for " + std::to_string(cells_) + " cells");
-  // Check all first, so that a bad ratio changes nothing.
-  for (std::size_t c = 0; c < cells_; ++c) {
-    const double l = ratio[c];
-    if (cell_body_[c] >= 0 && !(l >= 0.5 && l <= 1.5))
-      throw std::invalid_argument("cell " + std::to_string(c) + ": length ratio " + fmt(l) +
-                                  " outside [0.5, 1.5]");
-  }
-  // Each myocyte's new shape (cells are independent: in parallel), kept
-  // only if every one exists; the error of the first cell without one.
+  // Each myocyte's new shape (cells are independent: in parallel), kept only
+  // if every ratio is in range and every shape exists; else the error of the
+  // first cell that fails, and nothing changed. Cells cost unequally (a
+  // fibroblast or an unchanged cell nothing, a myocyte a Newton solve):
+  // shared in chunks as the threads come free.
   const std::size_t none = cells_;
   std::size_t failed = none;
   std::string error;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t c = 0; c < cells_; ++c) {
     const int b = cell_body_[c];
-    if (b < 0 || bn_[b] < 2) continue;
+    if (b < 0) continue;
+    const double l = ratio[c];
+    if (!(l >= 0.5 && l <= 1.5)) {
+#pragma omp critical(dem_shape_error)
+      if (c < failed) {
+        failed = c;
+        error = "cell " + std::to_string(c) + ": length ratio " + fmt(l) + " outside [0.5, 1.5]";
+      }
+      continue;
+    }
+    if (bn_[b] < 2) continue;
     next_r_[b] = btarget_r_[b];
     next_s_[b] = btarget_s_[b];
-    if (ratio[c] == blambda_[b]) continue;
+    if (l == blambda_[b]) continue;
     try {
-      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b],
-                                                ratio[c], btarget_r_[b]);
+      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b], l,
+                                                btarget_r_[b]);
       next_r_[b] = shape.r;
       next_s_[b] = shape.s;
     } catch (const std::invalid_argument& e) {
@@ -328,6 +334,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
     }
   }
   if (failed != none) throw std::invalid_argument(error);
+#pragma omp parallel for schedule(static)
   for (std::size_t c = 0; c < cells_; ++c) {
     const int b = cell_body_[c];
     if (b < 0 || bn_[b] < 2) continue;

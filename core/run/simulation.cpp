@@ -705,8 +705,7 @@ struct Simulation::Impl : StepObserver {
   void advance_mechanics(double t) {
     if (!mechanics) return;
     const auto start = std::chrono::steady_clock::now();
-    for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
-      length_ratio_to[cell] = system.stretch(system.where[cell].first, system.where[cell].second);
+    length_ratio_to = system.stretch_by_cell();
     const double span = t - length_ratio_from_ms;
     for (double h = mechanics->step_ms(); mechanics_time_ms + h <= t + kTimeEpsilon_ms; h = mechanics->step_ms()) {
       const double w = span > 0 ? std::clamp((mechanics_time_ms + h - length_ratio_from_ms) / span, 0.0, 1.0) : 1.0;
