@@ -202,6 +202,25 @@ TEST_CASE("dem: contracting clumps keep their area by each rule") {
   CHECK(dem.strain()[1] < 0);  // its particles close up along the axis
 }
 
+TEST_CASE("dem: one bad length ratio among many is named by its cell and changes no cell's shape") {
+  const Tissue t = build({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 1.0}}, 3);
+  DemSolver dem(t, DemSpec{});
+  std::vector<double> r = ratios(t, 0.9);
+  std::size_t last_myocyte = 0;
+  for (std::size_t c = 0; c < t.cell_count(); ++c)
+    if (t.type[c] == CellType::myocyte) last_myocyte = c;
+  REQUIRE(last_myocyte > 64);  // past the first chunk a thread takes
+  r[last_myocyte] = 1.7;
+  const std::string named = "cell " + std::to_string(last_myocyte) + ": length ratio 1.7";
+  CHECK_THROWS_WITH_AS(dem.set_cell_length_ratios(r), doctest::Contains(named.c_str()), std::invalid_argument);
+  dem.step(dem.step_ms());
+  for (std::size_t c = 0; c < t.cell_count(); ++c)
+    if (t.type[c] == CellType::myocyte) {
+      CAPTURE(c);
+      CHECK(dem.cell_shape_um(c).r == kParticleRadius_um);  // every cell still at rest
+    }
+}
+
 TEST_CASE("dem: two bonded disks oscillate at the analytic period and decay by the damping ratio") {
   const Tissue t = bonded_pair();
   for (double beta : {0.0, 0.1}) {
