@@ -135,8 +135,14 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   };
   // 1. Currents into each cell: the stimulus here; the gap-junction and
   // stretch-activated currents block by block in step 2, in parallel.
-  std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
-  stimulus.add_current(t_stim_ms, i_ext_pA.data());
+  // (Zeros between pulses stand: not rewritten every step, their cache lines
+  // stay shared by the cores that read them.)
+  const bool pulse = stimulus.on(t_stim_ms);
+  if (stimulus_in_i_ext_ || pulse) {
+    std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
+    stimulus.add_current(t_stim_ms, i_ext_pA.data());
+  }
+  stimulus_in_i_ext_ = pulse;
   refresh_gap_current_ = false;
   if (coupler && !implicit_coupling && (refresh_coupling || gap_current_pA.size() != populations.size())) {
     if (!voltage_fresh) gather_voltage();

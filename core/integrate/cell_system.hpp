@@ -133,6 +133,7 @@ struct CellSystem {
   std::vector<bool> hosts_myofilament_;  // per ionic population
   std::vector<CellRange> blocks_;  // every block of every ionic population
   std::vector<double> stretch_by_cell_;
+  bool stimulus_in_i_ext_ = true;  // i_ext_pA may hold a pulse's current (else all zeros)
   BlockSchedule schedule_;  // which thread runs which of blocks_
 };
 

@@ -72,6 +72,12 @@ void Stimulus::add_current(double t, double* i_ext) const {
       for (int c : train.cells) i_ext[c] += train.amplitude_pA;
 }
 
+bool Stimulus::on(double t) const {
+  for (const auto& train : trains_)
+    if (train.on(t)) return true;
+  return false;
+}
+
 double Stimulus::next_edge_after(double t) const {
   double next = std::numeric_limits<double>::infinity();
   for (const auto& train : trains_) {

@@ -28,6 +28,8 @@ class Stimulus {
 
   // Adds the stimulus current at time t into i_ext (indexed by global cell).
   void add_current(double t_ms, double* i_ext_pA) const;
+  // Whether any pulse is on at t.
+  bool on(double t_ms) const;
   // The first pulse edge (on or off) strictly after t, or +inf.
   double next_edge_after(double t_ms) const;
   // Sorted, distinct pulse onsets in [0, until]: they start the beats.
