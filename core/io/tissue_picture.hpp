@@ -20,8 +20,9 @@ struct PictureOptions {
   std::optional<double> value_min, value_max;  // colour-map range (default: the values' range)
   bool draw_bonds = false;         // red lines between bonded particles (Fig. 2 style)
   std::string title;               // text above the tissue, e.g. "t = 104.7 ms"
-  // Smooth disk edges. Off, a disk's pixels are each one colour: drawing and
-  // compressing a 3000-cell tissue then costs a fraction (snapshots).
+  // Smooth disk edges (Cairo). Off, a disk is the pixels whose centres it
+  // covers, filled directly: drawing and compressing a 3000-cell tissue then
+  // costs a fraction (snapshots).
   bool antialias = true;
 };
 

@@ -12,8 +12,9 @@ namespace {
 
 // The file's text, built in memory with std::to_chars and written at once:
 // a snapshot of the Fig. 3 tissue is ~17k particles x 8 numbers, which an
-// ostream formats at a few times the cost (this runs on the writer thread,
-// beside the cells' threads). Doubles are written as printf's %.9g.
+// ostream formats at a few times the cost (a snapshot is written between the
+// cells' steps, or beside them on the writer's thread). Doubles are written
+// as printf's %.9g.
 class VtkText {
  public:
   VtkText& operator<<(const std::string& s) { return text_.append(s), *this; }
