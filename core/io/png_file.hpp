@@ -1,6 +1,7 @@
 // Writes a Cairo image surface as a PNG file through libpng, with the "sub"
 // filter and run-length coding: Cairo's own writer uses libpng's defaults,
 // which on a tissue snapshot (a mostly flat picture) cost more than drawing it.
+// An image of at most 256 colours (a snapshot) is written as a palette.
 #pragma once
 
 #include <cairo.h>

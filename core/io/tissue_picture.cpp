@@ -43,6 +43,16 @@ Rgb type_colour(CellType t) {
   return t == CellType::myocyte ? Rgb{0.20, 0.40, 0.85} : Rgb{0.15, 0.70, 0.25};
 }
 
+// The colour bar's height in pixels, a colour each.
+constexpr int kColourBarSteps = 200;
+
+// t in [0, 1] moved to the middle of its colour-bar step (its row's colour).
+double colour_bar_step(double t) {
+  if (!std::isfinite(t)) return t;
+  const int step = std::min(kColourBarSteps - 1, static_cast<int>(std::clamp(t, 0.0, 1.0) * kColourBarSteps));
+  return (step + 0.5) / kColourBarSteps;
+}
+
 // Cairo's RGB24 pixel, 0x00RRGGBB.
 std::uint32_t rgb24(const Rgb& col) {
   const auto byte = [](double v) { return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255)); };
@@ -137,12 +147,20 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
     cairo_surface_flush(surface.get());
     auto* data = cairo_image_surface_get_data(surface.get());
     const int stride = cairo_image_surface_get_stride(surface.get());
+    // The colour bar's colours only (steps of 1/200 of the range), and text
+    // and lines without grey edges: the picture then fits a PNG palette.
     for (const Particle& p : tissue.particles) {
       const int cell = p.cell;
-      const Rgb col = values ? colour_map(((*values)[cell] - lo) / (hi - lo)) : type_colour(tissue.type[cell]);
+      const Rgb col = values ? colour_map(colour_bar_step(((*values)[cell] - lo) / (hi - lo)))
+                             : type_colour(tissue.type[cell]);
       fill_disk(data, stride, width, height, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), rgb24(col));
     }
     cairo_surface_mark_dirty(surface.get());
+    cairo_set_antialias(c, CAIRO_ANTIALIAS_NONE);
+    std::unique_ptr<cairo_font_options_t, decltype(&cairo_font_options_destroy)> sharp(
+        cairo_font_options_create(), cairo_font_options_destroy);
+    cairo_font_options_set_antialias(sharp.get(), CAIRO_ANTIALIAS_NONE);
+    cairo_set_font_options(c, sharp.get());
   }
   if (options.draw_bonds) {
     cairo_set_source_rgb(c, 0.9, 0.1, 0.1);
@@ -174,7 +192,7 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
   cairo_show_text(c, bar_um >= 1000 ? "1 mm" : "100 um");
 
   if (values) {  // colour bar with its range
-    const double x0 = margin + tissue_w + 30, w = 20, y0 = top + 20, h = 200;
+    const double x0 = margin + tissue_w + 30, w = 20, y0 = top + 20, h = kColourBarSteps;
     for (int i = 0; i < static_cast<int>(h); ++i) {
       const Rgb col = colour_map(1.0 - (i + 0.5) / h);
       cairo_set_source_rgb(c, col.r, col.g, col.b);
