@@ -11,6 +11,19 @@ using namespace fibrodem;
 namespace {
 const std::filesystem::path kPlugins = std::filesystem::path(FIBRODEM_BINARY_DIR) / "plugins";
 const std::filesystem::path kBadPlugins = std::filesystem::path(FIBRODEM_BINARY_DIR) / "test_plugins";
+
+// The error a run of manifest m stops with, the broken test plugins first on
+// the search path ("" if it does not stop).
+std::string run_error(const json& m) {
+  auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
+  Simulation sim(parse_scene(m), registry);
+  try {
+    sim.run();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
 }  // namespace
 
 TEST_CASE("the default search path finds the built plugins") {
@@ -128,19 +141,12 @@ TEST_CASE("a model that throws from evaluate() stops the run naming it, outputs 
 
 TEST_CASE("a model whose rate turns NaN at a step far below the stability limit is blamed, not the step") {
   const auto dir = testing::scratch_dir("nan_model");
-  auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
   json m = testing::passive_cell_manifest();
   m["cells"]["fibroblast"] = {{"model", "misbehaves"}, {"parameters", {{"fault", 3}}}};
   m["duration_ms"] = 20;
   m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};  // one uncoupled cell: no explicit limit at all
   m["output"]["dir"] = dir.string();
-  Simulation sim(parse_scene(m), registry);
-  std::string message;
-  try {
-    sim.run();
-  } catch (const std::exception& e) {
-    message = e.what();
-  }
+  const std::string message = run_error(m);
   CAPTURE(message);
   CHECK(message.find("state 'V' = nan") != std::string::npos);
   CHECK(message.find("so the model is the likely cause, not the step: model misbehaves (") != std::string::npos);
@@ -199,19 +205,12 @@ TEST_CASE("plugin_path must name existing directories") {
 }
 
 TEST_CASE("adaptive: a model whose rate turns NaN is named, with the cell's last finite states") {
-  auto registry = std::make_shared<PluginRegistry>(std::vector<std::filesystem::path>{kBadPlugins, kPlugins});
   json m = testing::passive_cell_manifest();
   m["cells"]["fibroblast"] = {{"model", "misbehaves"}, {"parameters", {{"fault", 3}}}};
   m["duration_ms"] = 20;
   m["solver"] = {{"method", "adaptive"}};
   m["output"].erase("dir");
-  Simulation sim(parse_scene(m), registry);
-  std::string message;
-  try {
-    sim.run();
-  } catch (const std::exception& e) {
-    message = e.what();
-  }
+  const std::string message = run_error(m);
   CAPTURE(message);
   CHECK(message.find("model misbehaves computes it (check it with: fibrodem check-plugin misbehaves)") !=
         std::string::npos);
