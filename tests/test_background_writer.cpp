@@ -1,8 +1,9 @@
 // The writer thread of pictures and snapshots: jobs in order, failures
-// thrown to the run, and run_here (used when no core is free for the writer)
-// keeping both.
+// thrown to the run, and idle() (a run that lent the writer a core takes it
+// back once the writer is idle) true only once every job is done.
 #include <doctest/doctest.h>
 
+#include <future>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -11,28 +12,35 @@
 
 using namespace fibrodem;
 
-TEST_CASE("the background writer runs jobs in order, run_here after every job posted before it") {
-  BackgroundWriter writer(2);
-  std::vector<int> order;  // (written by one thread at a time: run_here waits for the posted jobs)
+TEST_CASE("the background writer runs jobs in order on its own thread, and is idle only once all are done") {
+  BackgroundWriter writer(8);
+  CHECK(writer.idle());
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::vector<int> order;  // (written by the writer's thread only, read after finish())
   std::thread::id ran_on;
-  for (int k = 0; k < 5; ++k) writer.post([&order, k] { order.push_back(k); });
-  writer.run_here([&] {
-    order.push_back(5);
+  writer.post([&, released] {
+    released.wait();
     ran_on = std::this_thread::get_id();
+    order.push_back(0);
   });
-  writer.post([&order] { order.push_back(6); });
+  for (int k = 1; k < 5; ++k) writer.post([&order, k] { order.push_back(k); });
+  CHECK_FALSE(writer.idle());  // the first job waits for `release`, four more behind it
+  release.set_value();
   writer.finish();
-  CHECK(order == std::vector<int>{0, 1, 2, 3, 4, 5, 6});
-  CHECK(ran_on == std::this_thread::get_id());
+  CHECK(writer.idle());
+  CHECK(order == std::vector<int>{0, 1, 2, 3, 4});
+  CHECK(ran_on != std::this_thread::get_id());
 }
 
-TEST_CASE("a failed background job is thrown by the next run_here, and a job run here throws its own error") {
+TEST_CASE("a failed background job is thrown once, by the next finish(), and leaves the writer idle") {
   BackgroundWriter writer(2);
   writer.post([] { throw std::runtime_error("cannot write snapshot_1.png"); });
+  CHECK_THROWS_WITH(writer.finish(), "cannot write snapshot_1.png");
+  CHECK(writer.idle());
+  CHECK_NOTHROW(writer.finish());  // nothing left to throw
   bool ran = false;
-  CHECK_THROWS_WITH(writer.run_here([&] { ran = true; }), "cannot write snapshot_1.png");
-  CHECK_FALSE(ran);
-  CHECK_THROWS_WITH(writer.run_here([] { throw std::runtime_error("cannot write snapshot_2.png"); }),
-                    "cannot write snapshot_2.png");
-  writer.finish();  // nothing left to throw
+  writer.post([&] { ran = true; });
+  writer.finish();
+  CHECK(ran);
 }

@@ -107,3 +107,41 @@ TEST_CASE("solver.threads auto: the governor keeps the faster thread count and t
   CHECK(governor.threads() == 2);
   omp_set_num_threads(saved_threads);
 }
+
+TEST_CASE("a core lent to the writer: the cells step on one thread fewer, unmeasured, until it is given back") {
+  const int saved_threads = omp_get_max_threads();
+  ThreadGovernor fixed;
+  fixed.use(2);
+  CHECK(fixed.threads() == 2);
+  fixed.lend(1);
+  CHECK(fixed.threads() == 1);
+  CHECK(fixed.chosen() == 2);  // what the run's notes report
+  CHECK(omp_get_max_threads() == 1);  // the run's other loops (DEM) follow it
+  fixed.lend(0);
+  CHECK(fixed.threads() == 2);
+  CHECK(omp_get_max_threads() == 2);
+  ThreadGovernor single;
+  single.use(1);
+  single.lend(1);
+  CHECK(single.threads() == 1);  // never below one thread
+
+  // solver.threads auto: calls made while a core is lent do not count
+  // towards its stretches and trials. Two threads take 300 us a call, one
+  // 100 us (as in the governor's test above), but 1000 calls on a lent core
+  // change nothing: the first switch still comes after 512 + 64 measured calls.
+  ThreadGovernor governor;
+  governor.adapt(2);
+  governor.lend(1);
+  for (int k = 0; k < 1000; ++k) governor.record(governor.threads(), 100e-6);
+  CHECK(governor.switches() == 0);
+  CHECK(governor.calls_on_one() == 1000);
+  governor.lend(0);
+  int first_switch_at = -1;
+  for (int k = 0; k < 1000 && first_switch_at < 0; ++k) {
+    const int threads = governor.threads();
+    governor.record(threads, threads > 1 ? 300e-6 : 100e-6);
+    if (governor.switches() == 1) first_switch_at = k;
+  }
+  CHECK(first_switch_at == 512 + 64 - 1);
+  omp_set_num_threads(saved_threads);
+}

@@ -97,9 +97,10 @@ struct CellSystem {
   // cell that can share the step's threads.
   void evaluate(double t_stim_ms, double t_ms, const AfterPopulationBlock& after = nullptr,
                 const BlockSchedule::AfterAll& after_all = nullptr);
-  // solver.threads "auto": the ionic models' loop chooses between one thread
-  // and max_threads by measuring both (model/thread_governor.hpp).
-  void adapt_threads(int max_threads) { schedule_.governor().adapt(max_threads); }
+  // The run's thread count: fixed, or for solver.threads "auto" chosen
+  // between one thread and the cores by measuring both; cores lent to the
+  // writer while it draws (model/thread_governor.hpp).
+  ThreadGovernor& thread_governor() { return schedule_.governor(); }
   const ThreadGovernor& thread_governor() const { return schedule_.governor(); }
   // Calls f(population, local index) for each block a cell's states live in:
   // its ionic population, then its myofilament if any.

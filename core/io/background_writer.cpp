@@ -19,6 +19,7 @@ void BackgroundWriter::post(std::function<void()> job) {
   changed_.wait(lock, [&] { return jobs_.size() < pending_ || failure_; });
   if (failure_) rethrow_failure();
   jobs_.push_back(std::move(job));
+  unfinished_.fetch_add(1, std::memory_order_relaxed);
   changed_.notify_all();
 }
 
@@ -28,14 +29,10 @@ void BackgroundWriter::finish() {
   if (failure_) rethrow_failure();
 }
 
-void BackgroundWriter::run_here(const std::function<void()>& job) {
-  finish();
-  job();
-}
-
 void BackgroundWriter::rethrow_failure() {
   std::exception_ptr failure = failure_;
   failure_ = nullptr;  // thrown once
+  unfinished_.fetch_sub(jobs_.size(), std::memory_order_relaxed);
   jobs_.clear();
   std::rethrow_exception(failure);
 }
@@ -57,6 +54,7 @@ void BackgroundWriter::work() {
     }
     lock.lock();
     busy_ = false;
+    unfinished_.fetch_sub(1, std::memory_order_release);
     if (failure && !failure_) failure_ = failure;
     changed_.notify_all();
   }

@@ -5,6 +5,7 @@
 // stops the others, and its error is thrown by the next post() or finish().
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -22,11 +23,11 @@ class BackgroundWriter {
   BackgroundWriter& operator=(const BackgroundWriter&) = delete;
 
   void post(std::function<void()> job);
-  // Runs `job` on the calling thread once every job posted before is done
-  // (for a caller with no core to spare: see Simulation's write_file).
-  void run_here(const std::function<void()>& job);
   // Waits until every job is done; rethrows the first failure.
   void finish();
+  // No job waiting or running (for a run that lent the writer a core: see
+  // Simulation's write_file).
+  bool idle() const { return unfinished_.load(std::memory_order_acquire) == 0; }
 
  private:
   void work();
@@ -37,6 +38,7 @@ class BackgroundWriter {
   std::condition_variable changed_;
   std::deque<std::function<void()>> jobs_;
   bool busy_ = false, stopping_ = false;
+  std::atomic<std::size_t> unfinished_{0};  // posted and not yet done
   std::exception_ptr failure_;
   std::thread thread_;  // last: starts once the rest is ready
 };

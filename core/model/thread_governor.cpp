@@ -6,19 +6,36 @@
 
 namespace fibrodem {
 
+void ThreadGovernor::use(int threads) {
+  max_threads_ = current_ = std::max(1, threads);
+  adapting_ = false;
+  omp_set_num_threads(this->threads());
+}
+
 void ThreadGovernor::adapt(int max_threads) {
   max_threads_ = max_threads;
+  adapting_ = max_threads > 1;
   current_ = max_threads;
   stretch_ = kFirstStretch;
   calls_ = {0, 0};
   switches_ = 0;
   begin_phase(false);
-  omp_set_num_threads(current_);
+  omp_set_num_threads(threads());
+}
+
+int ThreadGovernor::chosen() const {
+  if (max_threads_ == 0) return omp_get_max_threads();
+  return adapting_ && trial_ ? other() : current_;
 }
 
 int ThreadGovernor::threads() const {
-  if (!adapting()) return omp_get_max_threads();
-  return trial_ ? other() : current_;
+  if (max_threads_ == 0) return omp_get_max_threads();
+  return std::max(1, chosen() - lent_);
+}
+
+void ThreadGovernor::lend(int cores) {
+  lent_ = std::max(0, cores);
+  if (max_threads_ > 0) omp_set_num_threads(threads());
 }
 
 void ThreadGovernor::begin_phase(bool trial) {
@@ -30,7 +47,7 @@ void ThreadGovernor::begin_phase(bool trial) {
 
 void ThreadGovernor::record(int used, double wall_s) {
   ++calls_[used > 1 ? 1 : 0];
-  if (!adapting()) return;
+  if (!adapting_ || lent_ > 0) return;
   // The last kTrial / 2 calls of a phase are measured: after a change of
   // count, the first calls refill the caches of cores that swapped cells.
   if (left_ <= kTrial / 2) {

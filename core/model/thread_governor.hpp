@@ -9,6 +9,8 @@
 // other count loses, the stretch doubles (up to a limit), so on a quiet
 // machine the trials cost a fraction of a per cent. Results do not depend on
 // the thread count, so switching changes nothing in the numbers.
+// It also holds a fixed count, and lends a core to the writer of pictures
+// while that has work (the cells then step on one thread fewer).
 #pragma once
 
 #include <array>
@@ -17,14 +19,24 @@ namespace fibrodem {
 
 class ThreadGovernor {
  public:
+  // A fixed count (an explicit solver.threads, or "auto" on a small scene);
+  // sets OpenMP's default to it.
+  void use(int threads);
   // From now on, chooses between 1 and max_threads (and sets OpenMP's default
   // to its choice, so that the run's other parallel loops follow it).
-  // Without this call it always takes OpenMP's default.
+  // Without this call or use() it always takes OpenMP's default.
   void adapt(int max_threads);
-  bool adapting() const { return max_threads_ > 1; }
+  bool adapting() const { return adapting_; }
   int max_threads() const { return max_threads_; }
   // The thread count for the next call.
   int threads() const;
+  // The count chosen, before any core lent.
+  int chosen() const;
+  // Lends `cores` cores to other work until lend(0): a picture drawn on the
+  // writer's thread while the cells step. The cells then step on that many
+  // fewer threads (at least one), and those calls are not measured.
+  void lend(int cores);
+  int lent() const { return lent_; }
   // One call's wall time on `threads` threads.
   void record(int threads, double wall_s);
   // Calls made on one thread and on more (for the run's notes), and the switches.
@@ -39,7 +51,9 @@ class ThreadGovernor {
   int other() const { return current_ == 1 ? max_threads_ : 1; }
   void begin_phase(bool trial);
 
-  int max_threads_ = 0;
+  int max_threads_ = 0;     // 0: OpenMP's default
+  bool adapting_ = false;
+  int lent_ = 0;
   int current_ = 0;
   bool trial_ = false;      // trying the other count now
   long left_ = 0;           // calls left in this phase

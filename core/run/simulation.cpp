@@ -234,12 +234,13 @@ struct Simulation::Impl : StepObserver {
       why = fmt::format("solver.threads auto: {} cells {} {} ({} cores)", tissue.cell_count(), large ? ">=" : "<",
                         kCellsForThreads, cores);
     }
-    omp_set_num_threads(threads);
     // auto on several cores: measured step by step against one thread, in
     // case other jobs hold the cores (model/thread_governor.hpp).
     if (scene.solver.threads < 0 && threads > 1) {
-      system.adapt_threads(threads);
+      system.thread_governor().adapt(threads);
       why += "; one thread instead while it measures faster";
+    } else {
+      system.thread_governor().use(threads);
     }
     plan.notes.push_back(fmt::format("threads: {} ({})", threads, why));
   }
@@ -605,7 +606,7 @@ struct Simulation::Impl : StepObserver {
                                                              system.coupling_every)
                                                : fmt::format("explicit, updated every {} cell step(s)",
                                                              system.coupling_every));
-    log->info("integrator: {}; {} threads", integrator->describe(), omp_get_max_threads());
+    log->info("integrator: {}; {} threads", integrator->describe(), system.thread_governor().chosen());
     for (const auto& w : warnings) log->warn("{}", w);
   }
 
@@ -646,6 +647,7 @@ struct Simulation::Impl : StepObserver {
       measured = Clock::now();
     }
     snapshot_if_due(t_new);
+    reclaim_writer_core();
     if (measured - last_flush > std::chrono::seconds(1)) {
       traces.flush_csv();
       log->flush();
@@ -673,14 +675,23 @@ struct Simulation::Impl : StepObserver {
     }
   }
 
-  // A picture or snapshot file: on the writer's thread while the run goes on
-  // if a core is free for it, else here and now. The cells' threads wait for
-  // each other every step, so a writer sharing a core with one of them stalls
-  // both: in the Fig. 3 run on 2 cores the writer's pictures cost about twice
-  // their own time that way, and once written here.
+  // A picture or snapshot file, on the writer's thread while the run goes
+  // on. When the cells' threads hold every core, one of them is lent to the
+  // writer until it is done (the cells step on one thread fewer meanwhile):
+  // the cells' threads wait for each other every step, so a writer sharing a
+  // core with one of them stalls both (in the Fig. 3 run on 2 cores its
+  // pictures cost about twice their own time that way).
   void write_file(std::function<void()> job) {
-    if (omp_get_max_threads() < omp_get_num_procs()) return writer.post(std::move(job));
-    writer.run_here(job);
+    writer.post(std::move(job));
+    ThreadGovernor& governor = system.thread_governor();
+    if (governor.lent() == 0 && governor.threads() > 1 && governor.threads() >= omp_get_num_procs())
+      governor.lend(1);
+  }
+
+  // The core lent to the writer back to the cells once its pictures are done.
+  void reclaim_writer_core() {
+    ThreadGovernor& governor = system.thread_governor();
+    if (governor.lent() > 0 && writer.idle()) governor.lend(0);
   }
 
   // The progress line (RunOptions::progress) and callback (on_progress), every
