@@ -29,13 +29,26 @@ double union_polar_moment(int n, double r, double s);
 // rectangle 2r(N-1)s (C; for N = 1 the radius is kept instead).
 double rule_area(AreaRule rule, int n, double r, double s);
 
+// A clump's rest shape and the area its rule keeps, computed once: the DEM
+// solves every contracting myocyte's shape at every step, and this area cost
+// a quarter of that solve.
+struct ClumpRest {
+  int n = 1;
+  double r0 = 0, s0 = 0, area = 0;
+};
+ClumpRest clump_rest(AreaRule rule, int n, double r0, double s0);
+
 // The clump's shape at length ratio lambda = L/L0 from its rest shape (r0, s0):
 // spacing mode s = s0 lambda; total mode (N-1)s + 2r = lambda ((N-1)s0 + 2r0);
 // r such that rule_area is that of the rest shape. Throws std::invalid_argument
 // if no such shape exists (e.g. the rectangle rule in total mode below ~0.8).
 // r_guess (> 0) starts the union rule's Newton iteration (e.g. the radius at the
 // previous step: a couple of iterations instead of several); the root is the same.
-ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, double s0,
-                            double lambda, double r_guess = 0);
+ClumpShape contracted_shape(AreaRule rule, LengthMode mode, const ClumpRest& rest, double lambda,
+                            double r_guess = 0);
+inline ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double r0, double s0, double lambda,
+                                   double r_guess = 0) {
+  return contracted_shape(rule, mode, clump_rest(rule, n, r0, s0), lambda, r_guess);
+}
 
 }  // namespace fibrodem

@@ -57,8 +57,7 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     inv_m_.push_back(fixed ? 0.0 : 1 / mass);
     inv_i_.push_back(fixed ? 0.0 : 1 / inertia);
     bn_.push_back(n);
-    br0_.push_back(r0);
-    bs0_.push_back(s0);
+    brest_.push_back(clump_rest(spec_.area_rule, n, r0, s0));
     br_.push_back(r0);
     bs_.push_back(s0);
     blambda_.push_back(1.0);
@@ -321,7 +320,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
     next_s_[b] = btarget_s_[b];
     if (l == blambda_[b]) continue;
     try {
-      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, bn_[b], br0_[b], bs0_[b], l,
+      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, brest_[b], l,
                                                 btarget_r_[b]);
       next_r_[b] = shape.r;
       next_s_[b] = shape.s;
@@ -359,8 +358,10 @@ void DemSolver::place_particles() {
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bn_[b] < 2) continue;  // a disk has no axis (its particle sits at its centre)
-    bux_[b] = -std::sin(bth_[b]);
-    buy_[b] = std::cos(bth_[b]);
+    double sin_th, cos_th;
+    ::sincos(bth_[b], &sin_th, &cos_th);  // glibc: the same bits as sin() and cos(), in one call
+    bux_[b] = -sin_th;
+    buy_[b] = cos_th;
   }
   const std::size_t np = pbody_.size();
 #pragma omp parallel for schedule(static)

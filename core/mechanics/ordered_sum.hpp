@@ -15,8 +15,13 @@ std::array<double, K> ordered_sum(std::size_t n, AddTerms add_terms) {
   constexpr std::size_t kParts = 64;
   std::array<std::array<double, K>, kParts> part{};
 #pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < kParts; ++k)
-    for (std::size_t i = n * k / kParts; i < n * (k + 1) / kParts; ++i) add_terms(i, part[k]);
+  for (std::size_t k = 0; k < kParts; ++k) {
+    // (A local sum stays in registers; part[k] itself could alias the
+    // arrays summed, so each term would go through memory.)
+    std::array<double, K> sum{};
+    for (std::size_t i = n * k / kParts; i < n * (k + 1) / kParts; ++i) add_terms(i, sum);
+    part[k] = sum;
+  }
   std::array<double, K> total{};
   for (const auto& p : part)
     for (std::size_t j = 0; j < K; ++j) total[j] += p[j];
