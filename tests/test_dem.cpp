@@ -118,7 +118,7 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
   }
 }
 
-TEST_CASE("dem: the union rule's shapes in SIMD lanes are the scalar solve's, and a lane without one is told apart") {
+TEST_CASE("dem: the union rule's shapes solved a clump per lane are the scalar solve's, and a lane without one is told apart") {
   // Clumps of the paper's myocyte and of a 3-particle clump, shortening and
   // stretching, fewer than a register's lanes and the full width; the lanes
   // differ from the scalar solve only by the vector asin (an ulp or so).
