@@ -17,7 +17,6 @@
 
 #include "mechanics/clump_geometry.hpp"
 #include "mechanics/dem_solver.hpp"
-#include "model/simd.hpp"
 #include "tissue/builders/column_tissue.hpp"
 #include "tissue/tissue_builder.hpp"
 
@@ -116,53 +115,6 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
     const std::string key = bad.begin().key();
     CHECK_THROWS_WITH_AS(read_dem_spec(rb), doctest::Contains(("mechanics." + key).c_str()), ManifestError);
   }
-}
-
-TEST_CASE("dem: the union rule's shapes solved a clump per lane are the scalar solve's, and a lane without one is told apart") {
-  // Clumps of the paper's myocyte and of a 3-particle clump, shortening and
-  // stretching, fewer than a register's lanes and the full width; the lanes
-  // differ from the scalar solve only by the vector asin (an ulp or so).
-  const ClumpRest myocyte = clump_rest(AreaRule::union_area, kMyocyteParticles, kParticleRadius_um,
-                                       kParticleSpacing_um);
-  const ClumpRest small = clump_rest(AreaRule::union_area, 3, 8.0, 12.0);
-  const double ratios[] = {0.52, 0.8, 0.93, 0.999, 1.001, 1.1, 1.3, 1.49};
-  for (LengthMode mode : {LengthMode::spacing, LengthMode::total})
-    for (std::size_t count : {std::size_t{1}, std::size_t{3}, simd::kLanes}) {
-      CAPTURE(length_mode_name(mode));
-      CAPTURE(count);
-      const ClumpRest* rest[simd::kLanes];
-      double lambda[simd::kLanes], guess[simd::kLanes];
-      for (std::size_t i = 0; i < count; ++i) {
-        rest[i] = i % 2 ? &small : &myocyte;
-        lambda[i] = ratios[i % 8];
-        guess[i] = i % 3 ? rest[i]->r0 : 0.0;  // 0: the solver's own start
-      }
-      ClumpShape shape[simd::kLanes];
-      bool exists[simd::kLanes];
-      union_shapes(mode, rest, lambda, guess, count, shape, exists);
-      for (std::size_t i = 0; i < count; ++i) {
-        CAPTURE(lambda[i]);
-        const ClumpShape scalar = contracted_shape(AreaRule::union_area, mode, *rest[i], lambda[i], guess[i]);
-        REQUIRE(exists[i]);
-        CHECK(shape[i].r == doctest::Approx(scalar.r).epsilon(1e-14));
-        CHECK(shape[i].s == doctest::Approx(scalar.s).epsilon(1e-14));
-      }
-    }
-  // Total length mode: far enough shortened, no union of the 3-particle clump
-  // keeps its area (pi (L/2)^2 < a0); its lane says so, the others solve.
-  const double too_short = 0.3;
-  CHECK_THROWS_WITH_AS(contracted_shape(AreaRule::union_area, LengthMode::total, small, too_short),
-                       doctest::Contains("no clump shape keeps the area"), std::invalid_argument);
-  const ClumpRest* rest[] = {&myocyte, &small, &myocyte};
-  const double lambda[] = {0.9, too_short, 1.1}, guess[] = {0, 0, 0};
-  ClumpShape shape[3];
-  bool exists[3];
-  union_shapes(LengthMode::total, rest, lambda, guess, 3, shape, exists);
-  CHECK(exists[0]);
-  CHECK_FALSE(exists[1]);
-  CHECK(exists[2]);
-  CHECK(shape[2].r == doctest::Approx(contracted_shape(AreaRule::union_area, LengthMode::total, myocyte, 1.1).r)
-                          .epsilon(1e-14));
 }
 
 TEST_CASE("dem: contracting clumps keep their area by each rule") {

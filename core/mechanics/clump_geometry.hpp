@@ -11,8 +11,6 @@
 // Lengths in any unit (the solver uses metres); areas in that unit squared.
 #pragma once
 
-#include <cstddef>
-
 #include "mechanics/dem_spec.hpp"
 
 namespace fibrodem {
@@ -52,14 +50,5 @@ inline ClumpShape contracted_shape(AreaRule rule, LengthMode mode, int n, double
                                    double r_guess = 0) {
   return contracted_shape(rule, mode, clump_rest(rule, n, r0, s0), lambda, r_guess);
 }
-
-// The union rule's shapes of 1 to simd::kLanes clumps at once, a clump per
-// SIMD lane: the same Newton iteration as contracted_shape (lambda != 1,
-// N >= 2; the vector asin may move the root by an ulp). For i < count,
-// shape[i] from rest[i], lambda[i] and r_guess[i]; exists[i] false where no
-// shape keeps the area (then shape[i] is left as it was, and contracted_shape
-// says why).
-void union_shapes(LengthMode mode, const ClumpRest* const rest[], const double lambda[], const double r_guess[],
-                  std::size_t count, ClumpShape shape[], bool exists[]);
 
 }  // namespace fibrodem

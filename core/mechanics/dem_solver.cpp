@@ -1,7 +1,6 @@
 #include "mechanics/dem_solver.hpp"
 
 #include "mechanics/ordered_sum.hpp"
-#include "model/simd.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -295,72 +294,41 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
   if (ratio.size() != cells_)
     throw std::invalid_argument("set_cell_length_ratios: " + std::to_string(ratio.size()) +
                                 " ratios for " + std::to_string(cells_) + " cells");
-  // Each myocyte's new shape (cells are independent: in parallel, and under
-  // the union rule a SIMD lane each), kept only if every ratio is in range
-  // and every shape exists; else the error of the first cell that fails, and
-  // nothing changed. Cells cost unequally (a fibroblast or an unchanged cell
-  // nothing, a myocyte a Newton solve): shared in chunks as the threads come free.
-  constexpr std::size_t kLanes = simd::kLanes;
+  // Each myocyte's new shape (cells are independent: in parallel), kept only
+  // if every ratio is in range and every shape exists; else the error of the
+  // first cell that fails, and nothing changed. Cells cost unequally (a
+  // fibroblast or an unchanged cell nothing, a myocyte a Newton solve):
+  // shared in chunks as the threads come free.
   const std::size_t none = cells_;
   std::size_t failed = none;
   std::string error;
-  auto fail = [&](std::size_t c, std::string message) {
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t c = 0; c < cells_; ++c) {
+    const int b = cell_body_[c];
+    if (b < 0) continue;
+    const double l = ratio[c];
+    if (!(l >= 0.5 && l <= 1.5)) {
 #pragma omp critical(dem_shape_error)
-    if (c < failed) {
-      failed = c;
-      error = std::move(message);
+      if (c < failed) {
+        failed = c;
+        error = "cell " + std::to_string(c) + ": length ratio " + fmt(l) + " outside [0.5, 1.5]";
+      }
+      continue;
     }
-  };
-  const std::size_t groups = (cells_ + kLanes - 1) / kLanes;
-#pragma omp parallel for schedule(dynamic, 8)
-  for (std::size_t g = 0; g < groups; ++g) {
-    // The group's cells whose shape changes, solved together in lanes.
-    const ClumpRest* rest[kLanes];
-    double lambda[kLanes], guess[kLanes];
-    std::size_t cell[kLanes];
-    std::size_t lanes = 0;
-    for (std::size_t c = g * kLanes; c < std::min(cells_, (g + 1) * kLanes); ++c) {
-      const int b = cell_body_[c];
-      if (b < 0) continue;
-      const double l = ratio[c];
-      if (!(l >= 0.5 && l <= 1.5)) {
-        fail(c, "cell " + std::to_string(c) + ": length ratio " + fmt(l) + " outside [0.5, 1.5]");
-        continue;
-      }
-      if (bn_[b] < 2) continue;
-      next_r_[b] = btarget_r_[b];
-      next_s_[b] = btarget_s_[b];
-      if (l == blambda_[b]) continue;
-      if (spec_.area_rule != AreaRule::union_area || l == 1.0) {
-        try {  // a closed form
-          const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, brest_[b], l);
-          next_r_[b] = shape.r;
-          next_s_[b] = shape.s;
-        } catch (const std::invalid_argument& e) {
-          fail(c, e.what());
-        }
-        continue;
-      }
-      rest[lanes] = &brest_[b];
-      lambda[lanes] = l;
-      guess[lanes] = btarget_r_[b];
-      cell[lanes++] = c;
-    }
-    if (lanes == 0) continue;
-    ClumpShape shape[kLanes];
-    bool exists[kLanes];
-    union_shapes(spec_.length_mode, rest, lambda, guess, lanes, shape, exists);
-    for (std::size_t i = 0; i < lanes; ++i) {
-      const int b = cell_body_[cell[i]];
-      if (exists[i]) {
-        next_r_[b] = shape[i].r;
-        next_s_[b] = shape[i].s;
-        continue;
-      }
-      try {  // (throws why)
-        contracted_shape(spec_.area_rule, spec_.length_mode, brest_[b], lambda[i]);
-      } catch (const std::invalid_argument& e) {
-        fail(cell[i], e.what());
+    if (bn_[b] < 2) continue;
+    next_r_[b] = btarget_r_[b];
+    next_s_[b] = btarget_s_[b];
+    if (l == blambda_[b]) continue;
+    try {
+      const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, brest_[b], l,
+                                                btarget_r_[b]);
+      next_r_[b] = shape.r;
+      next_s_[b] = shape.s;
+    } catch (const std::invalid_argument& e) {
+#pragma omp critical(dem_shape_error)
+      if (c < failed) {
+        failed = c;
+        error = e.what();
       }
     }
   }

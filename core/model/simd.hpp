@@ -87,12 +87,6 @@ FIBRODEM_LANE_INLINE double fmax(double a, double b) { return std::fmax(a, b); }
 FIBRODEM_LANE_INLINE Real fmax(const Real& a, const Real& b) { return xsimd::max(a, b); }
 FIBRODEM_LANE_INLINE double floor(double x) { return std::floor(x); }
 FIBRODEM_LANE_INLINE Real floor(const Real& x) { return xsimd::floor(x); }
-FIBRODEM_LANE_INLINE double asin(double x) { return std::asin(x); }
-FIBRODEM_LANE_INLINE Real asin(const Real& x) { return xsimd::asin(x); }
-
-// Whether every lane's mask holds (for double, the bool itself).
-FIBRODEM_LANE_INLINE bool all(bool mask) { return mask; }
-FIBRODEM_LANE_INLINE bool all(const Real::batch_bool_type& mask) { return xsimd::all(mask); }
 
 // x / (1 - exp(-x)), with its limit 1 + x/2 near x = 0: the removable
 // singularity of Hodgkin-Huxley rates such as a (V - V0) / (1 - exp(-(V - V0)/k)).
@@ -116,5 +110,4 @@ FIBRODEM_LANE_INLINE R exprel(const R& x) {
   using fibrodem::simd::fmin;        \
   using fibrodem::simd::fmax;        \
   using fibrodem::simd::floor;       \
-  using fibrodem::simd::asin;        \
   using fibrodem::simd::exprel
