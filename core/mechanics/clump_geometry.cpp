@@ -85,7 +85,9 @@ ClumpShape contracted_shape(AreaRule rule, LengthMode mode, const ClumpRest& res
                             double r_guess) {
   if (!(lambda > 0) || !std::isfinite(lambda))
     throw std::invalid_argument("cell length ratio must be positive, got " + std::to_string(lambda));
-  const auto [n, r0, s0, a0] = rest;
+  // (Plain variables, not a structured binding: the lambdas below capture them.)
+  const int n = rest.n;
+  const double r0 = rest.r0, s0 = rest.s0, a0 = rest.area;
   if (n <= 1 || lambda == 1.0) return {r0, s0};
   const int m = n - 1;
   if (mode == LengthMode::spacing) {
