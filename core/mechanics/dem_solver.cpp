@@ -56,7 +56,6 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     inertia_.push_back(inertia);
     inv_m_.push_back(fixed ? 0.0 : 1 / mass);
     inv_i_.push_back(fixed ? 0.0 : 1 / inertia);
-    bn_.push_back(n);
     brest_.push_back(clump_rest(spec_.area_rule, n, r0, s0));
     br_.push_back(r0);
     bs_.push_back(s0);
@@ -315,7 +314,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
       }
       continue;
     }
-    if (bn_[b] < 2) continue;
+    if (brest_[b].n < 2) continue;
     next_r_[b] = btarget_r_[b];
     next_s_[b] = btarget_s_[b];
     if (l == blambda_[b]) continue;
@@ -336,7 +335,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
 #pragma omp parallel for schedule(static)
   for (std::size_t c = 0; c < cells_; ++c) {
     const int b = cell_body_[c];
-    if (b < 0 || bn_[b] < 2) continue;
+    if (b < 0 || brest_[b].n < 2) continue;
     blambda_[b] = ratio[c];
     btarget_r_[b] = next_r_[b];
     btarget_s_[b] = next_s_[b];
@@ -357,7 +356,7 @@ void DemSolver::update_geometry(double dt_s) {
 void DemSolver::place_particles() {
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
-    if (bn_[b] < 2) continue;  // a disk has no axis (its particle sits at its centre)
+    if (brest_[b].n < 2) continue;  // a disk has no axis (its particle sits at its centre)
     double sin_th, cos_th;
     ::sincos(bth_[b], &sin_th, &cos_th);  // glibc: the same bits as sin() and cos(), in one call
     bux_[b] = -sin_th;

@@ -130,8 +130,7 @@ class DemSolver final : public MechanicsSolver {
   std::vector<int> bcell_;
   std::vector<std::uint8_t> bclump_, bfixed_;
   // Clump geometry per body (disks: n 1, s 0).
-  std::vector<int> bn_;
-  std::vector<ClumpRest> brest_;  // rest shape and kept area
+  std::vector<ClumpRest> brest_;  // particle count, rest shape and kept area
   std::vector<double> br_, bs_, bsdot_, blambda_, btarget_r_, btarget_s_, bux_, buy_;
   std::vector<double> next_r_, next_s_;  // set_cell_length_ratios' scratch
   std::vector<int> cell_body_;  // myocyte cell -> body, else -1
