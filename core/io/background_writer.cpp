@@ -25,7 +25,7 @@ void BackgroundWriter::post(std::function<void()> job) {
 
 void BackgroundWriter::finish() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return (jobs_.empty() && !busy_) || failure_; });
+  changed_.wait(lock, [&] { return idle() || failure_; });
   if (failure_) rethrow_failure();
 }
 
@@ -44,7 +44,6 @@ void BackgroundWriter::work() {
     if (jobs_.empty()) return;  // stopping, and nothing left to write
     std::function<void()> job = std::move(jobs_.front());
     jobs_.pop_front();
-    busy_ = true;
     lock.unlock();
     std::exception_ptr failure;
     try {
@@ -53,7 +52,6 @@ void BackgroundWriter::work() {
       failure = std::current_exception();
     }
     lock.lock();
-    busy_ = false;
     unfinished_.fetch_sub(1, std::memory_order_release);
     if (failure && !failure_) failure_ = failure;
     changed_.notify_all();

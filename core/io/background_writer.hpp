@@ -37,8 +37,8 @@ class BackgroundWriter {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<std::function<void()>> jobs_;
-  bool busy_ = false, stopping_ = false;
-  std::atomic<std::size_t> unfinished_{0};  // posted and not yet done
+  bool stopping_ = false;
+  std::atomic<std::size_t> unfinished_{0};  // posted and not yet done (changed under mutex_)
   std::exception_ptr failure_;
   std::thread thread_;  // last: starts once the rest is ready
 };
