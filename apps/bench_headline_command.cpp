@@ -10,7 +10,10 @@
 //     lookup tables (cell-steps/s), one
 //     simulated second of one CRN cell under CVODE at (rtol, atol) = (1e-6,
 //     1e-8) and (1e-4, 1e-6) (ms), one DEM step of the Fig. 3 in-series tissue
-//     (particle-steps/s, one thread);
+//     (particle-steps/s, one thread); and the colman step on one thread
+//     alone and on two independent threads (no shared work): their ratio is
+//     the most 2 threads can gain on this machine at the time (the ceiling
+//     beside the scenes' gains);
 //   - whole runs of the paper's Fig. 3 scenes at their manifests' settings
 //     (examples/fig3_in_series_ep.json and _em.json, 500 ms, Rush-Larsen
 //     0.01 ms) and with solver.method "auto" (which a build without it
@@ -57,7 +60,18 @@ const std::vector<Micro> kMicro = {
     {"CRN 1 s, CVODE rtol 1e-6 atol 1e-8 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-6", ""},
     {"CRN 1 s, CVODE rtol 1e-4 atol 1e-6 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-4", ""},
     {"DEM step, Fig. 3 in-series, 1 thread [M particle-steps/s]", "dem_step/in_series", "particle_steps_per_s"},
+    {"colman Rush-Larsen step, 10^4 cells on 1 thread alone [M cell-steps/s]",
+     "rush_larsen_step_1e4_each_thread/colman/real_time/threads:1", "cell_steps_per_s"},
+    {"colman Rush-Larsen step, 10^4 cells on each of 2 independent threads [M cell-steps/s, sum]",
+     "rush_larsen_step_1e4_each_thread/colman/real_time/threads:2", "cell_steps_per_s"},
 };
+
+// The row of kMicro that holds `benchmark`.
+std::size_t micro_row(const std::string& benchmark) {
+  return static_cast<std::size_t>(std::find_if(kMicro.begin(), kMicro.end(),
+                                               [&](const Micro& m) { return m.benchmark == benchmark; }) -
+                                  kMicro.begin());
+}
 
 // Runs `command` with its standard output to `file`; false if it failed.
 bool run_to_file(const std::string& command, const fs::path& file) {
@@ -205,15 +219,25 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     }
     // The gain from threads, per round (a round's two runs of one build are
     // taken minutes apart at most), then the median.
+    auto gains = [](const std::vector<double>& one_s, const std::vector<double>& all_s) {
+      std::vector<double> g;
+      for (std::size_t k = 0; k < std::min(one_s.size(), all_s.size()); ++k) g.push_back(one_s[k] / all_s[k]);
+      return median(g);
+    };
+    // The machine's ceiling: independent threads' throughput over one's (a
+    // rate, so the ratio is the other way up).
+    const std::size_t alone = micro_row("rush_larsen_step_1e4_each_thread/colman/real_time/threads:1"),
+                      independent = micro_row("rush_larsen_step_1e4_each_thread/colman/real_time/threads:2");
+    std::cout << "\nTwo independent threads' colman throughput over one thread's (this machine's ceiling for the "
+                 "gain from 2 threads, median of the rounds' ratios): this build "
+              << cell(gains(rows[independent].ours, rows[alone].ours));
+    if (!args.baseline.empty())
+      std::cout << ", baseline " << cell(gains(rows[independent].theirs, rows[alone].theirs));
+    std::cout << "\n";
     for (std::size_t s = 0; s < scenes.size(); ++s) {
       if (scenes[s].one_thread_of < 0) continue;
       const Row& one = rows[kMicro.size() + s];
       const Row& all = rows[kMicro.size() + static_cast<std::size_t>(scenes[s].one_thread_of)];
-      auto gains = [](const std::vector<double>& one_s, const std::vector<double>& all_s) {
-        std::vector<double> g;
-        for (std::size_t k = 0; k < std::min(one_s.size(), all_s.size()); ++k) g.push_back(one_s[k] / all_s[k]);
-        return median(g);
-      };
       std::cout << "\n" << scenes[static_cast<std::size_t>(scenes[s].one_thread_of)].label
                 << ", one thread's wall time over the default's (median of the rounds' ratios): this build "
                 << cell(gains(one.ours, all.ours));
