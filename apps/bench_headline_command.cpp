@@ -219,29 +219,34 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     }
     // The gain from threads, per round (a round's two runs of one build are
     // taken minutes apart at most), then the median.
+    // "median (round 1, round 2, ...)".
     auto gains = [](const std::vector<double>& one_s, const std::vector<double>& all_s) {
       std::vector<double> g;
-      for (std::size_t k = 0; k < std::min(one_s.size(), all_s.size()); ++k) g.push_back(one_s[k] / all_s[k]);
-      return median(g);
+      std::string each;
+      for (std::size_t k = 0; k < std::min(one_s.size(), all_s.size()); ++k) {
+        g.push_back(one_s[k] / all_s[k]);
+        each += (k ? ", " : "") + cell(g.back());
+      }
+      return cell(median(g)) + " (" + each + ")";
     };
     // The machine's ceiling: independent threads' throughput over one's (a
     // rate, so the ratio is the other way up).
     const std::size_t alone = micro_row("rush_larsen_step_1e4_each_thread/colman/real_time/threads:1"),
                       independent = micro_row("rush_larsen_step_1e4_each_thread/colman/real_time/threads:2");
     std::cout << "\nTwo independent threads' colman throughput over one thread's (this machine's ceiling for the "
-                 "gain from 2 threads, median of the rounds' ratios): this build "
-              << cell(gains(rows[independent].ours, rows[alone].ours));
+                 "gain from 2 threads, median of the rounds' ratios, and each round's): this build "
+              << gains(rows[independent].ours, rows[alone].ours);
     if (!args.baseline.empty())
-      std::cout << ", baseline " << cell(gains(rows[independent].theirs, rows[alone].theirs));
+      std::cout << ", baseline " << gains(rows[independent].theirs, rows[alone].theirs);
     std::cout << "\n";
     for (std::size_t s = 0; s < scenes.size(); ++s) {
       if (scenes[s].one_thread_of < 0) continue;
       const Row& one = rows[kMicro.size() + s];
       const Row& all = rows[kMicro.size() + static_cast<std::size_t>(scenes[s].one_thread_of)];
       std::cout << "\n" << scenes[static_cast<std::size_t>(scenes[s].one_thread_of)].label
-                << ", one thread's wall time over the default's (median of the rounds' ratios): this build "
-                << cell(gains(one.ours, all.ours));
-      if (!args.baseline.empty()) std::cout << ", baseline " << cell(gains(one.theirs, all.theirs));
+                << ", one thread's wall time over the default's (median of the rounds' ratios, and each round's): this build "
+                << gains(one.ours, all.ours);
+      if (!args.baseline.empty()) std::cout << ", baseline " << gains(one.theirs, all.theirs);
       std::cout << "\n";
     }
     for (const auto& [scene, processes] : breakdown) {
