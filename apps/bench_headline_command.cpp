@@ -218,8 +218,7 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
       std::cout << "\n";
     }
     // The gain from threads, per round (a round's two runs of one build are
-    // taken minutes apart at most), then the median.
-    // "median (round 1, round 2, ...)".
+    // taken minutes apart at most): "median (round 1, round 2, ...)".
     auto gains = [](const std::vector<double>& one_s, const std::vector<double>& all_s) {
       std::vector<double> g;
       std::string each;
@@ -227,7 +226,7 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
         g.push_back(one_s[k] / all_s[k]);
         each += (k ? ", " : "") + cell(g.back());
       }
-      return cell(median(g)) + " (" + each + ")";
+      return g.empty() ? std::string("-") : cell(median(g)) + " (" + each + ")";
     };
     // The machine's ceiling: independent threads' throughput over one's (a
     // rate, so the ratio is the other way up).
