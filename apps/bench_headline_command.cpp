@@ -45,6 +45,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The machine's ceiling for the gain from threads: colman on one thread
+// alone and on each of two independent threads.
+constexpr const char* kAloneBenchmark = "rush_larsen_step_1e4_each_thread/colman/real_time/threads:1";
+constexpr const char* kIndependentBenchmark = "rush_larsen_step_1e4_each_thread/colman/real_time/threads:2";
+
 struct Micro {
   std::string label, benchmark, counter;  // counter empty: the time per iteration [ms]
 };
@@ -60,10 +65,9 @@ const std::vector<Micro> kMicro = {
     {"CRN 1 s, CVODE rtol 1e-6 atol 1e-8 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-6", ""},
     {"CRN 1 s, CVODE rtol 1e-4 atol 1e-6 [ms]", "one_cell_1s/courtemanche/cvode_rtol1e-4", ""},
     {"DEM step, Fig. 3 in-series, 1 thread [M particle-steps/s]", "dem_step/in_series", "particle_steps_per_s"},
-    {"colman Rush-Larsen step, 10^4 cells on 1 thread alone [M cell-steps/s]",
-     "rush_larsen_step_1e4_each_thread/colman/real_time/threads:1", "cell_steps_per_s"},
+    {"colman Rush-Larsen step, 10^4 cells on 1 thread alone [M cell-steps/s]", kAloneBenchmark, "cell_steps_per_s"},
     {"colman Rush-Larsen step, 10^4 cells on each of 2 independent threads [M cell-steps/s, sum]",
-     "rush_larsen_step_1e4_each_thread/colman/real_time/threads:2", "cell_steps_per_s"},
+     kIndependentBenchmark, "cell_steps_per_s"},
 };
 
 // The row of kMicro that holds `benchmark`.
@@ -230,8 +234,7 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     };
     // The machine's ceiling: independent threads' throughput over one's (a
     // rate, so the ratio is the other way up).
-    const std::size_t alone = micro_row("rush_larsen_step_1e4_each_thread/colman/real_time/threads:1"),
-                      independent = micro_row("rush_larsen_step_1e4_each_thread/colman/real_time/threads:2");
+    const std::size_t alone = micro_row(kAloneBenchmark), independent = micro_row(kIndependentBenchmark);
     std::cout << "\nTwo independent threads' colman throughput over one thread's (this machine's ceiling for the "
                  "gain from 2 threads, median of the rounds' ratios, and each round's): this build "
               << gains(rows[independent].ours, rows[alone].ours);

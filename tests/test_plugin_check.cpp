@@ -8,7 +8,6 @@
 
 #include "model/plugin_check.hpp"
 #include "model/plugin_registry.hpp"
-#include "model/simd.hpp"
 
 using namespace fibrodem;
 
@@ -82,9 +81,8 @@ TEST_CASE("check-plugin: the well-behaved test model passes, each broken one fai
   {  // a gate never written in evaluate() would stay frozen
     const auto report = check_test_plugin("frozen_gate");
     const auto& written = find_check(report, "derivatives written");
-    // check-plugin probes two full lane groups and a partial one: 2 kLanes + 3
-    // cells (11 with AVX2, 19 with AVX-512; the build is for its host's CPU).
-    const std::string cells = std::to_string(2 * simd::kLanes + 3);
+    // In every probed cell (kProbeCells: 11 with AVX2, 19 with AVX-512).
+    const std::string cells = std::to_string(kProbeCells);
     CHECK(all_faults(written).find("state 'n' (#1): a and b not written by evaluate() in " + cells + " of " + cells +
                                    " cells (SIMD lanes)") != std::string::npos);
     CHECK(all_faults(written).find("(scalar path)") != std::string::npos);

@@ -158,7 +158,6 @@ void guarded(PluginCheck& check, Body body) {
   }
 }
 
-constexpr std::size_t kProbeCells = 2 * simd::kLanes + 3;  // two full lane groups and a partial one
 
 PluginCheck check_written(const CellModel& model, const Setting& setting) {
   const ModelInfo& info = model.info();

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "model/cell_model.hpp"
+#include "model/simd.hpp"
 
 namespace fibrodem {
 
@@ -42,6 +43,10 @@ struct PluginCheckReport {
   bool passed() const;
   std::size_t failed_count() const;
 };
+
+// Cells in the blocks the checks evaluate: two full lane groups and a partial
+// one (11 with AVX2, 19 with AVX-512: the build is for its host's CPU).
+inline constexpr std::size_t kProbeCells = 2 * simd::kLanes + 3;
 
 PluginCheckReport check_plugin(const CellModel& model);
 
