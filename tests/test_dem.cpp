@@ -202,6 +202,27 @@ TEST_CASE("dem: contracting clumps keep their area by each rule") {
   CHECK(dem.strain()[1] < 0);  // its particles close up along the axis
 }
 
+TEST_CASE("dem: a shape solve started from the last step's radius finds the cold start's root") {
+  // A run solves each clump's shape from its radius a DEM step before (length
+  // ratio ~1e-4 away) and stops once a Newton step is below 1e-9 r; the root
+  // must be the one a solve from the rest radius finds, to rounding (4 ulp),
+  // and keep the area as well.
+  const int n = kMyocyteParticles;
+  const double r0 = kParticleRadius_um, s0 = kParticleSpacing_um;
+  for (AreaRule rule : {AreaRule::union_area, AreaRule::capsule, AreaRule::rectangle})
+    for (LengthMode mode : {LengthMode::spacing, LengthMode::total})
+      for (double l : {0.82, 0.9, 0.97, 0.9999, 1.05}) {
+        CAPTURE(l);
+        CAPTURE(area_rule_name(rule));
+        CAPTURE(length_mode_name(mode));
+        const ClumpShape cold = contracted_shape(rule, mode, n, r0, s0, l);
+        const double previous_r = contracted_shape(rule, mode, n, r0, s0, l + 1e-4).r;
+        const ClumpShape warm = contracted_shape(rule, mode, n, r0, s0, l, previous_r);
+        CHECK(std::abs(warm.r - cold.r) <= 4 * std::numeric_limits<double>::epsilon() * cold.r);
+        CHECK(rule_area(rule, n, warm.r, warm.s) == doctest::Approx(rule_area(rule, n, r0, s0)).epsilon(1e-14));
+      }
+}
+
 TEST_CASE("dem: one bad length ratio among many is named by its cell and changes no cell's shape") {
   const Tissue t = build({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 1.0}}, 3);
   DemSolver dem(t, DemSpec{});

@@ -12,16 +12,23 @@ namespace {
 // Solves f(r) = 0 for r in (lo, hi) with f(lo) < 0 < f(hi), f increasing:
 // Newton steps kept inside a shrinking bracket (bisection when they leave it).
 // f_df(r) returns {f(r), f'(r)} (one evaluation of the shared asin and sqrt).
+// A Newton step of delta leaves an error of about delta^2 f''/(2 f'), here
+// ~delta^2 / (2 r) (the areas grow like r^2): after a step below 1e-9 r the
+// root is known to rounding, so it is taken without a further evaluation
+// (from the last step's radius a solve then costs two evaluations, not three).
 template <class FDF>
 double bracketed_newton(FDF f_df, double lo, double hi, double guess) {
+  constexpr double kConverged = 1e-9;  // Newton step / r after which the error is ~1e-18 r
   double r = std::clamp(guess, lo, hi);
   for (int it = 0; it < 200; ++it) {
     const auto [v, d] = f_df(r);
     if (v == 0) return r;
     if (v < 0) lo = r;
     else hi = r;
-    double next = d > 0 ? r - v / d : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    const double newton = d > 0 ? r - v / d : lo;
+    const bool inside = newton > lo && newton < hi;
+    const double next = inside ? newton : 0.5 * (lo + hi);
+    if (inside && std::abs(next - r) <= kConverged * std::abs(r)) return next;
     if (std::abs(next - r) <= 1e-15 * std::abs(r) || hi - lo <= 1e-15 * hi) return next;
     r = next;
   }
