@@ -38,52 +38,47 @@ bool ContactDetector::bonded(int p, int q) const {
 }
 
 bool ContactDetector::needs_rebuild(const double* x, const double* y, const double* r) const {
+  const auto sums = ordered_sum<6>(body_.size(), [&](std::size_t i, FitSums& acc) {
+    const int id = static_cast<int>(i);
+    add_fit_terms(&id, 1, x, y, 0.0, 0.0, acc);
+  });
+  return needs_rebuild(sums, 0.0, 0.0, x, y, r);
+}
+
+bool ContactDetector::needs_rebuild(const FitSums& sums, double origin_x, double origin_y, const double* x,
+                                    const double* y, const double* r) const {
   if (builds_ == 0) return true;
   const std::size_t n = body_.size();
   // Best-fit affine map from the built positions to these: A = M S0^-1,
-  // M = sum (x - c)(x0 - c0)^T. Sums in a fixed order (any thread count).
-  const auto centre = ordered_sum<2>(n, [&](std::size_t i, std::array<double, 2>& acc) {
-    acc[0] += x[i];
-    acc[1] += y[i];
-  });
-  const double cx = centre[0] / static_cast<double>(n), cy = centre[1] / static_cast<double>(n);
+  // M = sum (x - c)(x0 - c0)^T = sum (x - o)(x0 - c0)^T - (c - o) e0^T,
+  // e0 = sum (x0 - c0), o the sums' origin.
+  const double inv_n = 1.0 / static_cast<double>(n);
+  const double cx_o = sums[0] * inv_n, cy_o = sums[1] * inv_n;  // c - o
+  const double cx = origin_x + cx_o, cy = origin_y + cy_o;
   double a00 = 1, a01 = 0, a10 = 0, a11 = 1;
   if (affine_) {
-    const auto m = ordered_sum<4>(n, [&](std::size_t i, std::array<double, 4>& acc) {
-      const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_, dx = x[i] - cx, dy = y[i] - cy;
-      acc[0] += dx * dx0;
-      acc[1] += dx * dy0;
-      acc[2] += dy * dx0;
-      acc[3] += dy * dy0;
-    });
-    const double mxx = m[0], mxy = m[1], myx = m[2], myy = m[3];
+    const double mxx = sums[2] - cx_o * ex0_, mxy = sums[3] - cx_o * ey0_;
+    const double myx = sums[4] - cy_o * ex0_, myy = sums[5] - cy_o * ey0_;
     a00 = mxx * s0inv_[0][0] + mxy * s0inv_[1][0];
     a01 = mxx * s0inv_[0][1] + mxy * s0inv_[1][1];
     a10 = myx * s0inv_[0][0] + myy * s0inv_[1][0];
     a11 = myx * s0inv_[0][1] + myy * s0inv_[1][1];
   }
   // The largest departure from the affine motion and the largest radius
-  // growth; a NaN wins (the build then names it). Maxima: any order gives them.
-  double u2 = 0, dr = 0;
-  auto keep_max = [](double& m, double v) {
-    if (v > m || std::isnan(v)) m = std::isnan(m) ? m : v;
-  };
-#pragma omp parallel
-  {
-    double u2_mine = 0, dr_mine = 0;
-#pragma omp for schedule(static) nowait
-    for (std::size_t i = 0; i < n; ++i) {
-      const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
-      const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
-      keep_max(u2_mine, ux * ux + uy * uy);
-      keep_max(dr_mine, r[i] - r0_[i]);
-    }
-#pragma omp critical(detector_max)
-    {
-      keep_max(u2, u2_mine);
-      keep_max(dr, dr_mine);
-    }
+  // growth; a non-finite position or radius wins (the build then names it):
+  // v * 0 is NaN only for a NaN or infinite v, and sums keep a NaN, while
+  // plain maxima keep the loop in SIMD lanes. Maxima: any order gives them.
+  double u2 = 0, dr = 0, probe = 0;
+#pragma omp parallel for simd schedule(static) reduction(max : u2, dr) reduction(+ : probe)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
+    const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
+    const double u2_i = ux * ux + uy * uy, dr_i = r[i] - r0_[i];
+    u2 = u2_i > u2 ? u2_i : u2;
+    dr = dr_i > dr ? dr_i : dr;
+    probe += (u2_i + dr_i) * 0.0;
   }
+  if (std::isnan(probe)) return true;
   // Smallest singular value of A (2 x 2): s^2 = (T - sqrt(T^2 - 4 D^2)) / 2.
   const double t = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11, d = a00 * a11 - a01 * a10;
   const double s_min = std::sqrt(std::max(0.0, 0.5 * (t - std::sqrt(std::max(0.0, t * t - 4 * d * d)))));
@@ -102,8 +97,11 @@ void ContactDetector::remember_moments() {
     rmax0_ = std::max(rmax0_, r0_[i]);
   }
   double sxx = 0, sxy = 0, syy = 0;
+  ex0_ = ey0_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = x0_[i] - cx0_, dy = y0_[i] - cy0_;
+    ex0_ += dx;
+    ey0_ += dy;
     sxx += dx * dx;
     sxy += dx * dy;
     syy += dy * dy;
@@ -211,6 +209,11 @@ void ContactDetector::load(const CheckpointFields& fields) {
   cx0_ = f[0], cy0_ = f[1], rmax0_ = f[2];
   s0inv_[0][0] = f[3], s0inv_[0][1] = f[4], s0inv_[1][0] = f[5], s0inv_[1][1] = f[6];
   affine_ = f[7] != 0;
+  ex0_ = ey0_ = 0;
+  for (std::size_t i = 0; i < x0_.size(); ++i) {
+    ex0_ += x0_[i] - cx0_;
+    ey0_ += y0_[i] - cy0_;
+  }
 }
 
 }  // namespace fibrodem

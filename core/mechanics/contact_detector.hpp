@@ -21,6 +21,7 @@
 // number of threads.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -35,8 +36,34 @@ class ContactDetector {
   // bonded: the bonded pairs (their contact is the bond's); skin [m] > 0.
   ContactDetector(std::vector<int> body, const std::vector<std::pair<int, int>>& bonded, double skin_m);
 
+  // The affine fit's sums over the particles (in a caller's fixed order, for
+  // the same bits on any number of threads): positions x, y from any origin
+  // and their products with the built positions, (x, y)(x0 - c0, y0 - c0)^T.
+  using FitSums = std::array<double, 6>;
+  // Adds the terms of particles ids[0..count) at x[i] - ox, y[i] - oy.
+  void add_fit_terms(const int* ids, int count, const double* x, const double* y, double ox, double oy,
+                     FitSums& acc) const {
+    if (x0_.empty()) return;  // not built yet
+    const double *const x0 = x0_.data(), *const y0 = y0_.data();
+    FitSums sum = acc;  // (local: the loop's stores cannot alias x0 and y0)
+    for (int j = 0; j < count; ++j) {
+      const int i = ids[j];
+      const double px = x[i] - ox, py = y[i] - oy, dx0 = x0[i] - cx0_, dy0 = y0[i] - cy0_;
+      sum[0] += px;
+      sum[1] += py;
+      sum[2] += px * dx0;
+      sum[3] += px * dy0;
+      sum[4] += py * dx0;
+      sum[5] += py * dy0;
+    }
+    acc = sum;
+  }
   // True if some unlisted pair may have come into contact since the last build
-  // (always before the first build).
+  // (always before the first build), given the sums over these positions
+  // taken from (origin_x, origin_y).
+  bool needs_rebuild(const FitSums& sums, double origin_x, double origin_y, const double* x, const double* y,
+                     const double* r) const;
+  // The same, summing the positions itself.
   bool needs_rebuild(const double* x, const double* y, const double* r) const;
   // Lists the candidate pairs (p < q, ascending) at these positions and radii
   // [m]; throws std::runtime_error naming a particle whose position is not finite.
@@ -63,6 +90,7 @@ class ContactDetector {
   // their second moment (for the affine fit; affine_ false if singular).
   std::vector<double> x0_, y0_, r0_;
   double cx0_ = 0, cy0_ = 0, rmax0_ = 0;
+  double ex0_ = 0, ey0_ = 0;  // sum of (x0 - c0, y0 - c0): zero but for rounding
   double s0inv_[2][2] = {{0, 0}, {0, 0}};
   bool affine_ = false;
   // Grid scratch, kept between builds (no allocation once sized).

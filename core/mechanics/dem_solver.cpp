@@ -1,7 +1,5 @@
 #include "mechanics/dem_solver.hpp"
 
-#include "mechanics/ordered_sum.hpp"
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -152,7 +150,6 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     buy_[b] = std::cos(bth_[b]);
   }
   for (auto* v : {&px_, &py_, &px_old_, &py_old_, &pvx_, &pvy_, &pr_, &pw_}) v->assign(np, 0.0);
-  place_particles();
   body_particle_start_.assign(nb + 1, 0);
   for (std::size_t i = 0; i < np; ++i) ++body_particle_start_[pbody_[i] + 1];
   for (std::size_t b = 0; b < nb; ++b) body_particle_start_[b + 1] += body_particle_start_[b];
@@ -161,6 +158,14 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     std::vector<int> fill(body_particle_start_.begin(), body_particle_start_.end() - 1);
     for (std::size_t i = 0; i < np; ++i) body_particle_[fill[pbody_[i]]++] = static_cast<int>(i);
   }
+  for (std::size_t b = 0; b < nb; ++b) place_particles_of(b);
+  // The step's fixed parts: runs of whole bodies with about np / kStepParts particles.
+  part_first_body_.resize(kStepParts + 1);
+  for (std::size_t k = 0; k <= kStepParts; ++k)
+    part_first_body_[k] = static_cast<std::size_t>(
+        std::lower_bound(body_particle_start_.begin(), body_particle_start_.end() - 1,
+                         static_cast<int>(np * k / kStepParts)) -
+        body_particle_start_.begin());
   for (std::size_t i = 0; i < np; ++i) {
     origin_x_ += px_[i] / static_cast<double>(np);
     origin_y_ += py_[i] / static_cast<double>(np);
@@ -342,41 +347,112 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
   }
 }
 
-void DemSolver::update_geometry(double dt_s) {
-#pragma omp parallel for schedule(static)
-  for (std::size_t b = 0; b < bx_.size(); ++b) {
-    bsdot_[b] = 0;
-    if (btarget_s_[b] == bs_[b] && btarget_r_[b] == br_[b]) continue;
+// (The per-body helpers below are forced inline: GCC 12 kept them as calls,
+// one per body or particle.)
+
+// v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
+// local damping; alpha 0: plain Newton).
+[[gnu::always_inline]] inline void DemSolver::kick_body(std::size_t b, double h_s) {
+  if (bfixed_[b]) return;
+  const double alpha = spec_.local_damping;
+  auto damped = [alpha](double f, double v) {
+    return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f;
+  };
+  bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;
+  bvy_[b] += damped(bfy_[b], bvy_[b]) * inv_m_[b] * h_s;
+  bw_[b] += damped(btq_[b], bw_[b]) * inv_i_[b] * h_s;
+}
+
+// Drift at the half-step velocity, then the clump's shape at the length ratio
+// set for the step's end (its spacing's rate for the pebbles' slide) and its axis.
+[[gnu::always_inline]] inline void DemSolver::drift_and_reshape(std::size_t b, double dt_s) {
+  if (!bfixed_[b]) {
+    bx_[b] += bvx_[b] * dt_s;
+    by_[b] += bvy_[b] * dt_s;
+    bth_[b] += bw_[b] * dt_s;
+  }
+  bsdot_[b] = 0;
+  if (btarget_s_[b] != bs_[b] || btarget_r_[b] != br_[b]) {
     bsdot_[b] = (btarget_s_[b] - bs_[b]) / dt_s;
     bs_[b] = btarget_s_[b];
     br_[b] = btarget_r_[b];
   }
+  if (brest_[b].n < 2) return;  // a disk has no axis (its particle sits at its centre)
+  double sin_th, cos_th;
+  ::sincos(bth_[b], &sin_th, &cos_th);  // glibc: the same bits as sin() and cos(), in one call
+  bux_[b] = -sin_th;
+  buy_[b] = cos_th;
 }
 
-void DemSolver::place_particles() {
-#pragma omp parallel for schedule(static)
-  for (std::size_t b = 0; b < bx_.size(); ++b) {
-    if (brest_[b].n < 2) continue;  // a disk has no axis (its particle sits at its centre)
-    double sin_th, cos_th;
-    ::sincos(bth_[b], &sin_th, &cos_th);  // glibc: the same bits as sin() and cos(), in one call
-    bux_[b] = -sin_th;
-    buy_[b] = cos_th;
-  }
-  const std::size_t np = pbody_.size();
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < np; ++i) {
-    const int b = pbody_[i];
-    const double off = pa_[i] * bs_[b];
-    const double ox = off * bux_[b], oy = off * buy_[b];
-    px_[i] = bx_[b] + ox;
-    py_[i] = by_[b] + oy;
+// Body b's particles at its pose and shape (the body's values read once:
+// stores to the particles' arrays could otherwise alias them).
+[[gnu::always_inline]] inline void DemSolver::place_particles_of(std::size_t b) {
+  const double x = bx_[b], y = by_[b], ux = bux_[b], uy = buy_[b], s = bs_[b], sdot = bsdot_[b];
+  const double vx = bvx_[b], vy = bvy_[b], w = bw_[b], r = br_[b];
+  for (int j = body_particle_start_[b]; j < body_particle_start_[b + 1]; ++j) {
+    const auto i = static_cast<std::size_t>(body_particle_[j]);
+    const double ox = pa_[i] * s * ux, oy = pa_[i] * s * uy;
+    px_[i] = x + ox;
+    py_[i] = y + oy;
     // Velocity of the particle's centre: rigid motion plus its slide along the axis.
-    const double slide = pa_[i] * bsdot_[b];
-    pvx_[i] = bvx_[b] - bw_[b] * oy + slide * bux_[b];
-    pvy_[i] = bvy_[b] + bw_[b] * ox + slide * buy_[b];
-    pr_[i] = br_[b];
-    pw_[i] = bw_[b];
+    const double slide = pa_[i] * sdot;
+    pvx_[i] = vx - w * oy + slide * ux;
+    pvy_[i] = vy + w * ox + slide * uy;
+    pr_[i] = r;
+    pw_[i] = w;
   }
+}
+
+// The first half of a velocity Verlet step for every body, and the sums
+// over the new particles (or bodies) of the strain's least-squares fit and of
+// the contact list's affine fit: one pass over each body and its particles,
+// in kStepParts fixed parts (equal particle counts), each part summed in
+// order and the parts in part order, so the sums have the same bits for any
+// number of threads. (Kick, drift, shape, axis, particles and the two fits
+// were eight passes over the bodies or particles, each ended by a wait for
+// all threads.)
+DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
+  const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
+  const double h = 0.5 * dt_s, inv_dt = 1 / dt_s;
+  std::array<StepSums, kStepParts> part;
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < kStepParts; ++k) {
+    StepSums sum{};  // (in registers: part[k] could alias the arrays read)
+    for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+      kick_body(b, h);
+      drift_and_reshape(b, dt_s);
+      place_particles_of(b);
+      // (Two loops over the body's particles, which are in L1 by now: the
+      // two fits' 17 sums at once would not fit in registers.)
+      const int first = body_particle_start_[b], last = body_particle_start_[b + 1];
+      if (detector_)
+        detector_->add_fit_terms(body_particle_.data() + first, last - first, px_.data(), py_.data(), origin_x_,
+                                 origin_y_, sum.fit);
+      if (by_particle)
+        for (int j = first; j < last; ++j) {
+          const auto i = static_cast<std::size_t>(body_particle_[j]);
+          add_strain_terms(sum.strain, 0.5 * (px_[i] + px_old_[i]) - origin_x_, 0.5 * (py_[i] + py_old_[i]) - origin_y_,
+                           (px_[i] - px_old_[i]) * inv_dt, (py_[i] - py_old_[i]) * inv_dt);
+        }
+      else
+        add_strain_terms(sum.strain, bx_[b] - h * bvx_[b] - origin_x_, by_[b] - h * bvy_[b] - origin_y_, bvx_[b],
+                         bvy_[b]);
+    }
+    part[k] = sum;
+  }
+  StepSums total{};
+  for (const auto& p : part) {
+    for (std::size_t j = 0; j < total.strain.size(); ++j) total.strain[j] += p.strain[j];
+    for (std::size_t j = 0; j < total.fit.size(); ++j) total.fit[j] += p.fit[j];
+  }
+  return total;
+}
+
+// The terms of the fit alpha = (sum V~ x~^T)(sum x~ x~^T)^+ of one particle
+// or body: position x, y (from the tissue's centre) and velocity vx, vy.
+[[gnu::always_inline]] inline void DemSolver::add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy) {
+  const double terms[11] = {x, y, vx, vy, x * x, x * y, y * y, vx * x, vx * y, vy * x, vy * y};
+  for (std::size_t k = 0; k < 11; ++k) acc[k] += terms[k];
 }
 
 // One block of contacts' kinematics, in and out of the law (per thread).
@@ -386,8 +462,9 @@ struct DemSolver::BlockScratch {
 };
 
 // Forces per contact in parallel (blocks of bonds, then of contacts), then
-// their sums per body, each from its own contacts in a fixed order.
-void DemSolver::compute_forces(double dt_s) {
+// their sums per body, each from its own contacts in a fixed order, and the
+// closing half kick with them (h_s; 0: none).
+void DemSolver::compute_forces(double dt_s, double h_s) {
   const std::size_t bond_blocks = (bonds_.size() + kBlock - 1) / kBlock;
   const std::size_t blocks = bond_blocks + (contacts_.size() + kBlock - 1) / kBlock;
   const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>(bx_.size());
@@ -403,7 +480,10 @@ void DemSolver::compute_forces(double dt_s) {
       contact_block(set, begin, std::min(kBlock, set.size() - begin), number, dt_s, scratch);
     }
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t b = 0; b < nb; ++b) sum_forces_on_body(static_cast<std::size_t>(b));
+    for (std::ptrdiff_t b = 0; b < nb; ++b) {
+      sum_forces_on_body(static_cast<std::size_t>(b));
+      if (h_s > 0) kick_body(static_cast<std::size_t>(b), h_s);
+    }
   }
 }
 
@@ -485,98 +565,53 @@ void DemSolver::index_contacts() {
   body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
 }
 
-// v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
-// local damping; alpha 0: plain Newton).
-void DemSolver::kick(double h_s) {
-  const double alpha = spec_.local_damping;
-  auto damped = [alpha](double f, double v) {
-    return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f;
-  };
-#pragma omp parallel for schedule(static)
-  for (std::size_t b = 0; b < bx_.size(); ++b) {
-    if (bfixed_[b]) continue;
-    bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;
-    bvy_[b] += damped(bfy_[b], bvy_[b]) * inv_m_[b] * h_s;
-    bw_[b] += damped(btq_[b], bw_[b]) * inv_i_[b] * h_s;
-  }
-}
-
 void DemSolver::step(double dt_ms) {
   if (!(dt_ms > 0) || dt_ms > stable_step_ms_ * (1 + 1e-12))
     throw std::invalid_argument("mechanics step " + fmt(dt_ms) + " ms refused: the stable DEM step is " +
                                 fmt(stable_step_ms_) + " ms");
   const double dt = dt_ms * 1e-3;
-  const double h = 0.5 * dt;
-  const std::size_t nb = bx_.size();
-  // Half kick with the forces of the present state, then drift.
-  kick(h);
-#pragma omp parallel for schedule(static)
-  for (std::size_t b = 0; b < nb; ++b) {
-    if (bfixed_[b]) continue;
-    bx_[b] += bvx_[b] * dt;
-    by_[b] += bvy_[b] * dt;
-    bth_[b] += bw_[b] * dt;
-  }
-  // New geometry (length ratios at the end of the step), particles.
+  // Half kick with the forces of the present state, drift, new geometry
+  // (length ratios at the end of the step), particles.
   px_old_.swap(px_);
   py_old_.swap(py_);
-  update_geometry(dt);
-  place_particles();
-  if (detector_ && detector_->needs_rebuild(px_.data(), py_.data(), pr_.data())) rebuild_contacts();
-
-  // Strain rate: least-squares velocity gradient over particles or bodies.
-  {
-    const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
-    const std::size_t n = by_particle ? px_.size() : nb;
-    const double inv_dt = 1 / dt;
-    const auto sums = ordered_sum<11>(n, [&](std::size_t i, std::array<double, 11>& acc) {
-      double x, y, vx, vy;
-      if (by_particle) {
-        vx = (px_[i] - px_old_[i]) * inv_dt;
-        vy = (py_[i] - py_old_[i]) * inv_dt;
-        x = 0.5 * (px_[i] + px_old_[i]) - origin_x_;
-        y = 0.5 * (py_[i] + py_old_[i]) - origin_y_;
-      } else {
-        vx = bvx_[i];
-        vy = bvy_[i];
-        x = bx_[i] - h * vx - origin_x_;
-        y = by_[i] - h * vy - origin_y_;
-      }
-      const double terms[11] = {x, y, vx, vy, x * x, x * y, y * y, vx * x, vx * y, vy * x, vy * y};
-      for (std::size_t k = 0; k < 11; ++k) acc[k] += terms[k];
-    });
-    const auto [sx, sy, svx, svy, sxx, sxy, syy, vxx, vxy, vyx, vyy] = sums;
-    // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
-    if (!std::isfinite(sx + sy + svx + svy))
-      throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +
-                               fmt(time_ms() + dt_ms) + " ms (the mechanics went unstable)");
-    if (n >= 2) {
-      const double inv_n = 1.0 / static_cast<double>(n);
-      const double mx = sx * inv_n, my = sy * inv_n, mvx = svx * inv_n, mvy = svy * inv_n;
-      Eigen::Matrix2d S, V;
-      S << sxx - n * mx * mx, sxy - n * mx * my, sxy - n * mx * my, syy - n * my * my;
-      V << vxx - n * mvx * mx, vxy - n * mvx * my, vyx - n * mvy * mx, vyy - n * mvy * my;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
-      const Eigen::Vector2d ev = eig.eigenvalues();  // ascending
-      Eigen::Matrix2d alpha = Eigen::Matrix2d::Zero();
-      if (ev(0) > 1e-10 * ev(1)) {
-        alpha = V * S.inverse();
-      } else if (ev(1) > 0) {
-        // Bodies on a line u: only the stretch rate along u is defined.
-        const Eigen::Vector2d u = eig.eigenvectors().col(1);
-        alpha = (u.dot(V * u) / ev(1)) * u * u.transpose();
-      }
-      strain_[0] += alpha(0, 0) * dt;
-      strain_[1] += alpha(1, 1) * dt;
-      strain_[2] += 0.5 * (alpha(0, 1) + alpha(1, 0)) * dt;
-    }
-  }
-
-  compute_forces(dt);
-  kick(h);
+  const StepSums sums = move_bodies(dt);
+  if (detector_ && detector_->needs_rebuild(sums.fit, origin_x_, origin_y_, px_.data(), py_.data(), pr_.data()))
+    rebuild_contacts();
+  add_strain(sums.strain, dt);
+  compute_forces(dt, 0.5 * dt);  // and the closing half kick
   time_s_ += dt;
   ++steps_;
   out_dirty_ = true;
+}
+
+// Strain rate: the least-squares velocity gradient from the sums over
+// particles or bodies; eps += sym(alpha) dt.
+void DemSolver::add_strain(const StrainSums& sums, double dt_s) {
+  const std::size_t n = spec_.strain_bodies == StrainBodies::particles ? px_.size() : bx_.size();
+  const auto [sx, sy, svx, svy, sxx, sxy, syy, vxx, vxy, vyx, vyy] = sums;
+  // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
+  if (!std::isfinite(sx + sy + svx + svy))
+    throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +
+                             fmt((time_s_ + dt_s) * 1e3) + " ms (the mechanics went unstable)");
+  if (n < 2) return;
+  const double inv_n = 1.0 / static_cast<double>(n);
+  const double mx = sx * inv_n, my = sy * inv_n, mvx = svx * inv_n, mvy = svy * inv_n;
+  Eigen::Matrix2d S, V;
+  S << sxx - n * mx * mx, sxy - n * mx * my, sxy - n * mx * my, syy - n * my * my;
+  V << vxx - n * mvx * mx, vxy - n * mvx * my, vyx - n * mvy * mx, vyy - n * mvy * my;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
+  const Eigen::Vector2d ev = eig.eigenvalues();  // ascending
+  Eigen::Matrix2d alpha = Eigen::Matrix2d::Zero();
+  if (ev(0) > 1e-10 * ev(1)) {
+    alpha = V * S.inverse();
+  } else if (ev(1) > 0) {
+    // Bodies on a line u: only the stretch rate along u is defined.
+    const Eigen::Vector2d u = eig.eigenvectors().col(1);
+    alpha = (u.dot(V * u) / ev(1)) * u * u.transpose();
+  }
+  strain_[0] += alpha(0, 0) * dt_s;
+  strain_[1] += alpha(1, 1) * dt_s;
+  strain_[2] += 0.5 * (alpha(0, 1) + alpha(1, 0)) * dt_s;
 }
 
 template <class Self, class F>

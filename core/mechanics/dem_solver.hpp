@@ -33,10 +33,13 @@
 // body's bonds, rho from its centroid to the contact point, k' the law's
 // dashpot-corrected stiffness (REFERENCES.md 2.4), at rest geometry.
 //
-// Threads (OpenMP's present count): each contact's force is computed in
-// parallel, block by block, into per-contact arrays, then summed per particle
-// and body in a fixed order (contact_incidence.hpp). Deterministic: the same
-// bits for any number of threads; no allocation per step.
+// Threads (OpenMP's present count): a step is two parallel passes. The
+// first moves each body and places its particles, summing the strain's and
+// the contact list's fits over fixed parts of the bodies (move_bodies); the
+// second computes each contact's force, block by block, into per-contact
+// arrays, then sums them per particle and body in a fixed order
+// (contact_incidence.hpp) and kicks the body. Deterministic: the same bits
+// for any number of threads; no allocation per step.
 #pragma once
 
 #include <array>
@@ -101,10 +104,20 @@ class DemSolver final : public MechanicsSolver {
   double elastic_energy_J() const;
 
  private:
-  void kick(double h_s);
-  void update_geometry(double dt_s);
-  void place_particles();
-  void compute_forces(double dt_s);
+  // The strain fit's sums: x, y, vx, vy, xx, xy, yy, vx x, vx y, vy x, vy y.
+  using StrainSums = std::array<double, 11>;
+  struct StepSums {
+    StrainSums strain;
+    ContactDetector::FitSums fit;
+  };
+  static constexpr std::size_t kStepParts = 64;  // fixed by the tissue, not the threads
+  void kick_body(std::size_t b, double h_s);
+  void drift_and_reshape(std::size_t b, double dt_s);
+  void place_particles_of(std::size_t b);
+  StepSums move_bodies(double dt_s);
+  static void add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy);
+  void add_strain(const StrainSums& sums, double dt_s);
+  void compute_forces(double dt_s, double h_s);
   struct BlockScratch;
   void contact_block(BondSet& set, std::size_t begin, std::size_t count, std::size_t number, double dt_s,
                      BlockScratch& s);
@@ -140,6 +153,7 @@ class DemSolver final : public MechanicsSolver {
   std::vector<double> pa_;  // axial offset in spacings (k - (N-1)/2)
   std::vector<double> px_, py_, px_old_, py_old_, pvx_, pvy_, pr_, pw_;
   std::vector<int> body_particle_start_, body_particle_;  // each body's particles, ascending (CSR)
+  std::vector<std::size_t> part_first_body_;              // the step's kStepParts parts of bodies
 
   // Bonds, unbonded contacts (and the next list, scratch).
   BondSet bonds_, contacts_, next_contacts_;
