@@ -33,12 +33,13 @@
 // body's bonds, rho from its centroid to the contact point, k' the law's
 // dashpot-corrected stiffness (REFERENCES.md 2.4), at rest geometry.
 //
-// Threads (OpenMP's present count): a step is two parallel passes. The
+// Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
 // the contact list's fits over fixed parts of the bodies (move_bodies); the
-// second computes each contact's force, block by block, into per-contact
-// arrays, then sums them per particle and body in a fixed order
-// (contact_incidence.hpp) and kicks the body. Deterministic: the same bits
+// second is the list's check for a rebuild; the third computes each
+// contact's force, block by block, into per-contact arrays, then sums them
+// per particle and body in a fixed order (contact_incidence.hpp) and kicks
+// the body. Deterministic: the same bits
 // for any number of threads; no allocation per step.
 #pragma once
 
