@@ -1,8 +1,10 @@
 // `fibrodem plugins`: every cell model found on the search path, with its
-// states, parameters, inputs, outputs and variants.
+// states, parameters, inputs, outputs and variants; then every contact law,
+// with its parameters.
 #include <iostream>
 
 #include "apps/commands.hpp"
+#include "mechanics/contact_law.hpp"
 #include "model/model_description.hpp"
 #include "model/plugin_registry.hpp"
 #include "scene/json_reader.hpp"
@@ -36,20 +38,38 @@ void print_text(const json& m) {
   std::cout << "\n\n";
 }
 
+void print_contact_law(const json& law) {
+  std::cout << law["name"].get<std::string>() << " " << law["version"].get<std::string>() << " - "
+            << law["description"].get<std::string>() << "\n"
+            << "  reference: " << law["reference"].get<std::string>() << "\n"
+            << "  file: " << law["file"].get<std::string>() << "\n"
+            << "  parameters (" << law["parameters"].size() << "; mechanics.contact_law_parameters):\n";
+  for (const auto& p : law["parameters"])
+    std::cout << "    " << p["name"].get<std::string>() << " = " << p["default"].get<double>() << " "
+              << p["unit"].get<std::string>() << "  " << p["description"].get<std::string>() << "\n";
+  std::cout << "\n";
+}
+
 }  // namespace
 
 int plugins_command(bool as_json) {
   PluginRegistry registry;
   std::vector<std::string> errors;
   const json all = describe_available_models(registry, errors);
-  for (const auto& e : errors) std::cerr << "error: " << e << "\n";
-  if (as_json) std::cout << all.dump(2) << "\n";
-  else {
-    std::cout << "search path:";
-    for (const auto& p : registry.search_path()) std::cout << " " << p.string();
-    std::cout << "\n\n";
-    for (const auto& m : all) print_text(m);
+  if (as_json) {
+    // (The JSON keeps its form, an array of cell models: other tools read it.)
+    for (const auto& e : errors) std::cerr << "error: " << e << "\n";
+    std::cout << all.dump(2) << "\n";
+    return errors.empty() ? 0 : 3;
   }
+  const json laws = describe_available_contact_laws(errors);
+  for (const auto& e : errors) std::cerr << "error: " << e << "\n";
+  std::cout << "search path:";
+  for (const auto& p : registry.search_path()) std::cout << " " << p.string();
+  std::cout << "\n\n";
+  for (const auto& m : all) print_text(m);
+  std::cout << "contact laws (mechanics.contact_law):\n\n";
+  for (const auto& law : laws) print_contact_law(law);
   return errors.empty() ? 0 : 3;
 }
 

@@ -4,7 +4,9 @@
 // parameters are set by name from the manifest and unknown names refused.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <cstdint>
 #include <cstdlib>
 #include <random>
@@ -284,4 +286,26 @@ TEST_CASE("contact laws: summary.json records the law's plugin and every paramet
   CHECK(law["parameters"]["bond_radius_multiplier"] == 0.8);  // contact_law_parameters
   CHECK(law["parameters"]["damping_ratio_normal"] == 0.1);    // the default
   CHECK(law["parameters"].size() == 6);
+}
+
+TEST_CASE("contact laws: the bundled laws are described with their parameters, as `fibrodem plugins` lists them") {
+  std::vector<std::string> errors;
+  const nlohmann::json laws = describe_available_contact_laws(errors);
+  CHECK(errors.empty());
+  // The two bundled laws and the parameters their plugins declare (plugins/linear_bond, plugins/linear_parallel_bond).
+  const std::map<std::string, std::vector<std::string>> expected = {
+      {"linear_bond", {"damping_ratio_normal", "damping_ratio_shear", "tensile_strength_N", "shear_strength_N", "friction"}},
+      {"linear_parallel_bond", {"bond_radius_multiplier"}}};
+  for (const auto& [name, parameters] : expected) {
+    CAPTURE(name);
+    const auto law = std::find_if(laws.begin(), laws.end(), [&](const auto& l) { return l["name"] == name; });
+    REQUIRE(law != laws.end());
+    CHECK((*law)["sha256"].get<std::string>().size() == 64);
+    CHECK((*law)["file"].get<std::string>().find("libfibrodem_contact_law_" + name) != std::string::npos);
+    for (const auto& parameter : parameters) {
+      CAPTURE(parameter);
+      CHECK(std::any_of((*law)["parameters"].begin(), (*law)["parameters"].end(),
+                        [&](const auto& p) { return p["name"] == parameter; }));
+    }
+  }
 }

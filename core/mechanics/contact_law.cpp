@@ -68,6 +68,30 @@ std::vector<std::string> available_contact_laws() {
   return PluginRegistry().available(kContactLawFilePrefix);
 }
 
+nlohmann::json describe_available_contact_laws(std::vector<std::string>& errors) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const auto& name : available_contact_laws()) {
+    try {
+      const ContactLawInfo& info = load_contact_law(name)->info();
+      const ContactLawRecord record = contact_law_record(name);
+      nlohmann::json parameters = nlohmann::json::array();
+      for (const auto& p : info.parameters)
+        parameters.push_back(
+            {{"name", p.name}, {"unit", p.unit}, {"default", p.default_value}, {"description", p.description}});
+      all.push_back({{"name", info.name},
+                     {"version", info.version},
+                     {"description", info.description},
+                     {"reference", info.reference},
+                     {"file", record.file},
+                     {"sha256", record.sha256},
+                     {"parameters", parameters}});
+    } catch (const std::exception& e) {
+      errors.push_back(e.what());
+    }
+  }
+  return all;
+}
+
 std::vector<double> contact_law_parameter_values(const ContactLawInfo& law, const DemSpec& spec) {
   const std::map<std::string, double> legacy = {
       {"damping_ratio_normal", spec.damping_ratio_normal}, {"damping_ratio_shear", spec.damping_ratio_shear},

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "mechanics/contact_law_plugin.hpp"
 #include "mechanics/dem_spec.hpp"
 
@@ -55,6 +57,11 @@ struct ContactLawRecord {
 ContactLawRecord contact_law_record(const std::string& name);
 // The names of the contact laws on the default search path.
 std::vector<std::string> available_contact_laws();
+// Each of them loaded and described (what `fibrodem plugins` lists): name,
+// version, description, reference, file, sha256, parameters (name, unit,
+// default, description). A law that cannot be loaded is left out and its
+// error appended to `errors`.
+nlohmann::json describe_available_contact_laws(std::vector<std::string>& errors);
 
 // The parameter values of `law` for a scene: its defaults; then the
 // `mechanics` keys that predate law plugins (damping_ratio_normal,
