@@ -296,13 +296,14 @@ TEST_CASE("contact laws: the bundled laws are described with their parameters, a
   const std::map<std::string, std::vector<std::string>> expected = {
       {"linear_bond", {"damping_ratio_normal", "damping_ratio_shear", "tensile_strength_N", "shear_strength_N", "friction"}},
       {"linear_parallel_bond", {"bond_radius_multiplier"}}};
-  for (const auto& [name, parameters] : expected) {
+  for (const auto& entry : expected) {
+    const std::string& name = entry.first;  // (not a structured binding: clang 14 cannot capture one)
     CAPTURE(name);
     const auto law = std::find_if(laws.begin(), laws.end(), [&](const auto& l) { return l["name"] == name; });
     REQUIRE(law != laws.end());
     CHECK((*law)["sha256"].get<std::string>().size() == 64);
     CHECK((*law)["file"].get<std::string>().find("libfibrodem_contact_law_" + name) != std::string::npos);
-    for (const auto& parameter : parameters) {
+    for (const auto& parameter : entry.second) {
       CAPTURE(parameter);
       CHECK(std::any_of((*law)["parameters"].begin(), (*law)["parameters"].end(),
                         [&](const auto& p) { return p["name"] == parameter; }));
