@@ -86,6 +86,16 @@ bool ContactDetector::needs_rebuild(const FitSums& sums, double origin_x, double
   return !(s_min * (worst_r + skin_) - worst_r >= 2 * (std::sqrt(u2) + std::max(0.0, dr)));
 }
 
+// e0 = sum (x0 - c0) of the built positions: zero but for rounding, which
+// the affine fit from sums taken from another origin takes out.
+void ContactDetector::remember_offset_sums() {
+  ex0_ = ey0_ = 0;
+  for (std::size_t i = 0; i < x0_.size(); ++i) {
+    ex0_ += x0_[i] - cx0_;
+    ey0_ += y0_[i] - cy0_;
+  }
+}
+
 // The centroid and inverse second moment of the built positions, for the
 // affine fit in needs_rebuild().
 void ContactDetector::remember_moments() {
@@ -96,12 +106,10 @@ void ContactDetector::remember_moments() {
     cy0_ += y0_[i] / static_cast<double>(n);
     rmax0_ = std::max(rmax0_, r0_[i]);
   }
+  remember_offset_sums();
   double sxx = 0, sxy = 0, syy = 0;
-  ex0_ = ey0_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = x0_[i] - cx0_, dy = y0_[i] - cy0_;
-    ex0_ += dx;
-    ey0_ += dy;
     sxx += dx * dx;
     sxy += dx * dy;
     syy += dy * dy;
@@ -209,11 +217,7 @@ void ContactDetector::load(const CheckpointFields& fields) {
   cx0_ = f[0], cy0_ = f[1], rmax0_ = f[2];
   s0inv_[0][0] = f[3], s0inv_[0][1] = f[4], s0inv_[1][0] = f[5], s0inv_[1][1] = f[6];
   affine_ = f[7] != 0;
-  ex0_ = ey0_ = 0;
-  for (std::size_t i = 0; i < x0_.size(); ++i) {
-    ex0_ += x0_[i] - cx0_;
-    ey0_ += y0_[i] - cy0_;
-  }
+  remember_offset_sums();
 }
 
 }  // namespace fibrodem

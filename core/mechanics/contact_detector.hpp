@@ -80,6 +80,7 @@ class ContactDetector {
   void add_pairs_of(int p, const double* x, const double* y, const double* r, long nx, long ny,
                     std::vector<std::pair<int, int>>& pairs) const;
   void remember_moments();
+  void remember_offset_sums();
 
   std::vector<int> body_;
   // Bonded partners of each particle (CSR, ascending).

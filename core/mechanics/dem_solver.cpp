@@ -463,8 +463,8 @@ struct DemSolver::BlockScratch {
 
 // Forces per contact in parallel (blocks of bonds, then of contacts), then
 // their sums per body, each from its own contacts in a fixed order, and the
-// closing half kick with them (h_s; 0: none).
-void DemSolver::compute_forces(double dt_s, double h_s) {
+// closing half kick of h_s with them.
+void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
   const std::size_t bond_blocks = (bonds_.size() + kBlock - 1) / kBlock;
   const std::size_t blocks = bond_blocks + (contacts_.size() + kBlock - 1) / kBlock;
   const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>(bx_.size());
@@ -482,7 +482,7 @@ void DemSolver::compute_forces(double dt_s, double h_s) {
 #pragma omp for schedule(static)
     for (std::ptrdiff_t b = 0; b < nb; ++b) {
       sum_forces_on_body(static_cast<std::size_t>(b));
-      if (h_s > 0) kick_body(static_cast<std::size_t>(b), h_s);
+      kick_body(static_cast<std::size_t>(b), h_s);
     }
   }
 }
@@ -578,7 +578,7 @@ void DemSolver::step(double dt_ms) {
   if (detector_ && detector_->needs_rebuild(sums.fit, origin_x_, origin_y_, px_.data(), py_.data(), pr_.data()))
     rebuild_contacts();
   add_strain(sums.strain, dt);
-  compute_forces(dt, 0.5 * dt);  // and the closing half kick
+  compute_forces_and_kick(dt, 0.5 * dt);
   time_s_ += dt;
   ++steps_;
   out_dirty_ = true;

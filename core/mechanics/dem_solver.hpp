@@ -118,7 +118,7 @@ class DemSolver final : public MechanicsSolver {
   StepSums move_bodies(double dt_s);
   static void add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy);
   void add_strain(const StrainSums& sums, double dt_s);
-  void compute_forces(double dt_s, double h_s);
+  void compute_forces_and_kick(double dt_s, double h_s);
   struct BlockScratch;
   void contact_block(BondSet& set, std::size_t begin, std::size_t count, std::size_t number, double dt_s,
                      BlockScratch& s);
