@@ -13,6 +13,13 @@ namespace fibrodem::cli {
 
 namespace {
 
+// "    name = default unit  description", one parameter a line.
+void print_parameters(const json& parameters) {
+  for (const auto& p : parameters)
+    std::cout << "    " << p["name"].get<std::string>() << " = " << p["default"].get<double>() << " "
+              << p["unit"].get<std::string>() << "  " << p["description"].get<std::string>() << "\n";
+}
+
 void print_text(const json& m) {
   std::cout << m["name"].get<std::string>() << " " << m["version"].get<std::string>() << " ("
             << m["kind"].get<std::string>() << ") - " << m["description"].get<std::string>() << "\n"
@@ -28,9 +35,7 @@ void print_text(const json& m) {
     std::cout << " " << s["name"].get<std::string>() << " [" << s["unit"].get<std::string>() << "]"
               << (s["gate"].get<bool>() ? "*" : "");
   std::cout << "   (* gate)\n  parameters (" << m["parameters"].size() << "):\n";
-  for (const auto& p : m["parameters"])
-    std::cout << "    " << p["name"].get<std::string>() << " = " << p["default"].get<double>() << " "
-              << p["unit"].get<std::string>() << "  " << p["description"].get<std::string>() << "\n";
+  print_parameters(m["parameters"]);
   std::cout << "  inputs:";
   for (const auto& s : m["inputs"]) std::cout << " " << s["name"].get<std::string>() << " [" << s["unit"].get<std::string>() << "]";
   std::cout << "\n  outputs:";
@@ -44,9 +49,7 @@ void print_contact_law(const json& law) {
             << "  reference: " << law["reference"].get<std::string>() << "\n"
             << "  file: " << law["file"].get<std::string>() << "\n"
             << "  parameters (" << law["parameters"].size() << "; mechanics.contact_law_parameters):\n";
-  for (const auto& p : law["parameters"])
-    std::cout << "    " << p["name"].get<std::string>() << " = " << p["default"].get<double>() << " "
-              << p["unit"].get<std::string>() << "  " << p["description"].get<std::string>() << "\n";
+  print_parameters(law["parameters"]);
   std::cout << "\n";
 }
 
@@ -56,14 +59,13 @@ int plugins_command(bool as_json) {
   PluginRegistry registry;
   std::vector<std::string> errors;
   const json all = describe_available_models(registry, errors);
+  // (The JSON keeps its form, an array of cell models: other tools read it.)
+  const json laws = as_json ? json::array() : describe_available_contact_laws(errors);
+  for (const auto& e : errors) std::cerr << "error: " << e << "\n";
   if (as_json) {
-    // (The JSON keeps its form, an array of cell models: other tools read it.)
-    for (const auto& e : errors) std::cerr << "error: " << e << "\n";
     std::cout << all.dump(2) << "\n";
     return errors.empty() ? 0 : 3;
   }
-  const json laws = describe_available_contact_laws(errors);
-  for (const auto& e : errors) std::cerr << "error: " << e << "\n";
   std::cout << "search path:";
   for (const auto& p : registry.search_path()) std::cout << " " << p.string();
   std::cout << "\n\n";

@@ -4,6 +4,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "model/model_description.hpp"
 #include "model/plugin_registry.hpp"
 
 namespace fibrodem {
@@ -74,17 +75,13 @@ nlohmann::json describe_available_contact_laws(std::vector<std::string>& errors)
     try {
       const ContactLawInfo& info = load_contact_law(name)->info();
       const ContactLawRecord record = contact_law_record(name);
-      nlohmann::json parameters = nlohmann::json::array();
-      for (const auto& p : info.parameters)
-        parameters.push_back(
-            {{"name", p.name}, {"unit", p.unit}, {"default", p.default_value}, {"description", p.description}});
       all.push_back({{"name", info.name},
                      {"version", info.version},
                      {"description", info.description},
                      {"reference", info.reference},
                      {"file", record.file},
                      {"sha256", record.sha256},
-                     {"parameters", parameters}});
+                     {"parameters", describe_parameters(info.parameters)}});
     } catch (const std::exception& e) {
       errors.push_back(e.what());
     }

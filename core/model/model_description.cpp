@@ -11,6 +11,13 @@ namespace {
 json bound(double value) { return std::abs(value) >= 1e300 ? json(nullptr) : json(value); }
 }  // namespace
 
+json describe_parameters(const std::vector<ParameterInfo>& parameters) {
+  json all = json::array();
+  for (const auto& p : parameters)
+    all.push_back({{"name", p.name}, {"unit", p.unit}, {"default", p.default_value}, {"description", p.description}});
+  return all;
+}
+
 json describe_model(const ModelInfo& info, const PluginRecord& record) {
   json m = {{"name", info.name}, {"version", info.version}, {"description", info.description},
             {"reference", info.reference}, {"file", record.file.string()}, {"sha256", record.sha256},
@@ -19,10 +26,7 @@ json describe_model(const ModelInfo& info, const PluginRecord& record) {
   for (const auto& s : info.states)
     m["states"].push_back({{"name", s.name}, {"unit", s.unit}, {"initial", s.initial}, {"lower", bound(s.lower)},
                            {"upper", bound(s.upper)}, {"gate", s.gate}});
-  m["parameters"] = json::array();
-  for (const auto& p : info.parameters)
-    m["parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"default", p.default_value},
-                               {"description", p.description}});
+  m["parameters"] = describe_parameters(info.parameters);
   m["inputs"] = json::array();
   for (const auto& s : info.inputs) m["inputs"].push_back({{"name", s.name}, {"unit", s.unit}});
   m["outputs"] = json::array();

@@ -17,6 +17,8 @@ namespace fibrodem {
 // description), inputs and outputs (name, unit), variants (name, description,
 // the parameters and initial states they set).
 nlohmann::json describe_model(const ModelInfo& info, const PluginRecord& record);
+// Declared parameters (name, unit, default, description), a model's or a contact law's.
+nlohmann::json describe_parameters(const std::vector<ParameterInfo>& parameters);
 
 // Every model on the registry's search path, described; a plugin that cannot be
 // loaded is left out and its error appended to `errors`.
