@@ -83,7 +83,10 @@ mkdir -p "$work/pc"
 # shellcheck disable=SC2046
 c++ $(PKG_CONFIG_PATH=$prefix/lib/pkgconfig pkg-config --cflags fibrodem) -O2 -fPIC -shared \
     -fvisibility=hidden "$work/sdk_ionic/sdk_ionic.cpp" -o "$work/pc/libfibrodem_sdk_ionic.so"
-FIBRODEM_PLUGIN_PATH=$work/pc "$fibrodem" plugins | grep -q "^sdk_ionic 0.1.0 (ionic)" ||
+# (The listing is taken whole first: `plugins | grep -q` under pipefail fails
+# whenever grep matches and exits before fibrodem has written the rest.)
+listed=$(FIBRODEM_PLUGIN_PATH=$work/pc "$fibrodem" plugins)
+grep -q "^sdk_ionic 0.1.0 (ionic)" <<<"$listed" ||
   { echo "sdk_check: the pkg-config build of sdk_ionic is not listed by fibrodem plugins" >&2; exit 1; }
 echo "sdk_check: pkg-config build listed by fibrodem plugins"
 echo "sdk_check: passed"
