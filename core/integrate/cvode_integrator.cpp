@@ -271,6 +271,20 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
     v_row[cell] = layout.offset[cell] + system.populations[system.where[cell].first].voltage_state;
   std::vector<double> dVdt(system.cell_count());
 
+  // CVodeReInit zeroes CVODE's counters: the run's work is summed over the
+  // intervals between stimulus edges.
+  work_ = {};
+  const auto add_interval_work = [&] {
+    long steps = 0, rhs = 0, jacobians = 0, jacobian_rhs = 0;
+    CVodeGetNumSteps(g.mem, &steps);
+    CVodeGetNumRhsEvals(g.mem, &rhs);
+    CVodeGetNumJacEvals(g.mem, &jacobians);
+    CVodeGetNumLinRhsEvals(g.mem, &jacobian_rhs);
+    work_.steps += steps;
+    work_.rhs_evaluations += rhs + jacobian_rhs;
+    work_.jacobians += jacobians;
+  };
+
   double t = t_start;
   while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
   while (t < t_end - kTimeEpsilon_ms) {
@@ -279,7 +293,10 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
     // the derivative jumps at an edge.
     const double stop = std::min(t_end, system.stimulus.next_edge_after(t));
     ctx.t_stimulus = 0.5 * (t + stop);
-    if (t > t_start) check(CVodeReInit(g.mem, t, g.y), "ReInit", ctx);
+    if (t > t_start) {
+      add_interval_work();
+      check(CVodeReInit(g.mem, t, g.y), "ReInit", ctx);
+    }
     check(CVodeSetStopTime(g.mem, stop), "SetStopTime", ctx);
     while (t < stop - kTimeEpsilon_ms) {
       const double t_old = t;
@@ -302,12 +319,7 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
     t = stop;
   }
   map.unpack(y);
-  CVodeGetNumSteps(g.mem, &work_.steps);
-  CVodeGetNumRhsEvals(g.mem, &work_.rhs_evaluations);
-  CVodeGetNumJacEvals(g.mem, &work_.jacobians);
-  long jacobian_rhs = 0;
-  CVodeGetNumLinRhsEvals(g.mem, &jacobian_rhs);
-  work_.rhs_evaluations += jacobian_rhs;
+  add_interval_work();
 }
 
 std::string CvodeIntegrator::describe() const {
