@@ -96,8 +96,13 @@ class CellAccess : public Cells<double> {
 
 // Runs equations(cells) over the block: lanes of simd::kLanes cells, or one
 // cell at a time in double when block.scalar_reference is set.
+// Flattened: the equations and every lane function they call are inlined into
+// this loop. Left as calls (GCC declines to inline a model's large body), each
+// SIMD store of a rate, whose vector type may alias anything, made the
+// compiler reload the accessor's pointers and the parameters after it
+// (colman: 12 % fewer instructions per cell-step flattened).
 template <class Equations>
-void for_each_lane_group(const BlockView& block, Equations&& equations) {
+__attribute__((flatten)) void for_each_lane_group(const BlockView& block, Equations&& equations) {
   if (block.scalar_reference) {
     for (std::size_t c = block.begin; c < block.end; ++c) equations(Cells<double>(block, c, 1));
     return;
