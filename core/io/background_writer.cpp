@@ -2,10 +2,10 @@
 
 namespace fibrodem {
 
-BackgroundWriter::BackgroundWriter(std::size_t pending)
-    : pending_(pending == 0 ? 1 : pending), thread_([this] { work(); }) {}
+BackgroundWriter::BackgroundWriter(std::size_t pending) : pending_(pending == 0 ? 1 : pending) {}
 
 BackgroundWriter::~BackgroundWriter() {
+  if (!thread_.joinable()) return;
   {
     std::unique_lock lock(mutex_);
     stopping_ = true;
@@ -16,6 +16,7 @@ BackgroundWriter::~BackgroundWriter() {
 
 void BackgroundWriter::post(std::function<void()> job) {
   std::unique_lock lock(mutex_);
+  if (!thread_.joinable()) thread_ = std::thread([this] { work(); });
   changed_.wait(lock, [&] { return jobs_.size() < pending_ || failure_; });
   if (failure_) rethrow_failure();
   jobs_.push_back(std::move(job));

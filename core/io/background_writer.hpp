@@ -3,6 +3,8 @@
 // the order given; at most `pending` wait, after which post() waits too, so a
 // slow disk slows the run instead of filling memory. The first job to fail
 // stops the others, and its error is thrown by the next post() or finish().
+// The thread starts with the first job: a run that writes nothing in the
+// background (a single cell under CVODE, a sweep's point) creates none.
 #pragma once
 
 #include <atomic>
@@ -40,7 +42,7 @@ class BackgroundWriter {
   bool stopping_ = false;
   std::atomic<std::size_t> unfinished_{0};  // posted and not yet done (changed under mutex_)
   std::exception_ptr failure_;
-  std::thread thread_;  // last: starts once the rest is ready
+  std::thread thread_;  // started by the first post()
 };
 
 }  // namespace fibrodem
