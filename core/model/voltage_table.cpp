@@ -108,7 +108,8 @@ namespace {
 // on AVX2 each lane's pair is one 16-byte load and four lanes are put
 // together by two inserts and an unpack per row: cheaper than AVX2's four
 // gathers (one per value), which Zen 3 issues as many micro-ops each.
-// Elsewhere, gathers (AVX-512 has fast ones; SSE2's 2 lanes need none).
+// Elsewhere, gathers as before (AVX-512 could not be measured on this
+// project's AVX2 machine).
 [[gnu::always_inline]] inline void rows_of_gate(const double* column, const std::int64_t* lane_at,
                                                 const xsimd::batch<std::int64_t>& at, std::size_t width,
                                                 simd::Real& y0, simd::Real& e0, simd::Real& y1, simd::Real& e1) {
