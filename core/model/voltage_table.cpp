@@ -109,13 +109,12 @@ namespace {
 // together by two inserts and an unpack per row: cheaper than AVX2's four
 // gathers (one per value), which Zen 3 issues as many micro-ops each.
 // Elsewhere, gathers as before (AVX-512 could not be measured on this
-// project's AVX2 machine).
-[[gnu::always_inline]] inline void rows_of_gate(const double* column, const std::int64_t* lane_at,
-                                                const xsimd::batch<std::int64_t>& at, std::size_t width,
+// project's AVX2 machine). lane_at: each lane's row as an offset into the
+// rows, in an aligned array.
+[[gnu::always_inline]] inline void rows_of_gate(const double* column, const std::int64_t* lane_at, std::size_t width,
                                                 simd::Real& y0, simd::Real& e0, simd::Real& y1, simd::Real& e1) {
 #if defined(__AVX2__) && !defined(__AVX512F__)
   static_assert(simd::kLanes == 4);
-  (void)at;
   const auto pairs = [&](std::size_t offset, simd::Real& y, simd::Real& e) {
     // Lanes 0 and 2 in one register, 1 and 3 in the other (128-bit halves).
     const __m256d even = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(column + offset + lane_at[0])),
@@ -128,7 +127,7 @@ namespace {
   pairs(0, y0, e0);
   pairs(width, y1, e1);
 #else
-  (void)lane_at;
+  const auto at = xsimd::batch<std::int64_t>::load_aligned(lane_at);
   y0 = simd::Real::gather(column, at);
   y1 = simd::Real::gather(column + width, at);
   e0 = simd::Real::gather(column + 1, at);
@@ -170,7 +169,7 @@ void VoltageTable::advance_gates(double* y, std::size_t stride, const double* V,
     at.store_aligned(lane_at);
     for (std::size_t q = 0; q < g; ++q) {
       Real y0, y1, e0, e1;
-      rows_of_gate(rl_rows + 2 * q, lane_at, at, width, y0, e0, y1, e1);
+      rows_of_gate(rl_rows + 2 * q, lane_at, width, y0, e0, y1, e1);
       const Real y_inf = y0 + w * (y1 - y0), E = e0 + w * (e1 - e0);
       double* gate = y + static_cast<std::size_t>(gates[q]) * stride + c;
       simd::store(gate, y_inf + (simd::load(gate, n) - y_inf) * E, n);
