@@ -16,23 +16,39 @@ using namespace fibrodem;
 
 namespace {
 
-// Blocks of kCellsPerBlock cells over populations of the given sizes.
-std::vector<CellRange> blocks_of(const std::vector<std::size_t>& sizes) {
+// Blocks of kCellsPerBlock cells over populations of the given sizes, and
+// with tissue_index, the cells' places in a tissue (ascending per population).
+std::vector<CellRange> blocks_of(const std::vector<std::size_t>& sizes,
+                                 const std::vector<std::vector<int>>* tissue_index = nullptr) {
   std::vector<CellRange> blocks;
   for (std::size_t p = 0; p < sizes.size(); ++p)
     for (std::size_t begin = 0; begin < sizes[p]; begin += kCellsPerBlock)
-      blocks.push_back({p, begin, std::min(sizes[p], begin + kCellsPerBlock)});
+      blocks.push_back({p, begin, std::min(sizes[p], begin + kCellsPerBlock),
+                        tissue_index ? (*tissue_index)[p].data() : nullptr});
   return blocks;
+}
+
+// A tissue of `cells` cells whose every fourth cell is a fibroblast (population 1), the rest myocytes (0).
+std::vector<std::vector<int>> mixed_tissue(int cells) {
+  std::vector<std::vector<int>> index(2);
+  for (int c = 0; c < cells; ++c) index[c % 4 == 3 ? 1 : 0].push_back(c);
+  return index;
 }
 
 }  // namespace
 
 TEST_CASE("the block schedule computes every cell once, in pieces within blocks, for any costs and thread count") {
   const std::vector<std::size_t> sizes{2900, 229, 1};  // the Fig. 3 in-series tissue's mix, and a lone cell
-  const auto blocks = blocks_of(sizes);
+  // Cut in the blocks' order, or at places in a tissue where the populations interleave.
+  std::vector<std::vector<int>> tissue(3);
+  for (int c = 0; c < 3130; ++c) tissue[c == 1500 ? 2 : c % 13 == 0 && tissue[1].size() < 229 ? 1 : 0].push_back(c);
+  REQUIRE(tissue[0].size() == sizes[0]);
   const int saved_threads = omp_get_max_threads();
+  for (const bool by_tissue : {false, true})
   for (int threads : {1, 2, 3}) {
+    CAPTURE(by_tissue);
     CAPTURE(threads);
+    const auto blocks = blocks_of(sizes, by_tissue ? &tissue : nullptr);
     omp_set_num_threads(threads);
     BlockSchedule schedule;
     std::vector<std::vector<std::atomic<int>>> seen;
@@ -68,6 +84,48 @@ TEST_CASE("the block schedule computes every cell once, in pieces within blocks,
       CHECK(after_all_calls.load() >= 1);
       CHECK(after_all_calls.load() <= threads);
     }
+  }
+  omp_set_num_threads(saved_threads);
+}
+
+TEST_CASE("runs cut at tissue indices: each thread's own cells are one stretch of the tissue, in every population") {
+  // Thread t's run writes the new potentials of its own stretch of the
+  // tissue only (the populations' cells are spread over all of it).
+  const auto tissue = mixed_tissue(3129);
+  const std::vector<std::size_t> sizes{tissue[0].size(), tissue[1].size()};
+  const auto blocks = blocks_of(sizes, &tissue);
+  const int saved_threads = omp_get_max_threads();
+  for (int threads : {2, 3}) {
+    CAPTURE(threads);
+    omp_set_num_threads(threads);
+    BlockSchedule schedule;
+    for (int step = 0; step < 5; ++step)
+      schedule.run(
+          blocks,
+          [](const CellRange& piece) {
+            volatile double work = 0;  // (costs to measure: the runs are cut at equal shares of them)
+            for (std::size_t k = 0; k < 50 * (piece.end - piece.begin); ++k) work = work + 1e-9;
+          },
+          nullptr);
+    int last_end = -1;  // the tissue index after the previous thread's stretch
+    for (int t = 0; t < threads; ++t) {
+      int first = 1 << 30, last = -1;
+      std::size_t cells = 0;
+      for (const CellRange& piece : schedule.run_of(t)) {
+        first = std::min(first, piece.tissue_index[piece.begin]);
+        last = std::max(last, piece.tissue_index[piece.end - 1]);
+        cells += piece.end - piece.begin;
+      }
+      CAPTURE(t);
+      CHECK(cells > 0);
+      // Stretches meet, overlapping by less than a SIMD width of each
+      // population (each population's cut is rounded to a whole width; a
+      // fibroblast every 4 cells: within 4 kLanes tissue cells).
+      CHECK(first > last_end - 4 * static_cast<int>(simd::kLanes));
+      CHECK(first < last_end + 4 * static_cast<int>(simd::kLanes) + 4);
+      last_end = last + 1;
+    }
+    CHECK(last_end == 3129);
   }
   omp_set_num_threads(saved_threads);
 }

@@ -74,7 +74,7 @@ double CellSystem::evaluate_ionic(double t_ms, const AfterPopulationBlock& after
   blocks_.clear();  // (keeps its capacity)
   for (std::size_t p = 0; p < populations.size(); ++p)
     for (std::size_t begin = 0; begin < populations[p].size(); begin += kCellsPerBlock)
-      blocks_.push_back({p, begin, std::min(populations[p].size(), begin + kCellsPerBlock)});
+      blocks_.push_back({p, begin, std::min(populations[p].size(), begin + kCellsPerBlock), populations[p].cells.data()});
   std::atomic<double> myofilament_s{0};
   schedule_.run(
       blocks_,
