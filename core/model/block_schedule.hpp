@@ -1,21 +1,22 @@
-// Blocks of cells shared between threads. Each thread owns a contiguous run
-// of cells, the same run step after step so that its blocks stay in its
-// core's cache; the runs are cut where the threads should finish together:
-// at equal shares of the measured cost, less what a thread loses waking up
-// late (a worker enters the parallel region a few microseconds after the
-// thread that opens it). The cuts fall at tissue cell indices, in every
-// population at once: a thread's run is the cells of each type within its
-// stretch of the tissue, so each thread writes its own stretch of the
-// tissue's arrays (new potentials) and reads mostly its own neighbours'
-// (gap junctions), where cutting the blocks' list had one thread write over
-// the whole tissue (a population's cells are spread over all of it): Fig. 3
-// EP on 2 threads 3 % faster. Within a population the cut falls at a
-// multiple of the SIMD width, so the shares are even to a few cells rather
-// than to a block's worth of time (at 3129 cells there are only 13 blocks).
-// A thread done with its own run then takes the pieces another has not yet started,
-// so a step whose costs differ from the last (cells depolarising, another
-// job on a core) still ends with both threads busy. Which thread computes a
-// cell, and in which piece, changes nothing in the numbers.
+// Blocks of cells shared between threads. Each thread owns a run of cells,
+// the same run step after step so that its blocks stay in its core's cache;
+// the runs are cut where the threads should finish together: at equal shares
+// of the measured cost, less what a thread loses waking up late (a worker
+// enters the parallel region a few microseconds after the thread that opens
+// it). The cuts fall at tissue cell indices, in every population at once: a
+// thread's run is the cells of each type within its stretch of the tissue,
+// so it writes the new potentials of that stretch alone and reads mostly its
+// own cells' neighbours for the gap junctions. (Cut in the blocks' order, one
+// thread had every fibroblast, spread over the whole tissue, and both cores
+// wrote nearly every cache line of the potentials each step: Fig. 3 EP on 2
+// threads is 3 % faster cut at tissue indices.) Within a population the cut
+// falls at a multiple of the SIMD width, so the shares are even to a few
+// cells rather than to a block's worth of time (at 3129 cells there are only
+// 13 blocks). A thread done with its own run then takes the pieces another
+// has not yet started, so a step whose costs differ from the last (cells
+// depolarising, another job on a core) still ends with both threads busy.
+// Which thread computes a cell, and in which piece, changes nothing in the
+// numbers.
 #pragma once
 
 #include <omp.h>
