@@ -25,20 +25,8 @@ void BlockSchedule::plan(const std::vector<CellRange>& blocks, int threads) {
   for (double late : late_s_) late_total += late;
   // Every thread should be done at `finish` (from the region's opening).
   const double finish = (total + late_total) / threads;
-  std::size_t populations = 0, order = 0;
-  for (const CellRange& block : blocks) populations = std::max(populations, block.population + 1);
-  population_size_.assign(populations, 0);
-  order_start_.resize(blocks.size());
-  end_position_ = 0;
-  for (std::size_t j = 0; j < blocks.size(); ++j) {
-    const CellRange& block = blocks[j];
-    order_start_[j] = order;
-    order += block.end - block.begin;
-    population_size_[block.population] = std::max(population_size_[block.population], block.end);
-    end_position_ = std::max(end_position_, block.tissue_index
-                                                ? static_cast<std::size_t>(block.tissue_index[block.end - 1]) + 1
-                                                : order);
-  }
+  lay_out(blocks);
+  const std::size_t populations = population_size_.size();
   pieces_.clear();
   piece_block_.clear();
   previous_cut_.assign(populations, 0);
@@ -65,6 +53,23 @@ void BlockSchedule::plan(const std::vector<CellRange>& blocks, int threads) {
     std::swap(previous_cut_, cut_);
   }
   piece_s_.assign(pieces_.size(), 0.0);
+}
+
+void BlockSchedule::lay_out(const std::vector<CellRange>& blocks) {
+  std::size_t populations = 0, order = 0;
+  for (const CellRange& block : blocks) populations = std::max(populations, block.population + 1);
+  population_size_.assign(populations, 0);
+  order_start_.resize(blocks.size());
+  end_position_ = 0;
+  for (std::size_t j = 0; j < blocks.size(); ++j) {
+    const CellRange& block = blocks[j];
+    order_start_[j] = order;
+    order += block.end - block.begin;
+    population_size_[block.population] = std::max(population_size_[block.population], block.end);
+    end_position_ = std::max(end_position_, block.tissue_index
+                                                ? static_cast<std::size_t>(block.tissue_index[block.end - 1]) + 1
+                                                : order);
+  }
 }
 
 std::size_t BlockSchedule::cells_before(const std::vector<CellRange>& blocks, std::size_t j, std::size_t at) const {

@@ -107,6 +107,9 @@ class BlockSchedule {
   };
   // Cuts the blocks into pieces and the pieces into the threads' runs.
   void plan(const std::vector<CellRange>& blocks, int threads);
+  // Each population's size, each block's place in the blocks' order, and the
+  // position after every cell's.
+  void lay_out(const std::vector<CellRange>& blocks);
   // The first position with `cost` before it (searched from `position`, the
   // last step's, and left there), and each population's cell index there (a
   // multiple of the SIMD width) in cut_.
