@@ -96,7 +96,8 @@ class ContactDetector {
   bool affine_ = false;
   // Grid scratch, kept between builds (no allocation once sized).
   std::vector<int> cell_of_, cell_start_, cell_fill_, order_;
-  std::vector<std::vector<std::pair<int, int>>> thread_pairs_;  // each thread's pairs
+  static constexpr std::size_t kChunks = 64;  // runs of particles searched on the threads
+  std::vector<std::vector<std::pair<int, int>>> chunk_pairs_;  // each run's pairs
 };
 
 }  // namespace fibrodem
