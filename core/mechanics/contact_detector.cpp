@@ -1,6 +1,7 @@
 #include "mechanics/contact_detector.hpp"
 
 #include "mechanics/ordered_sum.hpp"
+#include "model/work_split.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -175,13 +176,13 @@ void ContactDetector::build(const double* x, const double* y, const double* r,
   // threads as they come free (particles at the tissue's edges and in loose
   // regions have fewer neighbours), joined in run order: the serial list.
   chunk_pairs_.resize(kChunks);
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::size_t k = 0; k < kChunks; ++k) {
+  for_each_block(static_cast<long>(kChunks), [&](long chunk) {
+    const auto k = static_cast<std::size_t>(chunk);
     std::vector<std::pair<int, int>>& mine = chunk_pairs_[k];
     mine.clear();
     for (std::size_t i = n * k / kChunks; i < n * (k + 1) / kChunks; ++i)
       add_pairs_of(static_cast<int>(i), x, y, r, nx, ny, mine);
-  }
+  });
   for (const auto& part : chunk_pairs_) pairs.insert(pairs.end(), part.begin(), part.end());
 }
 
