@@ -61,7 +61,8 @@ void Population::evaluate_cells(std::size_t begin, std::size_t end, double t_ms,
     // to the larger one's size zeroed it at every block, 1.5 % of the Fig. 3
     // EM scene's time.)
     thread_local std::vector<double> tile;
-    if (tile.size() < 2 * n_states() * kCellsPerBlock) tile.resize(2 * n_states() * kCellsPerBlock);
+    const std::size_t tile_size = 2 * n_states() * kCellsPerBlock;
+    if (tile.size() < tile_size) tile.resize(tile_size);
     block.y += begin;
     block.inputs += begin;
     block.outputs = with_outputs && block.outputs ? block.outputs + begin : nullptr;
