@@ -119,8 +119,8 @@ void single_cell_second(benchmark::State& state, std::string model, bool myocyte
 // t / 200 ms)), 10 % at its peak as in the Fig. 3 EM scene), at the solver's
 // own step, on `threads` threads. The twitch starts at rest (lambda = 1), so
 // the contact list is rebuilt about as often as in that scene (every ~110
-// steps; until session 9 it started at t = 25 ms, a jump to lambda = 0.985
-// on the first step that shook the tissue into a rebuild every 4-7 steps).
+// steps; a start mid-twitch would jump lambda on the first step and shake the
+// tissue into a rebuild every few steps).
 // Counter: particle_steps_per_s, per wall second (the main thread's CPU time
 // would not count the other threads' work).
 void dem_step(benchmark::State& state, std::string builder, int threads) {
@@ -188,7 +188,8 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
         ->Unit(benchmark::kMillisecond);
   }
   // CVODE on one myocyte at the two tolerance pairs compared with Myokit's
-  // CVODES simulation (README, Numerics): CRN 1998 and Ni 2017.
+  // CVODES simulation (docs/performance.md#cvode-against-myokit): CRN 1998 and
+  // Ni 2017.
   const std::pair<const char*, const char*> cvode_cells[] = {{"courtemanche", ""}, {"colman", "ni2017"}};
   for (const auto& [model, variant] : cvode_cells) {
     const std::string label = std::string(model) + (*variant ? std::string("_") + variant : "");

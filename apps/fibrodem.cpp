@@ -1,4 +1,4 @@
-// The `fibrodem` command line (DESIGN.md, "Command line").
+// The `fibrodem` command line (docs/reference/command_line.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>

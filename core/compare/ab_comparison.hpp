@@ -1,4 +1,4 @@
-// A/B comparison of two runs (DESIGN.md `fibrodem compare`): per-cell-type mean
+// A/B comparison of two runs (docs/guide/compare.md): per-cell-type mean
 // biomarkers side by side with differences and relative differences (Markdown
 // and CSV), and the traces of both on a common time base.
 #pragma once

@@ -46,7 +46,8 @@ class Integrator {
 };
 
 // The integrators by `solver.method` name: the one place that registers one
-// (README "Adding an integrator or a tissue builder"). "auto" is not here: it
+// (docs/plugins.md#adding-an-integrator-or-a-tissue-builder). "auto" is not
+// here: it
 // chooses among these (method_choice.hpp).
 struct IntegratorEntry {
   const char* name;

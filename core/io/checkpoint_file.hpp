@@ -1,6 +1,6 @@
 // A checkpoint file: a run's complete state at one time, as named fields of
-// numbers, in a versioned binary format with a checksum (DESIGN.md, "Output
-// directory"). Layout, little-endian:
+// numbers, in a versioned binary format with a checksum
+// (docs/guide/checkpoints.md). Layout, little-endian:
 //   "FIBRODEM-CHECKPOINT" \n      20 bytes, the magic
 //   u32 format version            kCheckpointFormat
 //   u64 payload length

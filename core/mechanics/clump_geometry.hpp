@@ -1,5 +1,6 @@
 // Geometry of a myocyte clump: N equal disks of radius r whose centres lie on a
-// line at spacing s (REFERENCES.md 2.5-2.6), and how it changes when the cell
+// line at spacing s (docs/references.md#dem-clumps, #dem-contraction-rule), and
+// how it changes when the cell
 // contracts with its 2D area kept.
 //
 // The union's area is exact for any spacing (r <= s/2 included): each disk owns

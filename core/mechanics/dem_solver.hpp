@@ -1,4 +1,4 @@
-// `dem`: the seed paper's DEM tissue mechanics (REFERENCES.md 2.1-2.10).
+// `dem`: the seed paper's DEM tissue mechanics (docs/references.md#dem).
 //
 // Bodies: a myocyte is a rigid clump of its N collinear particles (centroid,
 // angle, velocity, spin; mass and polar inertia of the union of its disks at
@@ -31,7 +31,7 @@
 // Stable step: safety x min over free bodies of sqrt(m / k_t), sqrt(I / k_r),
 // k_t = sum (kn' + ks'), k_r = sum kn' (rho x n)^2 + ks' (rho x t)^2 over the
 // body's bonds, rho from its centroid to the contact point, k' the law's
-// dashpot-corrected stiffness (REFERENCES.md 2.4), at rest geometry.
+// dashpot-corrected stiffness (docs/references.md#dem-timestep), at rest geometry.
 //
 // Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
