@@ -1,0 +1,35 @@
+// What an imported model is at fibrodem's boundary: which state is the
+// membrane potential, which quantity is the CellML's own stimulus, the
+// membrane capacitance, a myofilament model's Ca_i input, the --map outputs,
+// and the scale factors from the CellML's time and voltage units to ms and mV.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cellml/model_analysis.hpp"
+#include "cellml/plugin_writer.hpp"
+
+namespace fibrodem::cellml {
+
+struct InterfaceMap {
+  int v = -1;         // the membrane potential (a state)
+  int stim = -1;      // the CellML's stimulus, or -1
+  int c_param = -1;   // the CellML's capacitance constant [pF], when it is the capacitance parameter
+  int ca_input = -1;  // a myofilament model's input Ca_i
+  std::map<std::string, int> mapped;  // --map signal -> quantity
+  double time_scale = 1.0;  // t_src = t_ms * time_scale
+  double v_scale = 1.0;     // V_mV = V_src * v_scale
+  double gain = 0.0;        // d(dV/dt)/d(stim), source units
+  double capacitance_pF = 100.0;
+  std::string area_note;  // currents per membrane area: how C_pF relates to the area
+  std::vector<std::string> notes;
+};
+
+InterfaceMap map_interface(const Model& model, const WriterOptions& options);
+
+// A double as a C++ literal that reads back to the same value.
+std::string lit(double x);
+
+}  // namespace fibrodem::cellml
