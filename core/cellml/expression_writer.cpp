@@ -33,7 +33,7 @@ std::string sanitize(const std::string& s) {
   return out;
 }
 
-std::vector<std::string> identifiers(const Model& m) {
+std::vector<std::string> identifiers(const Model& m, int v) {
   const int n = static_cast<int>(m.quantities.size());
   std::vector<std::string> ident(n);
   std::map<std::string, int> count;
@@ -42,7 +42,8 @@ std::vector<std::string> identifiers(const Model& m) {
   for (int q = 0; q < n; ++q) {
     const auto& s = m.source(q);
     std::string id = sanitize(s.name);
-    if (count[id] > 1 || reserved().count(id)) id = sanitize(s.component + "_" + s.name);
+    if (q == v) id = "V";  // fibrodem's name for the membrane potential
+    else if (count[id] > 1 || reserved().count(id) || (v >= 0 && id == "V")) id = sanitize(s.component + "_" + s.name);
     while (taken.count(id) || reserved().count(id)) id += "_";
     taken.insert(id);
     ident[q] = id;
@@ -53,7 +54,6 @@ std::vector<std::string> identifiers(const Model& m) {
 
 Code ExpressionWriter::variable(int v) const {
   const int q = m_.quantity_of[v];
-  if (q == b_.stim) return {"0.0", false, false};
   const double f = m_.factor_to(v);
   std::string text = ident_[q];
   if (f != 1.0) text = "(" + text + " * " + lit(f) + ")";

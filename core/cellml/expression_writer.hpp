@@ -24,8 +24,9 @@ struct Code {
 std::string sanitize(const std::string& s);
 
 // One C++ identifier per quantity: the CellML name, or component_name where
-// that is taken or reserved; time is `time`.
-std::vector<std::string> identifiers(const Model& model);
+// that is taken or reserved; time is `time` and the membrane potential v
+// (if >= 0) is `V`, whatever its CellML name.
+std::vector<std::string> identifiers(const Model& model, int v);
 
 class ExpressionWriter {
  public:

@@ -47,7 +47,7 @@ GateForm recognise_gate(const Model& m, const InterfaceMap& boundary, const std:
   // voltage_only: a, b depend on V and constants alone (through any algebraic chain).
   g.voltage_only = g.gate;
   for (std::size_t k = 0; k < deps.size(); ++k)
-    if (deps[k] && (timed[k] || static_cast<int>(k) == boundary.ca_input ||
+    if (deps[k] && (timed[k] || static_cast<int>(k) == boundary.ca_input || static_cast<int>(k) == boundary.stim ||
                     (m.quantities[k].role == Role::state && static_cast<int>(k) != boundary.v)))
       g.voltage_only = false;
   return g;

@@ -1,9 +1,12 @@
 #include "cellml/interface_map.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <set>
 
 #include "cellml/import_error.hpp"
 
@@ -79,33 +82,80 @@ class Mapper {
     find_capacitance();
   }
 
+  // Quantities a variable of which carries the oxmeta term, in RDF or as its id.
+  std::vector<int> annotated(const std::string& term) const {
+    std::vector<int> out;
+    for (int q = 0; q < static_cast<int>(m_.quantities.size()); ++q)
+      for (int v : m_.quantities[q].members) {
+        const auto& var = m_.doc.variables[v];
+        if (var.id == term || std::find(var.oxmeta.begin(), var.oxmeta.end(), term) != var.oxmeta.end()) {
+          out.push_back(q);
+          break;
+        }
+      }
+    return out;
+  }
+
+  // The name (of any of its connected variables) among `names`, case aside; "" if none.
+  std::string name_among(int q, const std::set<std::string>& names) const {
+    for (int v : m_.quantities[q].members) {
+      std::string lower = m_.doc.variables[v].name;
+      for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (names.count(lower)) return m_.doc.variables[v].name;
+    }
+    return "";
+  }
+
+  std::string list(const std::vector<int>& qs) const {
+    std::string names;
+    for (int q : qs) names += (names.empty() ? "" : ", ") + m_.source(q).qualified();
+    return names;
+  }
+
   void find_voltage() {
+    const std::string oxmeta = "membrane_voltage";
     if (!o_.voltage.empty()) {
       b_.v = quantity_named(o_.voltage, "--voltage");
       if (m_.quantities[b_.v].role != Role::state) throw ImportError("--voltage " + o_.voltage + ": not a state");
+      b_.v_rule = "--voltage";
+    } else if (const auto marked = annotated(oxmeta); !marked.empty()) {
+      if (marked.size() > 1)
+        throw ImportError(m_.doc.file + ": several variables are annotated " + oxmeta + " (" + list(marked) +
+                          "); name the potential with --voltage component.variable");
+      b_.v = marked[0];
+      if (m_.quantities[b_.v].role != Role::state)
+        throw ImportError(m_.source(b_.v).path + ": " + m_.source(b_.v).qualified() + " is annotated " + oxmeta +
+                          " but is not a state; name the potential with --voltage component.variable");
+      b_.v_rule = "annotation: oxmeta " + oxmeta;
     } else {
-      std::vector<int> candidates;
+      static const std::set<std::string> names = {"v", "vm", "v_m", "membrane_voltage", "membrane_potential",
+                                                  "v_membrane"};
+      std::vector<int> in_volts, named;
       for (int q : m_.states)
-        if (m_.source(q).unit.same_dims(volt_unit())) candidates.push_back(q);
-      if (candidates.size() > 1) {
-        std::vector<int> named;
-        for (int q : candidates)
-          if (m_.source(q).name == "V" || m_.source(q).name == "Vm" || m_.source(q).name == "V_m" ||
-              m_.source(q).name == "v")
-            named.push_back(q);
-        candidates = named;
-      }
-      if (candidates.size() != 1)
+        if (m_.source(q).unit.same_dims(volt_unit())) {
+          in_volts.push_back(q);
+          if (!name_among(q, names).empty()) named.push_back(q);
+        }
+      if (named.size() == 1) {
+        b_.v = named[0];
+        b_.v_rule = "name: " + name_among(b_.v, names);
+      } else if (named.empty() && in_volts.size() == 1) {
+        b_.v = in_volts[0];
+        b_.v_rule = "units: the only state in volts";
+      } else {
+        const auto& shown = named.empty() ? in_volts : named;
         throw ImportError(m_.doc.file + ": cannot tell which state is the membrane potential (" +
-                          std::to_string(candidates.size()) + " candidates); name it with --voltage component.variable");
-      b_.v = candidates[0];
+                          std::to_string(shown.size()) + " candidates" + (shown.empty() ? "" : ": " + list(shown)) +
+                          "); name it with --voltage component.variable");
+      }
     }
     const auto& v = m_.source(b_.v);
     if (!v.unit.same_dims(volt_unit()))
       throw ImportError(v.path + ": the membrane potential " + v.qualified() + " is in '" + v.units_name + "', not a voltage");
     b_.v_scale = v.unit.scale / 1e-3;  // V_mV = V_src * v_scale
-    if (b_.v_scale != 1.0)
-      b_.notes.push_back("V: the CellML's " + v.qualified() + " is in " + v.units_name + "; V_mV = V * " + lit(b_.v_scale));
+    b_.notes.push_back("V: " + v.qualified() + " [" + v.units_name + "] is the membrane potential (rule: " + b_.v_rule +
+                       "), the plugin's state V" +
+                       (b_.v_scale != 1.0 ? "; V_mV = " + v.name + " * " + lit(b_.v_scale) : std::string()));
   }
 
   bool current_like(int q) const {
@@ -116,58 +166,106 @@ class Mapper {
     return u.same_dims(ampere_unit()) || u.same_dims(per_area) || u.same_dims(per_cap);
   }
 
+  // What q depends on through its equation (nothing for a constant).
+  std::vector<bool> inputs_of(int q) const {
+    if (m_.quantities[q].equation < 0) return std::vector<bool>(m_.quantities.size(), false);
+    return dependencies(m_, m_.doc.equations[m_.quantities[q].equation].rhs);
+  }
+
+  // A state q depends on, or -1: a current that depends on a state is a
+  // membrane current, never the stimulus.
+  int state_dependency(int q) const {
+    const auto deps = inputs_of(q);
+    for (int s : m_.states)
+      if (deps[s]) return s;
+    return -1;
+  }
+
   void find_stimulus() {
-    const auto& rate_uses = dependencies(m_, m_.doc.equations[m_.quantities[b_.v].equation].rhs);
+    const std::string oxmeta = "membrane_stimulus_current";
+    const auto rate_uses = dependencies(m_, m_.doc.equations[m_.quantities[b_.v].equation].rhs);
+    auto pulse_like = [&](int q) {
+      const Role r = m_.quantities[q].role;
+      return (r == Role::algebraic || r == Role::parameter) && rate_uses[q] && current_like(q) &&
+             state_dependency(q) < 0;
+    };
     if (!o_.stimulus.empty()) {
       b_.stim = quantity_named(o_.stimulus, "--stimulus");
       if (m_.quantities[b_.stim].role != Role::algebraic && m_.quantities[b_.stim].role != Role::parameter)
         throw ImportError("--stimulus " + o_.stimulus + ": not a constant or an algebraic variable");
+      b_.stim_rule = "--stimulus";
+    } else if (const auto marked = annotated(oxmeta); !marked.empty()) {
+      if (marked.size() > 1)
+        throw ImportError(m_.doc.file + ": several variables are annotated " + oxmeta + " (" + list(marked) +
+                          "); name the stimulus with --stimulus component.variable");
+      b_.stim = marked[0];
+      b_.stim_rule = "annotation: oxmeta " + oxmeta;
     } else {
-      // The stimulus: a current the rate of V uses that changes with time by
-      // itself (a pulse train), and not through another such current.
-      std::vector<int> candidates;
-      for (int q : m_.order) {
-        if (!rate_uses[q] || !current_like(q)) continue;
-        if (!dependencies(m_, m_.doc.equations[m_.quantities[q].equation].rhs)[m_.time]) continue;
-        candidates.push_back(q);
+      static const std::set<std::string> names = {"i_stim", "istim", "i_stimulus", "stim_current",
+                                                  "stimulus_current", "i_st", "i_app", "iapp", "i_applied",
+                                                  "membrane_stimulus_current"};
+      std::vector<int> named, timed;
+      for (int q = 0; q < static_cast<int>(m_.quantities.size()); ++q) {
+        if (!pulse_like(q)) continue;
+        if (!name_among(q, names).empty()) named.push_back(q);
+        if (m_.quantities[q].role == Role::algebraic && inputs_of(q)[m_.time]) timed.push_back(q);
       }
-      std::vector<int> outermost;
-      for (int q : candidates) {
-        bool used_by_other = false;
-        for (int other : candidates)
-          if (other != q && dependencies(m_, m_.doc.equations[m_.quantities[other].equation].rhs)[q])
-            used_by_other = true;
-        if (!used_by_other) outermost.push_back(q);
+      if (named.size() > 1)
+        throw ImportError(m_.doc.file + ": several currents are named as a stimulus (" + list(named) +
+                          "); name it with --stimulus component.variable");
+      if (named.size() == 1) {
+        b_.stim = named[0];
+        b_.stim_rule = "name: " + name_among(b_.stim, names);
+      } else {
+        // A pulse train: a current of time and constants alone that dV/dt
+        // uses; of a chain of such currents (a unit conversion, a sign), the
+        // one dV/dt uses, not what it is made of.
+        std::vector<int> outermost;
+        for (int q : timed) {
+          bool used_by_other = false;
+          for (int other : timed)
+            if (other != q && inputs_of(other)[q]) used_by_other = true;
+          if (!used_by_other) outermost.push_back(q);
+        }
+        if (outermost.size() > 1)
+          throw ImportError(m_.doc.file + ": several currents of time alone could be the stimulus (" +
+                            list(outermost) + "); name it with --stimulus component.variable");
+        if (outermost.empty()) {
+          b_.notes.push_back("stimulus: none found in the CellML (no annotation, no stimulus name, no current of time "
+                             "alone in dV/dt); i_ext is added to dV/dt as i_ext / C_pF");
+          b_.summary = "V: " + m_.source(b_.v).qualified() + " (" + b_.v_rule + "); no stimulus in the CellML";
+          return;
+        }
+        b_.stim = outermost[0];
+        b_.stim_rule = "structure: a current of time and constants alone in dV/dt";
       }
-      if (outermost.size() > 1) {
-        std::string names;
-        for (int q : outermost) names += " " + m_.source(q).qualified();
-        throw ImportError(m_.doc.file + ": several time-dependent currents could be the stimulus (" + names +
-                          " ); name it with --stimulus component.variable");
-      }
-      if (outermost.empty()) {
-        b_.notes.push_back("stimulus: none found in the CellML (no time-dependent current in dV/dt); i_ext is added "
-                           "to dV/dt as i_ext / C_pF");
-        return;
-      }
-      b_.stim = outermost[0];
     }
     const int stim = b_.stim;
+    const auto& s = m_.source(stim);
     if (!rate_uses[stim])
-      throw ImportError("the stimulus " + m_.source(stim).qualified() + " is not used by dV/dt");
-    // dV/dt must be linear in it: its effect is then replaced exactly by i_ext / C.
+      throw ImportError(s.path + ": the stimulus " + s.qualified() + " (" + b_.stim_rule + ") is not used by dV/dt");
+    if (const int state = state_dependency(stim); state >= 0)
+      throw ImportError(s.path + ": the stimulus " + s.qualified() + " (" + b_.stim_rule + ") depends on the state " +
+                        m_.source(state).qualified() + "; a stimulus is a current of time and constants alone " +
+                        "(name it with --stimulus component.variable)");
+    if (!current_like(stim) && o_.stimulus.empty())
+      throw ImportError(s.path + ": the stimulus " + s.qualified() + " (" + b_.stim_rule + ") is in '" + s.units_name +
+                        "', not a current (A, A/m^2 or A/F)");
+    // dV/dt must be linear in it: i_ext then enters dV/dt as i_ext / C_pF
+    // exactly, and C_pF follows from the gain.
     Evaluator e(m_);
     e.pinned.assign(m_.quantities.size(), 0);
     e.pinned[stim] = 1;
-    auto rate_at = [&](double s) {
-      e.values[stim] = s;
+    auto rate_at = [&](double x) {
+      e.values[stim] = x;
       e.update();
       return e.rate(b_.v);
     };
     const double r0 = rate_at(0.0), r1 = rate_at(1.0), r2 = rate_at(2.0);
     b_.gain = r1 - r0;  // d(dV/dt)/d(stim) in source units
     if (!(std::fabs(b_.gain) > 0) || std::fabs((r2 - r0) - 2 * b_.gain) > 1e-9 * std::fabs(b_.gain) + 1e-300)
-      throw ImportError("the stimulus " + m_.source(stim).qualified() + " does not enter dV/dt linearly");
+      throw ImportError(s.path + ": the stimulus " + s.qualified() + " (" + b_.stim_rule +
+                        ") does not enter dV/dt linearly");
   }
 
   void find_capacitance() {
@@ -202,10 +300,38 @@ class Mapper {
       how = stim >= 0 ? "currents per capacitance: C_pF (default 100 pF) scales i_ext into the model's A/F"
                       : "C_pF (default 100 pF) scales i_ext into dV/dt";
     }
+    if (stim >= 0) replace_stimulus();
     b_.notes.push_back("capacitance: " + how + "; i_ext [pA] enters dV/dt as i_ext / C_pF, and I_ion = i_ext - C_pF dV/dt");
-    if (stim >= 0)
-      b_.notes.push_back("stimulus removed: " + m_.source(stim).qualified() + " [" + m_.source(stim).units_name +
-                         "] is 0 (fibrodem's i_ext and manifests pace the cell)");
+  }
+
+  // stim = i_ext * k [its units per pA] makes dV/dt gain i_ext / C_pF. A
+  // whole-cell current is i_ext itself, converted and signed; a current per
+  // area or per capacitance is i_ext over the cell's size, C_pF at run time.
+  void replace_stimulus() {
+    const auto& s = m_.source(b_.stim);
+    const double per_pA = 1.0 / (b_.gain * b_.v_scale * b_.time_scale);
+    std::string formula;
+    if (s.unit.same_dims(ampere_unit())) {
+      b_.stim_per_pA = snapped((b_.gain > 0 ? 1e-12 : -1e-12) / s.unit.scale);
+      formula = s.name + " = i_ext * " + lit(b_.stim_per_pA);
+    } else {
+      b_.stim_per_pA = snapped(per_pA);
+      b_.stim_over_C = true;
+      formula = s.name + " = i_ext / C_pF * " + lit(b_.stim_per_pA);
+    }
+    std::string users;
+    for (int q = 0; q < static_cast<int>(m_.quantities.size()); ++q) {
+      const auto& uses = m_.quantities[q].uses;
+      if (q == b_.stim || std::find(uses.begin(), uses.end(), b_.stim) == uses.end()) continue;
+      const std::string name = m_.quantities[q].role == Role::state ? "d(" + m_.source(q).qualified() + ")/dt"
+                                                                     : m_.source(q).qualified();
+      users += (users.empty() ? "" : ", ") + name;
+    }
+    b_.notes.push_back("stimulus: " + s.qualified() + " [" + s.units_name + "] (rule: " + b_.stim_rule +
+                       ") is fibrodem's input i_ext [pA, + depolarising] wherever it is used (" + users + "): " +
+                       formula + "; its own pulse protocol is left out (manifests pace the cell)");
+    b_.summary = "V: " + m_.source(b_.v).qualified() + " (" + b_.v_rule + "); stimulus: " + s.qualified() + " (" +
+                 b_.stim_rule + ") replaced by i_ext";
   }
 
   const Model& m_;

@@ -22,9 +22,15 @@ struct InterfaceMap {
   double time_scale = 1.0;  // t_src = t_ms * time_scale
   double v_scale = 1.0;     // V_mV = V_src * v_scale
   double gain = 0.0;        // d(dV/dt)/d(stim), source units
+  // The stimulus takes fibrodem's i_ext [pA] in its own units:
+  // stim = i_ext * stim_per_pA, divided by C_pF at run time if stim_over_C.
+  double stim_per_pA = 0.0;
+  bool stim_over_C = false;
+  std::string v_rule, stim_rule;  // why they were chosen: annotation, name, units or structure, an option
   double capacitance_pF = 100.0;
   std::string area_note;  // currents per membrane area: how C_pF relates to the area
   std::vector<std::string> notes;
+  std::string summary;  // one line: what V and the stimulus are and why (the plugin's description)
 };
 
 InterfaceMap map_interface(const Model& model, const WriterOptions& options);

@@ -19,7 +19,7 @@ namespace {
 class Writer {
  public:
   Writer(const Model& m, const WriterOptions& o)
-      : m_(m), o_(o), b_(map_interface(m, o)), ident_(identifiers(m)), expr_(m, b_, lane_, ident_),
+      : m_(m), o_(o), b_(map_interface(m, o)), ident_(identifiers(m, b_.v)), expr_(m, b_, lane_, ident_),
         singular_(m, b_, expr_) {
     expr_.rewrite_divide = [this](const Expr& e) { return singular_.rewrite(e); };
   }
@@ -43,11 +43,12 @@ class Writer {
     timed_.assign(n, false);
     for (int q : m_.states) lane_[q] = true;
     timed_[m_.time] = true;
+    // The inputs, i_ext as the stimulus and Ca_i, are per cell: lanes.
     if (b_.ca_input >= 0) lane_[b_.ca_input] = true;
+    if (b_.stim >= 0) lane_[b_.stim] = true;
     for (int q : m_.order) {
       if (q == b_.stim || q == b_.ca_input) continue;
       for (int u : m_.quantities[q].uses) {
-        if (u == b_.stim) continue;
         lane_[q] = lane_[q] || lane_[u];
         timed_[q] = timed_[q] || timed_[u];
       }
@@ -68,7 +69,7 @@ class Writer {
     std::string unused;
     for (int q : m_.parameters)
       if (!needed_[q]) unused += " " + m_.source(q).qualified();
-    if (!unused.empty()) notes_.push_back("constants used only by what was removed, left out:" + unused);
+    if (!unused.empty()) notes_.push_back("constants used only by what fibrodem's inputs replace, left out:" + unused);
     // Gates: alpha/beta or inf/tau forms of a dimensionless state in [0, 1].
     gates_.assign(n, GateForm{});
     for (int q : m_.states)
@@ -108,6 +109,10 @@ class Writer {
     if (b_.ca_input >= 0)
       body << "      const R " << ident_[b_.ca_input] << " = cell.input(kIn_Ca_i) * "
            << lit(1.0 / m_.source(b_.ca_input).unit.scale) << ";  // mM -> " << m_.source(b_.ca_input).units_name << "\n";
+    if (b_.stim >= 0)
+      body << "      const R " << ident_[b_.stim] << " = cell.input(kIn_i_ext)" << (b_.stim_over_C ? " / C_pF" : "")
+           << " * " << lit(b_.stim_per_pA) << ";  // " << m_.source(b_.stim).qualified() << " ["
+           << m_.source(b_.stim).units_name << "]: the stimulus is i_ext [pA]\n";
     for (int q : m_.order)
       if (needed_[q] && lane_[q] && q != b_.stim && q != b_.ca_input) body << "      " << assignment(q, "const R");
     // Rates, in fibrodem's units per ms.
@@ -119,7 +124,8 @@ class Writer {
         const Code rhs = expr_.emit(m_.doc.equations[m_.quantities[q].equation].rhs);
         std::string rate = ExpressionWriter::as_lane(rhs) + (m == 1.0 ? "" : " * " + lit(m));
         if (q == b_.v) {
-          body << "      const R dV_dt = " << rate << " + cell.input(kIn_i_ext) / C_pF;  // mV/ms\n"
+          body << "      const R dV_dt = " << rate << (b_.stim >= 0 ? "" : " + cell.input(kIn_i_ext) / C_pF")
+               << ";  // mV/ms\n"
                << "      cell.rate(" << k << ", dV_dt);\n";
         } else {
           body << "      cell.rate(" << k << ", " << rate << ");\n";
@@ -274,7 +280,8 @@ class Writer {
     d << " kNumOutputs };\n\n";
     d << "class " << class_name() << " final : public fibrodem::CellModel {\n public:\n  " << class_name() << "() {\n"
       << "    info_.name = \"" << o_.name << "\";\n    info_.version = \"1.0.0\";\n"
-      << "    info_.description = \"Imported from CellML " << m_.doc.version << " model '" << m_.doc.model_name << "'.\";\n"
+      << "    info_.description = \"Imported from CellML " << m_.doc.version << " model '" << m_.doc.model_name << "'."
+      << (b_.summary.empty() ? "" : " " + b_.summary + ".") << "\";\n"
       << "    info_.reference = \"" << o_.source_name << "\";\n"
       << "    info_.kind = fibrodem::ModelKind::" << (o_.myofilament ? "myofilament" : "ionic") << ";\n"
       << "    info_.states = {\n";
