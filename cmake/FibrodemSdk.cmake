@@ -12,6 +12,7 @@ set(FIBRODEM_SDK_HEADERS
   model/cell_model.hpp
   model/block_access.hpp
   model/simd.hpp
+  cellml/cellml_math.hpp
   mechanics/contact_law_plugin.hpp)
 set(FIBRODEM_SDK_STAGE ${CMAKE_BINARY_DIR}/sdk/include)
 foreach(header IN LISTS FIBRODEM_SDK_HEADERS)

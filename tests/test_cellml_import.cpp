@@ -271,7 +271,7 @@ TEST_CASE("import-cellml: FitzHugh-Nagumo rests at FitzHugh's point and oscillat
 }
 
 TEST_CASE("import-cellml: CellML 1.0, 1.1 and 2.0 of the same model give the same plugin") {
-  for (const std::string model : {"hh_1952", "rc_membrane", "fitzhugh_nagumo"}) {
+  for (const std::string model : {"hh_1952", "rc_membrane", "fitzhugh_nagumo", "lumped_stimulus"}) {
     std::string first;
     for (const std::string version : {"1_0", "1_1", "2_0"}) {
       cellml::ImportOptions o;

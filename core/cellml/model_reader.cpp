@@ -182,6 +182,32 @@ void read_math(Document& doc, const std::string& component, const pugi::xml_node
   }
 }
 
+// RDF anywhere in the document: rdf:Description rdf:about="#ID" whose
+// children (bqbiol:is, bqbiol:isVersionOf, ...) point with rdf:resource at an
+// oxmeta term, the Oxford metadata ontology Chaste and the Physiome
+// repository annotate variables with.
+void read_oxmeta_annotations(const pugi::xml_document& xml, Document& doc) {
+  static const std::string kOxmeta = "chaste.comlab.ox.ac.uk/cellml/ns/oxford-metadata#";
+  std::map<std::string, std::vector<std::string>> terms;  // id -> terms
+  std::function<void(const pugi::xml_node&)> walk = [&](const pugi::xml_node& node) {
+    for (const auto& c : node.children()) {
+      if (c.type() != pugi::node_element) continue;
+      const std::string about = attribute(c, "about");
+      if (local_name(c) == "Description" && about.size() > 1 && about[0] == '#')
+        for (const auto& link : c.children()) {
+          const std::string resource = attribute(link, "resource");
+          const auto at = resource.find(kOxmeta);
+          if (link.type() == pugi::node_element && at != std::string::npos)
+            terms[about.substr(1)].push_back(resource.substr(at + kOxmeta.size()));
+        }
+      walk(c);
+    }
+  };
+  walk(xml);
+  for (auto& v : doc.variables)
+    if (const auto it = terms.find(v.id); !v.id.empty() && it != terms.end()) v.oxmeta = it->second;
+}
+
 }  // namespace
 
 int Document::find(const std::string& component, const std::string& name) const {
@@ -241,6 +267,7 @@ Document read_cellml(const std::filesystem::path& file) {
       var.path = element_path(v, text);
       var.units_name = attribute(v, "units");
       var.initial = attribute(v, "initial_value");
+      var.id = attribute(v, "id");
       if (var.name.empty() || var.units_name.empty())
         throw ImportError(var.path + ": a <variable> needs a name and units");
       var.unit = units.resolve(component, var.units_name, var.path);
@@ -251,6 +278,8 @@ Document read_cellml(const std::filesystem::path& file) {
   }
   for (const auto& c : elements(model, "component"))
     for (const auto& m : elements(c, "math")) read_math(doc, attribute(c, "name"), m, units);
+
+  read_oxmeta_annotations(xml, doc);
 
   for (const auto& conn : elements(model, "connection")) {
     std::string c1 = attribute(conn, "component_1"), c2 = attribute(conn, "component_2");  // 2.0

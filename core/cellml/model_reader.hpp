@@ -21,6 +21,10 @@ struct Variable {
   Unit unit;
   std::string initial;  // initial_value as written (a number or, 1.1/2.0, a variable's name); "" if none
   std::string path;
+  // Its identifier (cmeta:id in 1.0/1.1, id in 2.0; "" if none) and the
+  // oxmeta terms the document's RDF gives it (membrane_voltage, ...).
+  std::string id;
+  std::vector<std::string> oxmeta;
   std::string qualified() const { return component + "." + name; }
 };
 

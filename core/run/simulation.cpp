@@ -592,6 +592,9 @@ struct Simulation::Impl : StepObserver {
       log->info("{}: {} model {} {}{}, {} cells x {} states", cell_type_name(pop.type),
                 pop.info().kind == ModelKind::ionic ? "ionic" : "myofilament", pop.info().name, pop.info().version,
                 pop.variant.empty() ? "" : ", variant " + pop.variant, pop.size(), pop.n_states());
+      // What the model says of itself (an imported model: how its V and stimulus were found).
+      if (!pop.info().description.empty())
+        log->info("{}: model {}: {}", cell_type_name(pop.type), pop.info().name, pop.info().description);
     });
     if (mechanics)
       log->info("mechanics: DEM, contact law {}, step {:.4g} ms (stable {:.4g} ms), subcycled against the "
