@@ -18,6 +18,8 @@ CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& o) 
   sub->add_option("--voltage", o.voltage, "component.variable of the membrane potential, when not evident");
   sub->add_option("--stimulus", o.stimulus, "component.variable of the CellML's stimulus current, when not evident");
   sub->add_flag("--overwrite", o.overwrite, "replace an existing plugin folder");
+  sub->add_flag("--strict-units", o.strict_units,
+                "refuse a model whose equations mix units (default: import with the numbers as written and warn)");
   return sub;
 }
 
@@ -27,6 +29,11 @@ int import_cellml_command(const cellml::ImportOptions& options) {
     std::cout << "wrote " << (result.folder / (options.name + ".cpp")).string() << " and "
               << (result.folder / "CMakeLists.txt").string() << "\n";
     for (const auto& note : result.notes) std::cout << "  " << note << "\n";
+    for (const auto& warning : result.unit_warnings) std::cerr << "warning: " << warning << "\n";
+    if (!result.unit_warnings.empty())
+      std::cerr << "warning: " << result.unit_warnings.size() << " unit inconsistenc"
+                << (result.unit_warnings.size() == 1 ? "y" : "ies") << " imported with the numbers as written (listed in the plugin's header; "
+                   "--strict-units refuses them)\n";
     return 0;
   } catch (const cellml::ImportError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -300,12 +300,7 @@ TEST_CASE("import-cellml: refusals name the element and leave no plugin behind")
   const std::string units = import_error_of("inconsistent_units.cellml", out);
   CHECK(units.find("inconsistent units") != std::string::npos);
   CHECK(units.find("/model[@name='inconsistent_units']/connection/map_variables (line 18)") != std::string::npos);
-  const std::string sum = import_error_of("equation_units.cellml", out);
-  CHECK(sum.find("/component[@name='membrane']/math/apply/apply[2]/apply (line 11): inconsistent units: "
-                 "the operands of <plus> differ in units") != std::string::npos);
-  const std::string scale = import_error_of("scale_mismatch.cellml", out);
-  CHECK(scale.find("/component[@name='membrane']/math/apply[1] (line 17): inconsistent units: the two sides of "
-                   "the equation differ in units: the same dimension at 1e-09 and 1e-12 times ampere^1") != std::string::npos);
+  // Slips inside equations are warnings (test_cellml_units.cpp).
   CHECK_FALSE(fs::exists(out));
   for (const auto& entry : fs::directory_iterator(out.parent_path()))
     CHECK(entry.path().filename().string().find(".importing-") == std::string::npos);

@@ -22,6 +22,22 @@ void write_file(const fs::path& path, const std::string& text) {
   if (!out) throw ImportError(path.string() + ": cannot be written");
 }
 
+// The generated source with the unit warnings appended to its header (the
+// leading comment block), one per line so that each can be found by grep.
+std::string with_unit_warnings(const std::string& cpp, const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return cpp;
+  std::string block = "//\n// Unit inconsistencies in the CellML (" + std::to_string(warnings.size()) +
+                      "), imported with the numbers as written (no conversion\n"
+                      "// factor inside an equation; `--strict-units` refuses them; see docs/cellml_units.md):\n";
+  for (const auto& w : warnings) block += "//   - " + w + "\n";
+  std::size_t end = 0;  // the first line that is not a comment
+  while (end < cpp.size() && cpp.compare(end, 2, "//") == 0) {
+    const auto next = cpp.find('\n', end);
+    end = next == std::string::npos ? cpp.size() : next + 1;
+  }
+  return cpp.substr(0, end) + block + cpp.substr(end);
+}
+
 }  // namespace
 
 ImportResult import_cellml(const ImportOptions& o) {
@@ -42,12 +58,20 @@ ImportResult import_cellml(const ImportOptions& o) {
     w.map[m.substr(0, eq)] = m.substr(eq + 1);
   }
   const Model model = analyse(read_cellml(o.input));
-  // Inconsistent units in an equation: the numbers would be used at a scale
-  // (or dimension) the author did not mean; refused at the first.
-  if (const auto issues = check_equation_units(model); !issues.empty())
-    throw ImportError(issues.front().path + ": inconsistent units: " + issues.front().message +
-                      (issues.size() > 1 ? " (and " + std::to_string(issues.size() - 1) + " more)" : ""));
-  const GeneratedPlugin plugin = write_plugin(model, w);
+  // Inconsistent units inside an equation: public models hold such slips and
+  // other tools import them with the numbers as written (CellML does not
+  // require dimensional consistency), so they are warnings unless
+  // --strict-units; every one is listed either way.
+  std::vector<std::string> warnings;
+  for (const auto& issue : check_equation_units(model)) warnings.push_back(issue.text());
+  if (o.strict_units && !warnings.empty()) {
+    std::string all = "--strict-units: " + std::to_string(warnings.size()) + " unit inconsistenc" +
+                      (warnings.size() == 1 ? "y" : "ies") + " in the equations:";
+    for (const auto& warning : warnings) all += "\n  " + warning;
+    throw ImportError(all);
+  }
+  GeneratedPlugin plugin = write_plugin(model, w);
+  plugin.cpp = with_unit_warnings(plugin.cpp, warnings);
 
   const fs::path folder = o.out.empty() ? fs::path(o.name) : o.out;
   if (fs::exists(folder) && !o.overwrite)
@@ -74,7 +98,7 @@ ImportResult import_cellml(const ImportOptions& o) {
     fs::remove_all(staging, ignored);
     throw;
   }
-  return {folder, plugin.notes};
+  return {folder, plugin.notes, warnings};
 }
 
 }  // namespace fibrodem::cellml

@@ -18,15 +18,24 @@ struct ImportOptions {
   std::string voltage;
   std::string stimulus;
   bool overwrite = false;
+  // Unit inconsistencies inside equations refused (else imported with the
+  // numbers as written, and a warning each); see docs/cellml_units.md.
+  bool strict_units = false;
 };
 
 struct ImportResult {
   std::filesystem::path folder;
   std::vector<std::string> notes;
+  // One per unit inconsistency inside an equation (UnitIssue::text()); also
+  // listed in the generated source's header.
+  std::vector<std::string> unit_warnings;
 };
 
 // Reads, translates and writes; ImportError (with the element's path) on
-// anything it cannot translate, before anything is written.
+// anything it cannot translate, before anything is written. Structural faults
+// (a connection between different dimensions, no time or membrane potential)
+// are refused always; unit inconsistencies inside equations only with
+// options.strict_units (all of them listed).
 ImportResult import_cellml(const ImportOptions& options);
 
 }  // namespace fibrodem::cellml
