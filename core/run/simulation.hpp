@@ -1,7 +1,7 @@
 // A Simulation sets up a scene (tissue, populations, coupling, stimulus,
 // integrator, observers: everything the scene's effects call for and nothing
 // else), runs it, and writes the output directory as it goes:
-//   summary.json, biomarkers.csv, traces.csv, run.log   (DESIGN.md)
+//   summary.json, biomarkers.csv, traces.csv, run.log   (docs/architecture.md, "Outputs")
 // Setting up checks what only the plugins and the built tissue can tell (model,
 // variant and parameter names, stimulus targets, traced variables) and throws
 // ManifestError naming the JSON path.
