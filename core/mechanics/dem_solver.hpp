@@ -1,4 +1,5 @@
-// `dem`: the seed paper's DEM tissue mechanics (REFERENCES.md 2.1-2.10).
+// `dem`: the seed paper's DEM tissue mechanics (docs/references.md, "DEM
+// tissue mechanics").
 //
 // Bodies: a myocyte is a rigid clump of its N collinear particles (centroid,
 // angle, velocity, spin; mass and polar inertia of the union of its disks at
@@ -31,7 +32,8 @@
 // Stable step: safety x min over free bodies of sqrt(m / k_t), sqrt(I / k_r),
 // k_t = sum (kn' + ks'), k_r = sum kn' (rho x n)^2 + ks' (rho x t)^2 over the
 // body's bonds, rho from its centroid to the contact point, k' the law's
-// dashpot-corrected stiffness (REFERENCES.md 2.4), at rest geometry.
+// dashpot-corrected stiffness (docs/references.md, "DEM tissue mechanics",
+// the stable step), at rest geometry.
 //
 // Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
@@ -41,11 +43,18 @@
 // per particle and body in a fixed order (contact_incidence.hpp) and kicks
 // the body. Deterministic: the same bits
 // for any number of threads; no allocation per step.
+//
+// Files: dem_bodies.cpp (bodies built from the tissue), dem_reshape.cpp
+// (clump shapes at the cells' length ratios), dem_solver.cpp (the step and
+// its fused move loop), dem_step_inline.hpp (the per-body pieces it inlines),
+// dem_contacts.cpp (bonds and the contact list), dem_contact_forces.cpp,
+// dem_stable_step.cpp, dem_strain.cpp, dem_checkpoint.cpp.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mechanics/clump_geometry.hpp"
@@ -112,6 +121,9 @@ class DemSolver final : public MechanicsSolver {
     ContactDetector::FitSums fit;
   };
   static constexpr std::size_t kStepParts = 64;  // fixed by the tissue, not the threads
+  void add_bodies(const Tissue& tissue);
+  void index_particles();
+  std::vector<std::pair<int, int>> form_bonds(const Tissue& tissue);
   void kick_body(std::size_t b, double h_s);
   void drift_and_reshape(std::size_t b, double dt_s);
   void place_particles_of(std::size_t b);
