@@ -1,4 +1,4 @@
-// The run's outputs (docs/architecture.md, "Outputs"): the output folder's
+// The run's outputs (docs/reference/outputs.md): the output folder's
 // files opened (or continued, after a checkpoint), run.log, trace samples,
 // biomarkers.csv, pictures and snapshots on the writer's thread, the progress
 // line, and the report.
