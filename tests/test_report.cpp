@@ -75,6 +75,19 @@ TEST_CASE("report pieces: thinning keeps each bucket's extremes, in time order")
   CHECK(y_out == std::vector<double>{5, 6});
 }
 
+TEST_CASE("report pieces: a trace panel's y axis names the variable's unit where it is known") {
+  CsvTable traces;
+  traces.header = {"t_ms", "V_0", "V_1", "Ca_i_0", "eps_xx"};
+  traces.rows = {{"0", "-80", "-50", "0.0001", "0"}, {"1", "-79", "-50", "0.0002", "0.01"}};
+  const auto panels = trace_panels(traces, {}, {{"V", "mV"}, {"Ca_i", "mM"}, {"eps_xx", "1"}});
+  REQUIRE(panels.size() == 3);
+  CHECK(panels[0].y_label == "V [mV]");
+  CHECK(panels[0].series.size() == 2);
+  CHECK(panels[1].y_label == "Ca_i [mM]");
+  CHECK(panels[2].y_label == "eps_xx [1]");
+  CHECK(trace_panels(traces, {})[0].y_label == "V");  // no unit known: the name alone
+}
+
 TEST_CASE("report pieces: biomarker spread per type, checked against values by hand") {
   CsvTable table;
   table.header = {"cell", "type", "beat", "apd90_ms", "rmp_mV"};
@@ -115,6 +128,9 @@ TEST_CASE("a run writes report.html with its cost in summary.json, and output.re
   CHECK(page.find("R_GOhm = 10.7") != std::string::npos);
   const json summary = json::parse(testing::read_file(dir / "on" / "summary.json"));
   CHECK(summary["report_time_s"].get<double>() > 0);
+  // The V axis carries the unit the plugin declares for its state V
+  // (passive_fibroblast: mV), through summary.json's trace_units.
+  CHECK(summary["trace_units"]["V"] == "mV");
   CHECK(testing::read_file(dir / "on" / "run.log").find("report.html written in") != std::string::npos);
 
   m["output"]["report"] = false;

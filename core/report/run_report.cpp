@@ -223,7 +223,11 @@ void traces_section(HtmlDocument& page, const RunFolder& f) {
     return;
   }
   const auto types = f.biomarkers ? cell_types(*f.biomarkers) : std::map<int, std::string>{};
-  const auto panels = trace_panels(*f.traces, types);
+  std::map<std::string, std::string> units;
+  if (f.summary.is_object() && f.summary.contains("trace_units") && f.summary["trace_units"].is_object())
+    for (const auto& [variable, unit] : f.summary["trace_units"].items())
+      if (unit.is_string()) units[variable] = unit.get<std::string>();
+  const auto panels = trace_panels(*f.traces, types, units);
   for (std::size_t k = 0; k < panels.size(); ++k)
     page.svg_figure(panels[k].title, plot_of({panels[k]}, 1, 340, "trace" + std::to_string(k) + "-"));
 }

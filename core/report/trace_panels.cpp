@@ -39,7 +39,8 @@ void thin_min_max(const std::vector<double>& t, const std::vector<double>& y, st
   }
 }
 
-std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, std::string>& types) {
+std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, std::string>& types,
+                                    const std::map<std::string, std::string>& units) {
   const auto time_column = traces.column("t_ms");
   if (!time_column || traces.rows.empty()) return {};
   const std::vector<double> t = traces.numbers(*time_column);
@@ -51,7 +52,10 @@ std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, 
     const TraceColumn column = parse_trace_column(traces.header[c]);
     if (!panel_of.count(column.variable)) {
       panel_of[column.variable] = panels.size();
-      panels.push_back({column.variable, "t [ms]", column.variable, false, false, {}, {}});
+      const auto unit = units.find(column.variable);
+      const bool has_unit = unit != units.end() && !unit->second.empty();
+      panels.push_back({column.variable, "t [ms]", column.variable + (has_unit ? " [" + unit->second + "]" : ""),
+                        false, false, {}, {}});
     }
     PlotPanel& panel = panels[panel_of[column.variable]];
     if (panel.series.size() == kMostSeriesPerPanel) {

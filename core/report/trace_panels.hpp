@@ -29,8 +29,11 @@ inline constexpr std::size_t kMostSeriesPerPanel = 10;
 inline constexpr std::size_t kMostPoints = 3000;
 
 // `types`: cell index -> type name, for the legend (cells not in it are
-// labelled by index alone).
-std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, std::string>& types);
+// labelled by index alone). `units`: variable -> unit (summary.json
+// "trace_units"), for the y axis ("V [mV]"); a variable not in it is
+// labelled by its name alone.
+std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, std::string>& types,
+                                    const std::map<std::string, std::string>& units = {});
 
 // The min-max thinning described above (exposed for its test).
 void thin_min_max(const std::vector<double>& t, const std::vector<double>& y, std::size_t most_points,

@@ -114,6 +114,7 @@ json run_summary(const RunFacts& f) {
   s["cells"] = {{"myocyte", myocytes}, {"fibroblast", fibroblasts}};
   s["fm_ratio"] = myocytes ? json(static_cast<double>(fibroblasts) / static_cast<double>(myocytes))
                            : json(nullptr);
+  if (!f.trace_units.empty()) s["trace_units"] = f.trace_units;
   s["mean_biomarkers"] = mean_biomarkers(f.beats);
   s["conduction"] = conduction(f.tissue, f.system.stimulus, f.beats, f.scene.output.cv_method);
   s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];

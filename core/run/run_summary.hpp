@@ -58,6 +58,7 @@ struct RunFacts {
   // output.checkpoint: the last written ({file, time_ms}), and the one a
   // resumed run started from (null when none).
   json last_checkpoint = nullptr, resumed_from = nullptr;
+  json trace_units = json::object();  // traced variable -> unit (TraceRecorder::units)
 };
 
 json run_summary(const RunFacts& facts);

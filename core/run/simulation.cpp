@@ -214,7 +214,8 @@ json Simulation::Impl::summary() const {
                       .integrator_seconds = integrator_seconds,
                       .set_up_seconds = set_up_seconds,
                       .last_checkpoint = last_checkpoint,
-                      .resumed_from = resumed_from});
+                      .resumed_from = resumed_from,
+                      .trace_units = traces.units()});
 }
 
 Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> registry, RunOptions options)

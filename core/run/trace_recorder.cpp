@@ -30,7 +30,10 @@ bool find_column(const Population& pop, TraceColumn& col) {
   col.index = find_state(pop.info(), col.variable);
   col.is_output = col.index < 0;
   if (col.is_output) col.index = find_output(pop.info(), col.variable);
-  return col.index >= 0;
+  if (col.index < 0) return false;
+  col.unit = col.is_output ? pop.info().outputs[static_cast<std::size_t>(col.index)].unit
+                           : pop.info().states[static_cast<std::size_t>(col.index)].unit;
+  return true;
 }
 
 }  // namespace
@@ -40,10 +43,10 @@ TraceRecorder::TraceRecorder(const Scene& scene, CellSystem& system, bool with_m
       every_ms_(scene.output.traces.every_ms),
       until_ms_(scene.duration_ms) {
   if (with_mechanics)  // the tissue strain is always traced with mechanics
-    for (int k = 0; k < 3; ++k) columns_.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k});
+    for (int k = 0; k < 3; ++k) columns_.push_back({kStrainNames[k], 0, 0, 0, false, false, 0, k, false, "1"});
   const auto vars = scene.output.traces.all_variables();
   if (std::find(vars.begin(), vars.end(), kStepVariable) != vars.end())
-    columns_.push_back({kStepVariable, 0, 0, 0, false, false, 0, -1, true});
+    columns_.push_back({kStepVariable, 0, 0, 0, false, false, 0, -1, true, "ms"});
   for (const auto& block : scene.output.traces.blocks) add_cell_columns(block, system, with_mechanics, contraction);
   samples_.assign(columns_.size(), {});
   if (scene.solver.fixed_step()) check_sampling_grid(scene.output.traces, scene.solver);
@@ -165,6 +168,13 @@ std::vector<std::string> TraceRecorder::column_names() const {
   std::vector<std::string> names;
   for (const auto& c : columns_) names.push_back(c.name());
   return names;
+}
+
+json TraceRecorder::units() const {
+  json units = json::object();
+  for (const auto& c : columns_)
+    if (!units.contains(c.variable)) units[c.variable] = c.unit;
+  return units;
 }
 
 const std::vector<double>& TraceRecorder::trace(const std::string& variable, int cell) const {

@@ -28,6 +28,7 @@ struct TraceColumn {
   int index = 0;
   int strain = -1;           // >= 0: the tissue strain component (no cell)
   bool step = false;         // the integrator's last step, dt_ms (no cell)
+  std::string unit;          // as the model declares it ("mV", "mM"); "1" for strain
   std::string name() const { return strain >= 0 || step ? variable : variable + "_" + std::to_string(cell); }
 };
 
@@ -58,6 +59,9 @@ class TraceRecorder {
 
   const std::vector<TraceColumn>& columns() const { return columns_; }
   std::vector<std::string> column_names() const;
+  // Each traced variable's unit, as the models declare it (summary.json
+  // "trace_units", so a plot of traces.csv can label its axes).
+  json units() const;
   const std::vector<double>& times() const { return times_; }
   const std::vector<std::vector<double>>& samples() const { return samples_; }
   // Samples of a traced variable of a cell (the tissue-wide strain and dt_ms:
