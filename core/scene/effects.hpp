@@ -1,6 +1,7 @@
-// Which processes a scene needs (DESIGN.md: "simulate only what the scene
-// calls for"). A manifest may list its `effects`; otherwise they follow from
-// what it records. Each built process carries the reason it was built.
+// Which processes a scene needs (docs/architecture.md#effects-and-processes:
+// simulate only what the scene calls for). A manifest may list its
+// `effects`; otherwise they follow from what it records. Each built process
+// carries the reason it was built.
 #pragma once
 
 #include <string>

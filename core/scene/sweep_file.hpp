@@ -1,4 +1,4 @@
-// A sweep file (DESIGN.md, "Manifest"): a manifest run over the Cartesian
+// A sweep file (docs/reference/sweep_file.md): a manifest run over the Cartesian
 // product of parameter values.
 //   { "fibrodem_sweep": 1,
 //     "manifest": "cell_pair_active.json",          (relative to the sweep file)
