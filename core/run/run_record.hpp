@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "measure/biomarkers.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 

@@ -13,7 +13,7 @@
 #include "measure/biomarkers.hpp"
 #include "model/plugin_registry.hpp"
 #include "scene/effects.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"
 

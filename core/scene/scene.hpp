@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "mechanics/dem_spec.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 #include "tissue/tissue_builder.hpp"
 
 namespace fibrodem {
