@@ -38,6 +38,7 @@
 #include "io/csv_writer.hpp"
 #include "io/plot_png.hpp"
 #include "measure/accuracy.hpp"
+#include "run/run_record.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {
