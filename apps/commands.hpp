@@ -104,6 +104,13 @@ int bench_accuracy_command(const BenchAccuracyArgs& args);
 CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& args);
 int bench_headline_command(const BenchHeadlineArgs& args);
 int import_cellml_command(const cellml::ImportOptions& options);
+// `fibrodem schema [--markdown|--json] [manifest|sweep]`: the manifest's or
+// sweep file's JSON Schema, or its reference in Markdown (docs/reference/).
+struct SchemaArgs {
+  std::string format = "markdown";  // markdown | json
+  std::string kind = "manifest";    // manifest | sweep
+};
+int schema_command(const SchemaArgs& args);
 CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& options);
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
 

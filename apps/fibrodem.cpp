@@ -106,6 +106,12 @@ int main(int argc, char** argv) {
   fibrodem::cellml::ImportOptions import_args;
   auto* import_cellml = fibrodem::cli::add_import_cellml_subcommand(app, import_args);
 
+  fibrodem::cli::SchemaArgs schema_args;
+  auto* schema = app.add_subcommand("schema", "Print the JSON Schema of the manifest or the sweep file, or its reference in Markdown");
+  schema->add_flag_callback("--markdown", [&] { schema_args.format = "markdown"; }, "the reference in Markdown (the default)");
+  schema->add_flag_callback("--json", [&] { schema_args.format = "json"; }, "the JSON Schema itself");
+  schema->add_option("kind", schema_args.kind, "manifest (the default) or sweep")->check(CLI::IsMember({"manifest", "sweep"}));
+
   CLI11_PARSE(app, argc, argv);
 
   if (*run) return fibrodem::cli::run_command(run_args);
@@ -116,6 +122,7 @@ int main(int argc, char** argv) {
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
+  if (*schema) return fibrodem::cli::schema_command(schema_args);
   if (*import_cellml) return fibrodem::cli::import_cellml_command(import_args);
   if (*check_plugin) return fibrodem::cli::check_plugin_command(check_plugin_target);
   if (*new_model) return fibrodem::cli::new_model_command(new_model_args);

@@ -1,10 +1,13 @@
 // `fibrodem run` and `fibrodem validate`.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "apps/commands.hpp"
 #include "report/run_report.hpp"
@@ -19,6 +22,21 @@ Scene load_scene(const RunArgs& args) {
   json manifest = read_manifest_file(args.manifest);
   for (const auto& assignment : args.overrides) apply_override(manifest, assignment);
   return parse_scene(manifest);
+}
+
+// What a finished run left in its folder, as one line: every file and folder
+// at its top (report.html, maps/, snapshots/ and checkpoints/ among them when
+// the scene asked for them), so the line never names a file that was not
+// written, nor leaves out one that was.
+void print_outputs(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, error))
+    names.push_back(entry.path().filename().string() + (entry.is_directory() ? "/" : ""));
+  std::sort(names.begin(), names.end());
+  std::cout << "outputs: " << dir.string() << "/{";
+  for (std::size_t i = 0; i < names.size(); ++i) std::cout << (i ? "," : "") << names[i];
+  std::cout << "}\n";
 }
 
 }  // namespace
@@ -37,7 +55,7 @@ int run_command(const RunArgs& args) {
     Simulation simulation(scene, nullptr, options);
     install_interrupt_handlers();  // SIGINT / SIGTERM end the run at the end of a step, outputs kept
     simulation.run();
-    std::cout << "outputs: " << scene.output.dir << "/{summary.json,biomarkers.csv,traces.csv,run.log}\n";
+    print_outputs(scene.output.dir);
     return 0;
   });
 }
@@ -76,7 +94,7 @@ int resume_command(const ResumeArgs& args) {
     }
     install_interrupt_handlers();
     simulation.run();
-    std::cout << "outputs: " << args.dir << "/{summary.json,biomarkers.csv,traces.csv,run.log}\n";
+    print_outputs(args.dir);
     return 0;
   });
 }

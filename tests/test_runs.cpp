@@ -47,7 +47,7 @@ TEST_CASE("the same manifest run twice gives byte-identical traces and biomarker
   }
 }
 
-TEST_CASE("the output directory holds what DESIGN.md names, with the summary's fields") {
+TEST_CASE("the output directory holds what docs/reference/outputs.md names, with the summary's fields") {
   const auto dir = testing::scratch_dir("outputs");
   run_to(passive_strand(4, 1.0), dir);
   for (const char* file : {"summary.json", "biomarkers.csv", "traces.csv", "run.log"})

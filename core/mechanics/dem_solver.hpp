@@ -41,11 +41,18 @@
 // per particle and body in a fixed order (contact_incidence.hpp) and kicks
 // the body. Deterministic: the same bits
 // for any number of threads; no allocation per step.
+//
+// Files: dem_bodies.cpp (bodies built from the tissue), dem_reshape.cpp
+// (clump shapes at the cells' length ratios), dem_solver.cpp (the step and
+// its fused move loop), dem_step_inline.hpp (the per-body pieces it inlines),
+// dem_contacts.cpp (bonds and the contact list), dem_contact_forces.cpp,
+// dem_stable_step.cpp, dem_strain.cpp, dem_checkpoint.cpp.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mechanics/clump_geometry.hpp"
@@ -112,6 +119,9 @@ class DemSolver final : public MechanicsSolver {
     ContactDetector::FitSums fit;
   };
   static constexpr std::size_t kStepParts = 64;  // fixed by the tissue, not the threads
+  void add_bodies(const Tissue& tissue);
+  void index_particles();
+  std::vector<std::pair<int, int>> form_bonds(const Tissue& tissue);
   void kick_body(std::size_t b, double h_s);
   void drift_and_reshape(std::size_t b, double dt_s);
   void place_particles_of(std::size_t b);

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include "integrate/integrator.hpp"
+#include "scene/schema/schema_check.hpp"
 
 #include <fstream>
 #include <optional>
@@ -359,6 +360,9 @@ Scene parse_scene(const json& manifest) {
   }
   scene.plugin_path = read_plugin_path(top);
   top.finish();
+  // After the reader's own checks (their messages are the more specific): a
+  // manifest the reader takes must also satisfy the published schema.
+  check_against_schema(SchemaKind::manifest, manifest);
   return scene;
 }
 

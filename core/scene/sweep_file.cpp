@@ -4,6 +4,7 @@
 
 #include "util/manifest_error.hpp"
 #include "scene/scene.hpp"
+#include "scene/schema/schema_check.hpp"
 
 namespace fibrodem {
 
@@ -87,6 +88,7 @@ SweepFile read_sweep(const json& sweep, const std::function<json(const std::stri
   const json& manifest_seed = file.base.contains("seed") ? file.base["seed"] : json(0);
   file.seeds = read_seeds(r, manifest_seed.is_number_integer() ? manifest_seed.get<long long>() : 0);
   r.finish();
+  check_against_schema(SchemaKind::sweep, sweep);  // after the reader's own, more specific, checks
   const std::vector<SweepValues> grid_points = expand_grid(grid, file.seeds.empty() ? 1.0 : double(file.seeds.size()));
   for (const auto& point : grid_points) {
     if (file.seeds.empty()) file.points.push_back(point);

@@ -7,6 +7,7 @@ namespace fibrodem {
 
 namespace {
 const json kAbsent;
+thread_local KeyReadLog* active_key_log = nullptr;
 
 std::string range_text(double min, double max) {
   std::ostringstream s;
@@ -39,8 +40,16 @@ JsonReader::JsonReader(const json& object, std::string path)
     throw ManifestError(path_, "expected an object, got " + describe_json(object_));
 }
 
-const json& JsonReader::require(const std::string& key) {
+KeyReadLog::KeyReadLog() : previous_(active_key_log) { active_key_log = this; }
+KeyReadLog::~KeyReadLog() { active_key_log = previous_; }
+
+void JsonReader::mark_read(const std::string& key) {
   read_.insert(key);
+  if (active_key_log) active_key_log->add(path_, key);
+}
+
+const json& JsonReader::require(const std::string& key) {
+  mark_read(key);
   if (!object_.contains(key)) throw ManifestError(path_of(key), "required value is missing");
   return object_.at(key);
 }
@@ -48,7 +57,7 @@ const json& JsonReader::require(const std::string& key) {
 double JsonReader::number(const std::string& key, std::optional<double> fallback, double min,
                           double max) {
   if (!has(key) && fallback) {
-    read_.insert(key);
+    mark_read(key);
     return *fallback;
   }
   const json& v = require(key);
@@ -65,7 +74,7 @@ double JsonReader::number(const std::string& key, std::optional<double> fallback
 long long JsonReader::integer(const std::string& key, std::optional<long long> fallback,
                               long long min, long long max) {
   if (!has(key) && fallback) {
-    read_.insert(key);
+    mark_read(key);
     return *fallback;
   }
   const json& v = require(key);
@@ -81,7 +90,7 @@ long long JsonReader::integer(const std::string& key, std::optional<long long> f
 
 bool JsonReader::boolean(const std::string& key, std::optional<bool> fallback) {
   if (!has(key) && fallback) {
-    read_.insert(key);
+    mark_read(key);
     return *fallback;
   }
   const json& v = require(key);
@@ -95,7 +104,7 @@ std::string JsonReader::text(const std::string& key, std::optional<std::string> 
   std::string list;
   for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
   if (!has(key) && fallback) {
-    read_.insert(key);
+    mark_read(key);
     return *fallback;
   }
   const json& v = require(key);
@@ -110,7 +119,7 @@ std::string JsonReader::text(const std::string& key, std::optional<std::string> 
 
 std::vector<std::string> JsonReader::text_list(const std::string& key,
                                                std::vector<std::string> fallback) {
-  read_.insert(key);
+  mark_read(key);
   if (!has(key)) return fallback;
   const json& v = object_.at(key);
   if (!v.is_array())
@@ -125,7 +134,7 @@ std::vector<std::string> JsonReader::text_list(const std::string& key,
 }
 
 const json& JsonReader::raw(const std::string& key) {
-  read_.insert(key);
+  mark_read(key);
   return has(key) ? object_.at(key) : kAbsent;
 }
 

@@ -45,10 +45,30 @@ class JsonReader {
 
  private:
   const json& require(const std::string& key);
+  void mark_read(const std::string& key);
 
   const json& object_;
   std::string path_;
   std::set<std::string> read_;
+};
+
+// Records every (JSON path of an object, key) that a JsonReader on this
+// thread reads (with or without a value in the manifest) while it lives, so
+// that a test can compare the keys the code reads with those the schema
+// lists (tests/test_manifest_schema.cpp). Logs nest: the newest records.
+class KeyReadLog {
+ public:
+  KeyReadLog();
+  ~KeyReadLog();
+  KeyReadLog(const KeyReadLog&) = delete;
+  KeyReadLog& operator=(const KeyReadLog&) = delete;
+
+  void add(const std::string& object_path, const std::string& key) { keys_.emplace(object_path, key); }
+  const std::set<std::pair<std::string, std::string>>& keys() const { return keys_; }
+
+ private:
+  std::set<std::pair<std::string, std::string>> keys_;
+  KeyReadLog* previous_;
 };
 
 }  // namespace fibrodem

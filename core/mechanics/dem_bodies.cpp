@@ -1,0 +1,224 @@
+// The DEM's bodies (dem_solver.hpp, "Bodies"): myocyte clumps and fibroblast
+// disks built from the tissue, their particles, and what they tell.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mechanics/dem_solver.hpp"
+#include "mechanics/dem_step_inline.hpp"
+#include "mechanics/dem_units.hpp"
+
+namespace fibrodem {
+
+DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(make_contact_law(spec)) {
+  add_bodies(t);
+  index_particles();
+  const std::vector<std::pair<int, int>> bonded = form_bonds(t);
+  law_->prepare(bonds_);
+  if (spec_.contact_detection) {
+    detector_ = std::make_unique<ContactDetector>(pbody_, bonded, spec_.contact_skin_um * kUm);
+    rebuild_contacts();
+  } else {
+    index_contacts();
+    compute_stable_step();
+  }
+  bonded_stable_step_ms_ = stable_step_ms_;
+  if (spec_.dt_ms > stable_step_ms_)
+    throw std::invalid_argument("mechanics.dt_ms " + dem_number(spec_.dt_ms) + " ms exceeds the stable DEM step " +
+                                dem_number(stable_step_ms_) + " ms");
+}
+
+// A body per fibroblast particle and per myocyte (the clump of its
+// particles), in order of their first particle.
+void DemSolver::add_bodies(const Tissue& t) {
+  cells_ = t.cell_count();
+  const std::size_t np = t.particles.size();
+  const double rho = spec_.density_kg_per_m3;  // x 1 m thickness
+  cell_body_.assign(cells_, -1);
+  pbody_.assign(np, -1);
+  pa_.assign(np, 0.0);
+
+  // Particles of each myocyte, in tissue order.
+  std::vector<std::vector<int>> members(cells_);
+  for (std::size_t i = 0; i < np; ++i) {
+    const int c = t.particles[i].cell;
+    if (c < 0 || static_cast<std::size_t>(c) >= cells_)
+      throw std::invalid_argument("particle " + std::to_string(i) + " belongs to no cell");
+    members[c].push_back(static_cast<int>(i));
+  }
+
+  auto add_body = [&](int cell, bool clump, double x, double y, double theta, int n, double r0,
+                      double s0, double mass, double inertia, bool fixed) {
+    bx_.push_back(x);
+    by_.push_back(y);
+    bth_.push_back(theta);
+    bcell_.push_back(cell);
+    bclump_.push_back(clump);
+    bfixed_.push_back(fixed);
+    mass_.push_back(mass);
+    inertia_.push_back(inertia);
+    inv_m_.push_back(fixed ? 0.0 : 1 / mass);
+    inv_i_.push_back(fixed ? 0.0 : 1 / inertia);
+    brest_.push_back(clump_rest(spec_.area_rule, n, r0, s0));
+    br_.push_back(r0);
+    bs_.push_back(s0);
+    blambda_.push_back(1.0);
+    btarget_r_.push_back(r0);
+    btarget_s_.push_back(s0);
+    return static_cast<int>(bx_.size()) - 1;
+  };
+
+  // One shape (all the paper's myocytes) -> mass properties computed once.
+  struct ShapeProps {
+    int n;
+    double r, s, area, moment;
+  };
+  std::vector<ShapeProps> shapes;
+  auto props = [&](int n, double r, double s) {
+    for (const auto& p : shapes)
+      if (p.n == n && std::abs(p.r - r) <= 1e-12 * r && std::abs(p.s - s) <= 1e-12 * std::max(s, r)) return p;
+    shapes.push_back({n, r, s, union_area(n, r, s), union_polar_moment(n, r, s)});
+    return shapes.back();
+  };
+
+  for (std::size_t i = 0; i < np; ++i) {
+    const Particle& p = t.particles[i];
+    const int c = p.cell;
+    if (t.type[c] == CellType::fibroblast) {
+      const double r = p.r_um * kUm;
+      const double m = rho * M_PI * r * r;
+      pbody_[i] = add_body(c, false, p.x_um * kUm, p.y_um * kUm, 0.0, 1, r, 0.0, m, 0.5 * m * r * r,
+                           spec_.fibroblasts_fixed);
+      continue;
+    }
+    if (cell_body_[c] >= 0) continue;
+    // A myocyte: the clump of all its particles.
+    const auto& ids = members[c];
+    const int n = static_cast<int>(ids.size());
+    const std::string where = "myocyte cell " + std::to_string(c) + ": ";
+    const double r0_um = t.particles[ids[0]].r_um;
+    double cx = 0, cy = 0;
+    for (int id : ids) {
+      if (std::abs(t.particles[id].r_um - r0_um) > 1e-9 * r0_um)
+        throw std::invalid_argument(where + "particles of different radii");
+      cx += t.particles[id].x_um;
+      cy += t.particles[id].y_um;
+    }
+    cx /= n;
+    cy /= n;
+    double ux = 0, uy = 1, s0_um = 0;
+    if (n > 1) {
+      const Particle &a = t.particles[ids.front()], &b = t.particles[ids.back()];
+      const double len = std::hypot(b.x_um - a.x_um, b.y_um - a.y_um);
+      if (!(len > 0)) throw std::invalid_argument(where + "particles at one point");
+      ux = (b.x_um - a.x_um) / len;
+      uy = (b.y_um - a.y_um) / len;
+      double amin = 0, amax = 0;
+      for (int id : ids) {
+        const double dx = t.particles[id].x_um - cx, dy = t.particles[id].y_um - cy;
+        const double along = dx * ux + dy * uy, across = dx * uy - dy * ux;
+        if (std::abs(across) > 1e-6 * len) throw std::invalid_argument(where + "particles not collinear");
+        amin = std::min(amin, along);
+        amax = std::max(amax, along);
+      }
+      s0_um = (amax - amin) / (n - 1);
+      for (int id : ids) {
+        const double dx = t.particles[id].x_um - cx, dy = t.particles[id].y_um - cy;
+        const double k = (dx * ux + dy * uy) / s0_um;
+        const double k_round = std::round(k + 0.5 * (n - 1)) - 0.5 * (n - 1);
+        if (std::abs(k - k_round) > 1e-6) throw std::invalid_argument(where + "particles not equally spaced");
+        pa_[id] = k_round;
+      }
+    }
+    const double r0 = r0_um * kUm, s0 = s0_um * kUm;
+    const ShapeProps sp = props(n, r0, s0);
+    const int b = add_body(c, true, cx * kUm, cy * kUm, std::atan2(-ux, uy), n, r0, s0, rho * sp.area,
+                           rho * sp.moment, false);
+    cell_body_[c] = b;
+    for (int id : ids) pbody_[id] = b;
+  }
+}
+
+// The bodies at rest, their particles placed (each body's particles listed,
+// CSR), the step's fixed parts, and the particles' centre (the origin of the
+// strain sums).
+void DemSolver::index_particles() {
+  const std::size_t nb = bx_.size(), np = pbody_.size();
+  bvx_.assign(nb, 0.0);
+  bvy_.assign(nb, 0.0);
+  bw_.assign(nb, 0.0);
+  bfx_.assign(nb, 0.0);
+  bfy_.assign(nb, 0.0);
+  btq_.assign(nb, 0.0);
+  bsdot_.assign(nb, 0.0);
+  bux_.resize(nb);
+  buy_.resize(nb);
+  next_r_.resize(nb);
+  next_s_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    bux_[b] = -std::sin(bth_[b]);
+    buy_[b] = std::cos(bth_[b]);
+  }
+  for (auto* v : {&px_, &py_, &px_old_, &py_old_, &pvx_, &pvy_, &pr_, &pw_}) v->assign(np, 0.0);
+  body_particle_start_.assign(nb + 1, 0);
+  for (std::size_t i = 0; i < np; ++i) ++body_particle_start_[pbody_[i] + 1];
+  for (std::size_t b = 0; b < nb; ++b) body_particle_start_[b + 1] += body_particle_start_[b];
+  body_particle_.resize(np);
+  {
+    std::vector<int> fill(body_particle_start_.begin(), body_particle_start_.end() - 1);
+    for (std::size_t i = 0; i < np; ++i) body_particle_[fill[pbody_[i]]++] = static_cast<int>(i);
+  }
+  for (std::size_t b = 0; b < nb; ++b) place_particles_of(b);
+  // The step's fixed parts: runs of whole bodies with about np / kStepParts particles.
+  part_first_body_.resize(kStepParts + 1);
+  for (std::size_t k = 0; k <= kStepParts; ++k)
+    part_first_body_[k] = static_cast<std::size_t>(
+        std::lower_bound(body_particle_start_.begin(), body_particle_start_.end() - 1,
+                         static_cast<int>(np * k / kStepParts)) -
+        body_particle_start_.begin());
+  for (std::size_t i = 0; i < np; ++i) {
+    origin_x_ += px_[i] / static_cast<double>(np);
+    origin_y_ += py_[i] / static_cast<double>(np);
+  }
+}
+
+const std::vector<Particle>& DemSolver::particles() const {
+  if (out_dirty_) {
+    out_.resize(pbody_.size());
+    for (std::size_t i = 0; i < pbody_.size(); ++i) {
+      const int b = pbody_[i];
+      out_[i] = Particle{px_[i] / kUm, py_[i] / kUm, br_[b] / kUm, bcell_[b]};
+    }
+    out_dirty_ = false;
+  }
+  return out_;
+}
+
+DemSolver::BodyState DemSolver::body(std::size_t b) const {
+  return {bx_[b], by_[b], bth_[b], bvx_[b], bvy_[b], bw_[b], mass_[b], inertia_[b],
+          bcell_[b], bclump_[b] != 0, bfixed_[b] != 0};
+}
+
+void DemSolver::set_body_velocity(std::size_t b, double vx, double vy, double w) {
+  if (bfixed_[b]) return;
+  bvx_[b] = vx;
+  bvy_[b] = vy;
+  bw_[b] = w;
+}
+
+ClumpShape DemSolver::cell_shape_um(int cell) const {
+  const int b = cell_body_.at(cell);
+  if (b < 0) return {0, 0};
+  return {br_[b] / kUm, bs_[b] / kUm};
+}
+
+double DemSolver::kinetic_energy_J() const {
+  double e = 0;
+  for (std::size_t b = 0; b < bx_.size(); ++b)
+    e += 0.5 * mass_[b] * (bvx_[b] * bvx_[b] + bvy_[b] * bvy_[b]) + 0.5 * inertia_[b] * bw_[b] * bw_[b];
+  return e;
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,95 @@
+// The DEM's checkpoint (MechanicsSolver::save and load): every array that
+// evolves, both contact sets whole, the contact list's state and the clock.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mechanics/dem_solver.hpp"
+
+namespace fibrodem {
+
+template <class Self, class F>
+void DemSolver::for_each_evolving_array(Self& self, F&& f) {
+  // Bodies: pose, velocity, force, and the clump's shape on its way to the target.
+  f("dem.body.x", self.bx_), f("dem.body.y", self.by_), f("dem.body.theta", self.bth_);
+  f("dem.body.vx", self.bvx_), f("dem.body.vy", self.bvy_), f("dem.body.omega", self.bw_);
+  f("dem.body.fx", self.bfx_), f("dem.body.fy", self.bfy_), f("dem.body.torque", self.btq_);
+  f("dem.body.r", self.br_), f("dem.body.s", self.bs_), f("dem.body.sdot", self.bsdot_), f("dem.body.lambda", self.blambda_);
+  f("dem.body.target_r", self.btarget_r_), f("dem.body.target_s", self.btarget_s_), f("dem.body.ux", self.bux_), f("dem.body.uy", self.buy_);
+  // Particles, now and a step ago (the strain's half-step velocities).
+  f("dem.particle.x", self.px_), f("dem.particle.y", self.py_), f("dem.particle.x_old", self.px_old_), f("dem.particle.y_old", self.py_old_);
+  f("dem.particle.vx", self.pvx_), f("dem.particle.vy", self.pvy_), f("dem.particle.r", self.pr_), f("dem.particle.omega", self.pw_);
+}
+
+namespace {
+
+// A BondSet's every array (constants too: contacts come and go with the list).
+template <class Set, class F>
+void for_each_bond_array(Set& set, const std::string& prefix, F&& f) {
+  f(prefix + "p", set.p), f(prefix + "q", set.q), f(prefix + "kn", set.kn), f(prefix + "ks", set.ks);
+  f(prefix + "m_eff", set.m_eff), f(prefix + "ref_gap", set.ref_gap), f(prefix + "cn", set.cn), f(prefix + "cs", set.cs);
+  f(prefix + "kb", set.kb), f(prefix + "fn", set.fn), f(prefix + "fs", set.fs), f(prefix + "mb", set.mb);
+  f(prefix + "intact", set.intact);
+}
+
+void put_array(CheckpointFields& fields, const std::string& name, const std::vector<double>& v) { fields.put(name, v); }
+void put_array(CheckpointFields& fields, const std::string& name, const std::vector<int>& v) { fields.put(name, v); }
+void put_array(CheckpointFields& fields, const std::string& name, const std::vector<std::uint8_t>& v) {
+  fields.put_bytes(name, v.data(), v.size());
+}
+
+// Reads a field of `count` values (count < 0: as many as it has).
+void get_array(const CheckpointFields& fields, const std::string& name, std::vector<double>& v, long long count) {
+  v = fields.numbers(name, count);
+}
+void get_array(const CheckpointFields& fields, const std::string& name, std::vector<int>& v, long long count) {
+  v = fields.ints(name, count);
+}
+void get_array(const CheckpointFields& fields, const std::string& name, std::vector<std::uint8_t>& v,
+               long long count) {
+  v.resize(static_cast<std::size_t>(count));
+  fields.bytes(name, v.data(), v.size());
+}
+
+}  // namespace
+
+void DemSolver::save(CheckpointFields& fields) const {
+  for_each_evolving_array(*this, [&](const std::string& name, const std::vector<double>& v) { fields.put(name, v); });
+  for_each_bond_array(bonds_, "dem.bond.", [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
+  for_each_bond_array(contacts_, "dem.contact.",
+                      [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
+  if (detector_) detector_->save(fields);
+  fields.put("dem.clock", std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, strain_[0],
+                                              strain_[1], strain_[2]});
+}
+
+void DemSolver::load(const CheckpointFields& fields) {
+  for_each_evolving_array(*this, [&](const std::string& name, std::vector<double>& v) { fields.read_into(name, v); });
+  const long long bonds = static_cast<long long>(bonds_.size());
+  for_each_bond_array(bonds_, "dem.bond.",
+                      [&](const std::string& name, auto& v) { get_array(fields, name, v, bonds); });
+  const long long contacts = static_cast<long long>(fields.integers("dem.contact.p").size());
+  for_each_bond_array(contacts_, "dem.contact.",
+                      [&](const std::string& name, auto& v) { get_array(fields, name, v, contacts); });
+  const long long particles = static_cast<long long>(px_.size());
+  for (std::size_t k = 0; k < bonds_.size() + contacts_.size(); ++k) {
+    const BondSet& set = k < bonds_.size() ? bonds_ : contacts_;
+    const std::size_t i = k < bonds_.size() ? k : k - bonds_.size();
+    if (set.p[i] < 0 || set.p[i] >= particles || set.q[i] < 0 || set.q[i] >= particles)
+      throw CheckpointError("its DEM contact " + std::to_string(k) + " joins particles outside the tissue");
+  }
+  if (detector_) detector_->load(fields);
+  const auto clock = fields.numbers("dem.clock", 6);
+  // (A stable step far below the bonded tissue's own would stall the run:
+  // contacts never lower it that much.)
+  if (!(clock[2] >= 0.1 * bonded_stable_step_ms_ && clock[2] <= 1e3) || !(clock[1] >= 0 && clock[1] < 1e18))
+    throw CheckpointError("its DEM clock (steps, stable step) is out of range");
+  time_s_ = clock[0];
+  steps_ = static_cast<std::size_t>(clock[1]);
+  stable_step_ms_ = clock[2];
+  strain_ = {clock[3], clock[4], clock[5]};
+  index_contacts();
+  out_dirty_ = true;
+}
+
+}  // namespace fibrodem

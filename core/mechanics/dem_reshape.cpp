@@ -1,0 +1,73 @@
+// The myocytes' new shapes at the cells' length ratios (dem_solver.hpp,
+// "Bodies"): a clump contracts along its axis; its centroid and axis stay.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mechanics/dem_solver.hpp"
+#include "mechanics/dem_units.hpp"
+
+namespace fibrodem {
+
+void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
+  if (ratio.size() != cells_)
+    throw std::invalid_argument("set_cell_length_ratios: " + std::to_string(ratio.size()) +
+                                " ratios for " + std::to_string(cells_) + " cells");
+  // Each myocyte's new shape (cells are independent: in parallel), kept only
+  // if every ratio is in range and every shape exists; else the error of the
+  // first cell that fails, and nothing changed. Each thread takes the step's
+  // fixed parts of bodies, as move_bodies and the force sums do, so that a
+  // body's data stay in one core's cache from step to step (parts handed out
+  // as the threads come free would move between the cores).
+  const std::size_t none = cells_;
+  std::size_t failed = none;
+  std::string error;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < kStepParts; ++k)
+      for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+        if (!bclump_[b]) continue;  // a fibroblast keeps its disk
+        const auto c = static_cast<std::size_t>(bcell_[b]);
+        const double l = ratio[c];
+        if (!(l >= 0.5 && l <= 1.5)) {
+#pragma omp critical(dem_shape_error)
+          if (c < failed) {
+            failed = c;
+            error = "cell " + std::to_string(c) + ": length ratio " + dem_number(l) + " outside [0.5, 1.5]";
+          }
+          continue;
+        }
+        if (brest_[b].n < 2) continue;
+        next_r_[b] = btarget_r_[b];
+        next_s_[b] = btarget_s_[b];
+        if (l == blambda_[b]) continue;
+        try {
+          const ClumpShape shape = contracted_shape(spec_.area_rule, spec_.length_mode, brest_[b], l,
+                                                    btarget_r_[b]);
+          next_r_[b] = shape.r;
+          next_s_[b] = shape.s;
+        } catch (const std::invalid_argument& e) {
+#pragma omp critical(dem_shape_error)
+          if (c < failed) {
+            failed = c;
+            error = e.what();
+          }
+        }
+      }
+    // (After the loop's barrier every thread reads the same `failed`.)
+    if (failed == none) {
+#pragma omp for schedule(static) nowait
+      for (std::size_t k = 0; k < kStepParts; ++k)
+        for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+          if (!bclump_[b] || brest_[b].n < 2) continue;
+          blambda_[b] = ratio[static_cast<std::size_t>(bcell_[b])];
+          btarget_r_[b] = next_r_[b];
+          btarget_s_[b] = next_s_[b];
+        }
+    }
+  }
+  if (failed != none) throw std::invalid_argument(error);
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,74 @@
+// The per-body and per-particle pieces of a DEM step, defined here so that
+// the step's loops (the fused move loop in dem_solver.cpp, the closing kick
+// in dem_contact_forces.cpp) inline them. They are forced inline: GCC 12
+// kept them as calls, one per body or particle.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "mechanics/dem_solver.hpp"
+
+namespace fibrodem {
+
+// v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
+// local damping; alpha 0: plain Newton).
+[[gnu::always_inline]] inline void DemSolver::kick_body(std::size_t b, double h_s) {
+  if (bfixed_[b]) return;
+  const double alpha = spec_.local_damping;
+  auto damped = [alpha](double f, double v) {
+    return v > 0 ? f - alpha * std::abs(f) : v < 0 ? f + alpha * std::abs(f) : f;
+  };
+  bvx_[b] += damped(bfx_[b], bvx_[b]) * inv_m_[b] * h_s;
+  bvy_[b] += damped(bfy_[b], bvy_[b]) * inv_m_[b] * h_s;
+  bw_[b] += damped(btq_[b], bw_[b]) * inv_i_[b] * h_s;
+}
+
+// Drift at the half-step velocity, then the clump's shape at the length ratio
+// set for the step's end (its spacing's rate for the pebbles' slide) and its axis.
+[[gnu::always_inline]] inline void DemSolver::drift_and_reshape(std::size_t b, double dt_s) {
+  if (!bfixed_[b]) {
+    bx_[b] += bvx_[b] * dt_s;
+    by_[b] += bvy_[b] * dt_s;
+    bth_[b] += bw_[b] * dt_s;
+  }
+  bsdot_[b] = 0;
+  if (btarget_s_[b] != bs_[b] || btarget_r_[b] != br_[b]) {
+    bsdot_[b] = (btarget_s_[b] - bs_[b]) / dt_s;
+    bs_[b] = btarget_s_[b];
+    br_[b] = btarget_r_[b];
+  }
+  if (brest_[b].n < 2) return;  // a disk has no axis (its particle sits at its centre)
+  double sin_th, cos_th;
+  ::sincos(bth_[b], &sin_th, &cos_th);  // glibc: the same bits as sin() and cos(), in one call
+  bux_[b] = -sin_th;
+  buy_[b] = cos_th;
+}
+
+// Body b's particles at its pose and shape (the body's values read once:
+// stores to the particles' arrays could otherwise alias them).
+[[gnu::always_inline]] inline void DemSolver::place_particles_of(std::size_t b) {
+  const double x = bx_[b], y = by_[b], ux = bux_[b], uy = buy_[b], s = bs_[b], sdot = bsdot_[b];
+  const double vx = bvx_[b], vy = bvy_[b], w = bw_[b], r = br_[b];
+  for (int j = body_particle_start_[b]; j < body_particle_start_[b + 1]; ++j) {
+    const auto i = static_cast<std::size_t>(body_particle_[j]);
+    const double ox = pa_[i] * s * ux, oy = pa_[i] * s * uy;
+    px_[i] = x + ox;
+    py_[i] = y + oy;
+    // Velocity of the particle's centre: rigid motion plus its slide along the axis.
+    const double slide = pa_[i] * sdot;
+    pvx_[i] = vx - w * oy + slide * ux;
+    pvy_[i] = vy + w * ox + slide * uy;
+    pr_[i] = r;
+    pw_[i] = w;
+  }
+}
+
+// The terms of the fit alpha = (sum V~ x~^T)(sum x~ x~^T)^+ of one particle
+// or body: position x, y (from the tissue's centre) and velocity vx, vy.
+[[gnu::always_inline]] inline void DemSolver::add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy) {
+  const double terms[11] = {x, y, vx, vy, x * x, x * y, y * y, vx * x, vx * y, vy * x, vy * y};
+  for (std::size_t k = 0; k < 11; ++k) acc[k] += terms[k];
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,129 @@
+// Simulation's state, private to core/run/. Its member functions are in the
+// files of their concerns:
+//   simulation.cpp              the run's life cycle (set-up order, run, steps)
+//   simulation_assembly.cpp     the scene assembled: populations, coupling,
+//                               myofilaments, mechanics, solver, threads
+//   simulation_checkpoints.cpp  checkpoints written and a run resumed from one
+//   simulation_outputs.cpp      output files, run.log, snapshots, progress
+// and, on their own, mechanics_coupling.hpp (the cells driving the DEM) and
+// state_guard.hpp (state limits and blow-up diagnosis).
+#pragma once
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "integrate/cell_system.hpp"
+#include "integrate/integrator.hpp"
+#include "integrate/stability.hpp"
+#include "io/background_writer.hpp"
+#include "io/csv_writer.hpp"
+#include "run/checkpoint_dir.hpp"
+#include "run/mechanics_coupling.hpp"
+#include "run/resource_estimate.hpp"
+#include "run/run_clock.hpp"
+#include "run/simulation.hpp"
+#include "run/trace_recorder.hpp"
+
+namespace fibrodem {
+
+struct Simulation::Impl : StepObserver {
+  Scene scene;
+  RunOptions options;
+  std::shared_ptr<PluginRegistry> registry;
+  Tissue tissue;
+  ProcessPlan plan;
+  CellSystem system;
+  std::unique_ptr<Integrator> integrator;
+  std::shared_ptr<spdlog::logger> log;
+
+  TraceRecorder traces;
+  std::vector<BeatBiomarkers> beats;
+  std::unique_ptr<BiomarkerTracker> tracker;
+
+  std::filesystem::path out;
+  CsvWriter biomarkers_csv;
+  std::vector<std::string> warnings;  // found at set-up, logged when the run starts
+  StabilityEstimate stability;
+  std::string status = "set up";
+  std::string error;
+  double wall_s = 0;
+  long long steps = 0;
+  long long snapshots_taken = 0;
+  std::unique_ptr<MechanicsCoupling> mechanics;
+  std::chrono::steady_clock::time_point started, last_progress, last_flush;
+  double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
+  std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
+  double t_reached_ms = 0;    // the end of the last step taken
+  ResourceEstimate resources;
+  int interrupted_by = 0;     // the signal that stopped the run, if one did
+  // Checkpoints (output.checkpoint): their spacing (on the step grid of a
+  // fixed-step method), the state a resumed run starts from, and its time.
+  double checkpoint_every_ms = 0;
+  std::optional<FoundCheckpoint> resume_point;
+  double start_ms = 0;
+  json last_checkpoint, resumed_from;
+  // Fault injection for the tests of resume (FIBRODEM_TEST_KILL): SIGKILL at
+  // this step, or halfway through writing this checkpoint (1 = the first).
+  long long kill_at_step = -1, kill_in_checkpoint = -1, checkpoints_written = 0;
+  BackgroundWriter writer;  // the tissue picture and the snapshots
+
+  // ---- the life cycle (simulation.cpp) ----
+  Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o);
+  void run();
+  void advance_and_time_integrator();
+  void advance_in_segments();
+  void on_step_voltages(double t_old, double t_new, const double* V_new, std::size_t begin,
+                        std::size_t end) override;
+  void on_step(double t_old, double t_new, const double* dVdt) override;
+  const MechanicsSolver* mechanics_solver() const { return mechanics ? &mechanics->solver() : nullptr; }
+  json summary() const;
+
+  // ---- the scene assembled (simulation_assembly.cpp) ----
+  void make_logger();
+  void choose_solver();
+  void use_threads();
+  void build_populations();
+  void settle(Population& pop, const CellTypeSpec& spec);
+  void derive_contraction_from_traces();
+  void build_myofilaments();
+  void connect_calcium_feedback(Population& host, Myofilament& m, const CellTypeSpec& spec);
+  void warn_of_shadowed_plugins();
+  void build_coupling();
+  void build_mechanics();
+  void build_lookup_tables();
+  void start_from_initial_state();
+  void check_explicit_stability();
+  void guard_resources();
+
+  // ---- checkpoints (simulation_checkpoints.cpp) ----
+  void plan_checkpoints();
+  CheckpointFields checkpoint_fields(double t);
+  void write_checkpoint(double t);
+  void resume();
+  void restore(const CheckpointFields& f);
+  void restore_beats(const CheckpointFields& f);
+
+  // ---- outputs and progress (simulation_outputs.cpp) ----
+  void open_outputs();
+  void log_setup();
+  double next_sample_ms() const override;
+  void on_sample(double t) override;
+  void record_beat(const BeatBiomarkers& b);
+  void snapshot_if_due(double t);
+  void write_file(std::function<void()> job);
+  void reclaim_writer_core();
+  void report_progress(std::chrono::steady_clock::time_point now, double t_new);
+  void finish_writing();
+  void log_run_end();
+  void write_report();
+};
+
+}  // namespace fibrodem

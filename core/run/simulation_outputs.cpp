@@ -1,0 +1,198 @@
+// The run's outputs (docs/reference/outputs.md): the output folder's
+// files opened (or continued, after a checkpoint), run.log, trace samples,
+// biomarkers.csv, pictures and snapshots on the writer's thread, the progress
+// line, and the report.
+#include <omp.h>
+#include <spdlog/sinks/basic_file_sink.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "report/run_report.hpp"
+#include "run/checkpoint_dir.hpp"
+#include "run/run_summary.hpp"
+#include "run/simulation_impl.hpp"
+#include "run/tissue_snapshots.hpp"
+
+namespace fibrodem {
+namespace fs = std::filesystem;
+
+// A resumed run appends to run.log and continues traces.csv and
+// biomarkers.csv from the checkpoint's lengths (restore()).
+void Simulation::Impl::open_outputs() {
+  if (scene.output.dir.empty()) return;
+  out = scene.output.dir;
+  fs::create_directories(out);
+  auto file_sink =
+      std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), !resume_point);
+  file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
+  log->sinks().push_back(file_sink);
+  if (!resume_point) {
+    clear_checkpoints(out);  // an earlier run's, in a folder given --overwrite
+    traces.open_csv(out / "traces.csv");
+    biomarkers_csv = CsvWriter(out / "biomarkers.csv",
+                               {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
+                                "dvdt_max_mV_per_ms"});
+    // (The tissue stays as built: the writer may draw it while the run starts.)
+    if (scene.output.tissue_picture) write_file([this] { write_tissue_overview(out, scene.name, tissue); });
+  }
+  write_summary(out, summary());
+}
+
+void Simulation::Impl::log_setup() {
+  log->info("scene '{}': {} cells ({} myocytes, {} fibroblasts), {} particles, {} cell-graph edges",
+            scene.name, tissue.cell_count(), tissue.count(CellType::myocyte),
+            tissue.count(CellType::fibroblast), tissue.particles.size(), tissue.cell_edges.size());
+  for (const auto& p : plan.built) log->info("process built: {} ({})", p.name, p.reason);
+  for (const auto& note : plan.notes) log->info("{}", note);
+  system.for_each_population([&](const Population& pop) {
+    log->info("{}: {} model {} {}{}, {} cells x {} states", cell_type_name(pop.type),
+              pop.info().kind == ModelKind::ionic ? "ionic" : "myofilament", pop.info().name, pop.info().version,
+              pop.variant.empty() ? "" : ", variant " + pop.variant, pop.size(), pop.n_states());
+    // What the model says of itself (an imported model: how its V and stimulus were found).
+    if (!pop.info().description.empty())
+      log->info("{}: model {}: {}", cell_type_name(pop.type), pop.info().name, pop.info().description);
+  });
+  if (mechanics)
+    log->info("mechanics: DEM, contact law {}, step {:.4g} ms (stable {:.4g} ms), subcycled against the "
+              "cells' steps", scene.mechanics.contact_law, mechanics->smallest_step_ms(),
+              mechanics->solver().stable_step_ms());
+  if (system.sac.on)
+    log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
+              system.sac.lambda_max);
+  if (system.coupler)
+    log->info("coupling: gap junctions, D_m = {} nS, D_f = {} nS, {}", scene.coupling.D_m_nS, scene.coupling.D_f_nS,
+              !scene.solver.fixed_step()     ? std::string("in the integrator's implicit solve")
+              : system.implicit_coupling     ? fmt::format("backward Euler (split), every {} cell step(s)",
+                                                           system.coupling_every)
+                                             : fmt::format("explicit, updated every {} cell step(s)",
+                                                           system.coupling_every));
+  log->info("integrator: {}; {} threads", integrator->describe(), system.thread_governor().chosen());
+  for (const auto& w : warnings) log->warn("{}", w);
+}
+
+double Simulation::Impl::next_sample_ms() const { return traces.next_sample_ms(); }
+
+void Simulation::Impl::on_sample(double t) {
+  ScopeTimer timer(output_seconds);
+  traces.sample(t, system, mechanics_solver());
+}
+
+void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
+  beats.push_back(b);
+  if (!biomarkers_csv.is_open()) return;
+  biomarkers_csv.cell(static_cast<long long>(b.cell))
+      .cell(std::string(cell_type_name(b.type)))
+      .cell(static_cast<long long>(b.beat))
+      .cell(b.activation_ms)
+      .cell(b.rmp_mV)
+      .cell(b.apo_mV)
+      .cell(b.apd90_ms)
+      .cell(b.dvdt_max_mV_per_ms);
+  biomarkers_csv.end_row();
+  biomarkers_csv.flush();
+}
+
+
+void Simulation::Impl::snapshot_if_due(double t) {
+  const SnapshotSpec& snap = scene.output.snapshots;
+  if (out.empty() || snap.every_ms <= 0) return;
+  const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
+  if (t >= next - kTimeEpsilon_ms) {
+    // Drawn on the writer's thread while the run goes on.
+    // (The tissue itself is shared with the frame, not copied: the writer
+    // finishes before the simulation, and so the tissue, goes.)
+    const std::shared_ptr<const Tissue> built(std::shared_ptr<void>(), &tissue);
+    auto frame = std::make_shared<SnapshotFrame>(take_snapshot(t, snap, built, mechanics_solver(), system.V_mV));
+    write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.name, *frame); });
+    ++snapshots_taken;
+  }
+}
+
+// A picture or snapshot file, on the writer's thread while the run goes
+// on. When the cells' threads hold every core, one of them is lent to the
+// writer until it is done (the cells step on one thread fewer meanwhile):
+// the cells' threads wait for each other every step, so a writer sharing a
+// core with one of them stalls both (in the Fig. 3 run on 2 cores its
+// pictures cost about twice their own time that way).
+void Simulation::Impl::write_file(std::function<void()> job) {
+  writer.post(std::move(job));
+  ThreadGovernor& governor = system.thread_governor();
+  if (governor.lent() == 0 && governor.threads() > 1 && governor.threads() >= omp_get_num_procs())
+    governor.lend(1);
+}
+
+// The core lent to the writer back to the cells once its pictures are done.
+void Simulation::Impl::reclaim_writer_core() {
+  ThreadGovernor& governor = system.thread_governor();
+  if (governor.lent() > 0 && writer.idle()) governor.lend(0);
+}
+
+// The progress line (RunOptions::progress) and callback (on_progress), every
+// output.progress_every_s of wall time.
+void Simulation::Impl::report_progress(std::chrono::steady_clock::time_point now, double t_new) {
+  if ((options.progress || options.on_progress) && scene.output.progress_every_s > 0 &&
+      std::chrono::duration<double>(now - last_progress).count() >= scene.output.progress_every_s) {
+    last_progress = now;
+    if (options.on_progress) options.on_progress(t_new);
+    if (!options.progress) return;
+    const double elapsed = std::chrono::duration<double>(now - started).count();
+    const double left = elapsed / t_new * (scene.duration_ms - t_new);
+    std::fprintf(stderr, "\r  t = %.1f / %.1f ms   %.3g ms simulated per s   about %.0f s left   ",
+                 t_new, scene.duration_ms, t_new / elapsed, left);
+    std::fflush(stderr);
+  }
+}
+
+
+// A failed run keeps what was written: the pictures already taken are
+// finished (an error in them is logged; the run's own error stands).
+void Simulation::Impl::finish_writing() {
+  try {
+    writer.finish();
+  } catch (const std::exception& e) {
+    warnings.push_back(std::string("picture not written: ") + e.what());
+  }
+}
+
+// Clamped lookup tables, mechanics' report, and how the run ended.
+void Simulation::Impl::log_run_end() {
+  for (const auto& pop : system.populations)
+    if (pop.table && pop.table->clamp_count() > 0)
+      log->warn("lookup tables: {} model {}: V left the table [{:g}, {:g}] mV in {} cell evaluations "
+                "(rates clamped to the table's ends)",
+                cell_type_name(pop.type), pop.info().name, pop.table->v_min(), pop.table->v_max(),
+                pop.table->clamp_count());
+  if (mechanics) log->info("mechanics: {}", mechanics->solver().report());
+  if (const auto& governor = system.thread_governor(); governor.adapting())
+    log->info("threads auto: the cell models' loop ran {} steps on {} threads and {} on one ({} switches)",
+              governor.calls_on_more(), governor.max_threads(), governor.calls_on_one(), governor.switches());
+  if (const auto report = integrator->report(); !report.empty()) log->info("integrator: {}", report);
+  if (status == "failed") log->error("run failed: {}", error);
+  else if (status == "interrupted")
+    log->warn("run interrupted: {} of {} ms simulated in {:.3f} s wall, {} steps", t_reached_ms, scene.duration_ms,
+              wall_s, steps);
+  else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
+}
+
+// report.html from the folder as written (a failed or interrupted run's
+// too); its own time goes into summary.json as report_time_s, so its cost
+// beside the run's wall time can be read off every run. A report that
+// cannot be written is a warning: the run's results stand.
+void Simulation::Impl::write_report() {
+  log->flush();  // the report shows run.log
+  const auto start = Clock::now();
+  try {
+    write_run_report(out);
+  } catch (const std::exception& e) {
+    log->warn("report.html not written: {}", e.what());
+  }
+  const double report_s = seconds_since(start);
+  log->info("report.html written in {:.3f} s ({:.2f} % of the run's wall time)", report_s,
+            wall_s > 0 ? 100 * report_s / wall_s : 0.0);
+  json s = summary();
+  s["report_time_s"] = report_s;
+  write_summary(out, s);
+}
+
+}  // namespace fibrodem
