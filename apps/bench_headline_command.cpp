@@ -37,7 +37,7 @@
 #include <unistd.h>
 
 #include "apps/commands.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem::cli {
 

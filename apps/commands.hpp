@@ -9,7 +9,7 @@
 #include "cellml/import.hpp"
 #include "model/plugin_registry.hpp"
 #include "run/interrupt.hpp"
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 
 namespace CLI {
 class App;

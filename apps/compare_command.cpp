@@ -8,6 +8,7 @@
 #include "compare/paired_comparison.hpp"
 #include "report/compare_report.hpp"
 #include "run/output_dir.hpp"
+#include "run/run_record.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {

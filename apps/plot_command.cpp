@@ -11,7 +11,7 @@
 
 #include "apps/commands.hpp"
 #include "io/plot_png.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem::cli {
 

@@ -7,7 +7,7 @@
 #include "mechanics/contact_law.hpp"
 #include "model/model_description.hpp"
 #include "model/plugin_registry.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem::cli {
 

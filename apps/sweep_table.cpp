@@ -9,7 +9,7 @@
 #include "io/plot_png.hpp"
 #include "report/sweep_report.hpp"
 #include "measure/sample_statistics.hpp"
-#include "run/run_summary.hpp"
+#include "measure/summary_metrics.hpp"
 
 namespace fibrodem::cli {
 

@@ -7,6 +7,7 @@
 
 #include "io/plot_png.hpp"
 #include "measure/accuracy.hpp"
+#include "run/run_record.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;

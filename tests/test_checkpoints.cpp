@@ -10,7 +10,7 @@
 
 #include "io/checkpoint_file.hpp"
 #include "run/checkpoint_dir.hpp"
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;

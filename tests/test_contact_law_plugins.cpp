@@ -15,7 +15,7 @@
 #include "mechanics/dem_spec.hpp"
 #include "model/plugin_registry.hpp"
 #include "run/simulation.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 #include "scene/scene.hpp"
 #include "support/scenes.hpp"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "io/plot_png.hpp"
-#include "run/run_record.hpp"
+#include "measure/run_record.hpp"
 
 namespace fibrodem {
 

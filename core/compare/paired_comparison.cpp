@@ -6,7 +6,7 @@
 
 #include "io/csv_writer.hpp"
 #include "measure/sample_statistics.hpp"
-#include "run/run_summary.hpp"
+#include "measure/summary_metrics.hpp"
 
 namespace fibrodem {
 

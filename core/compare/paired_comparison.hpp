@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 

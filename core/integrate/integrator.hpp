@@ -9,7 +9,7 @@
 #include <string>
 
 #include "integrate/cell_system.hpp"
-#include "scene/scene.hpp"
+#include "integrate/solver_spec.hpp"
 
 namespace fibrodem {
 

@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <string>
 
-#include "scene/scene.hpp"
+#include "integrate/solver_spec.hpp"
 
 namespace fibrodem {
 

@@ -1,6 +1,6 @@
 #include "io/checkpoint_file.hpp"
 
-#include "io/sha256.hpp"
+#include "util/sha256.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -4,8 +4,6 @@
 #include <map>
 #include <utility>
 
-#include "run/simulation.hpp"
-
 namespace fibrodem {
 
 namespace {

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "run/run_record.hpp"
+#include "measure/run_record.hpp"
 
 namespace fibrodem {
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 

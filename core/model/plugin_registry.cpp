@@ -1,6 +1,6 @@
 #include "model/plugin_registry.hpp"
 
-#include "io/sha256.hpp"
+#include "util/sha256.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>

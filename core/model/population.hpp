@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "model/cell_model.hpp"
+#include "model/cell_type.hpp"
 #include "model/voltage_table.hpp"
 #include "model/work_split.hpp"
-#include "tissue/tissue.hpp"
 
 namespace fibrodem {
 

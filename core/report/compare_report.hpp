@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "run/run_record.hpp"
+#include "measure/run_record.hpp"
 
 namespace fibrodem {
 

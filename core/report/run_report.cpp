@@ -13,7 +13,7 @@
 #include "report/biomarker_spread.hpp"
 #include "report/html_document.hpp"
 #include "report/trace_panels.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 

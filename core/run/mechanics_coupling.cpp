@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 #include "stimulus/stimulus.hpp"
 
 namespace fibrodem {

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <system_error>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 
 namespace fibrodem {
 

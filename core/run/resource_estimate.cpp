@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 
 namespace fibrodem {
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <limits>
 #include <map>
 
 #include "measure/conduction_velocity.hpp"
@@ -138,32 +137,6 @@ json run_summary(const RunFacts& f) {
                                  {"other", std::max(0.0, f.wall_s - accounted)}};
   s["set_up_time_s"] = f.set_up_seconds;
   return s;
-}
-
-namespace {
-double number_at(const json& summary, std::initializer_list<const char*> path) {
-  const json* node = &summary;
-  for (const char* key : path) {
-    if (!node->is_object() || !node->contains(key)) return std::numeric_limits<double>::quiet_NaN();
-    node = &(*node)[key];
-  }
-  return node->is_number() ? node->get<double>() : std::numeric_limits<double>::quiet_NaN();
-}
-}  // namespace
-
-const std::vector<SummaryMetric>& summary_metrics() {
-  static const std::vector<SummaryMetric> list = [] {
-    std::vector<SummaryMetric> l = {{"fm_ratio", [](const json& s) { return number_at(s, {"fm_ratio"}); }}};
-    for (const char* type : {"myocyte", "fibroblast"})
-      for (const char* m : {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"})
-        l.push_back({std::string(type) + "_" + m,
-                     [type, m](const json& s) { return number_at(s, {"mean_biomarkers", type, m}); }});
-    l.push_back({"cv_cm_per_s", [](const json& s) { return number_at(s, {"cv_cm_per_s"}); }});
-    l.push_back({"peak_eps_xx", [](const json& s) { return number_at(s, {"peak_strain", "xx"}); }});
-    l.push_back({"peak_eps_yy", [](const json& s) { return number_at(s, {"peak_strain", "yy"}); }});
-    return l;
-  }();
-  return list;
 }
 
 void write_summary(const std::filesystem::path& dir, const json& summary) {

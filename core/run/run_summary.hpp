@@ -5,7 +5,6 @@
 
 #include <array>
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -13,7 +12,7 @@
 #include "measure/biomarkers.hpp"
 #include "model/plugin_registry.hpp"
 #include "scene/effects.hpp"
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"
 
@@ -68,16 +67,6 @@ json run_summary(const RunFacts& facts);
 // feedback's troponin_buffer_scale), with its myofilament model's under
 // "myofilament": summary.json's "models".
 json models_used(const CellSystem& system);
-
-// A number summary.json reports, by name (sweep tables, paired comparisons):
-// fm_ratio, <type>_<biomarker> per cell type (rmp_mV, apo_mV, apd90_ms,
-// dvdt_max_mV_per_ms), cv_cm_per_s, peak_eps_xx, peak_eps_yy. NaN where the
-// summary has none.
-struct SummaryMetric {
-  std::string name;
-  std::function<double(const json& summary)> of;
-};
-const std::vector<SummaryMetric>& summary_metrics();
 
 // Writes dir/summary.json through a temporary file and a rename.
 void write_summary(const std::filesystem::path& dir, const json& summary);

@@ -11,7 +11,7 @@
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
 #include "io/csv_writer.hpp"
-#include "io/sha256.hpp"
+#include "util/sha256.hpp"
 
 namespace fibrodem {
 

@@ -8,8 +8,8 @@
 
 #include "model/population.hpp"
 #include "scene/effects.hpp"
-#include "scene/json_reader.hpp"
-#include "scene/manifest_error.hpp"
+#include "util/json_reader.hpp"
+#include "util/manifest_error.hpp"
 #include "stimulus/stimulus.hpp"
 
 namespace fibrodem {

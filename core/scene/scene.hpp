@@ -11,8 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "integrate/solver_spec.hpp"
 #include "mechanics/dem_spec.hpp"
-#include "scene/json_reader.hpp"
+#include "stimulus/stimulus_spec.hpp"
+#include "util/json_reader.hpp"
 #include "tissue/tissue_builder.hpp"
 
 namespace fibrodem {
@@ -60,52 +62,6 @@ struct CouplingSpec {
   double D_f_nS = 2.0;     // any pair with a fibroblast
   std::string scheme = "explicit";  // explicit | implicit (backward Euler)
   double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step
-};
-
-struct StimulusTarget {
-  enum class Kind { cell_type, cells, region } kind = Kind::cell_type;
-  CellType type = CellType::myocyte;
-  std::vector<int> cells;
-  // region, as fractions of the tissue's bounding box; optional type filter
-  double x_min_frac = 0, x_max_frac = 1, y_min_frac = 0, y_max_frac = 1;
-  std::optional<CellType> region_type;
-};
-
-struct StimulusSpec {
-  StimulusTarget target;
-  double start_ms = 0, duration_ms = 2, amplitude_pA = 2000;
-  double period_ms = 0;  // 0: a single train entry without repetition
-  long long count = 1;
-  std::string path;
-};
-
-struct SolverSpec {
-  // auto (the default) | euler | rush_larsen | rush_larsen2 | cvode | adaptive.
-  // auto: the simulation picks the method and its settings for accuracy_ms
-  // (integrate/method_choice.hpp) once the tissue is built.
-  std::string method = "auto";
-  double accuracy_ms = 0.5;            // auto ("accuracy" in the manifest): the APD90 error [ms] to aim below
-  double dt_ms = 0.01;                 // euler, rush_larsen, rush_larsen2
-  // cvode: CVODE's tolerances. adaptive: each state's local error per step
-  // stays below rtol |y| + atol * scale (scale: 1 for gates, else the state's
-  // magnitude at the start), with these defaults when unset.
-  double rtol = 1e-6, atol = 1e-8;
-  static constexpr double kAdaptiveRtol = 1e-2, kAdaptiveAtol = 1e-2;
-  double max_step_ms = 0;              // cvode; 0: no cap (it stops at every stimulus edge anyway)
-  std::string linear_solver = "auto";  // cvode: auto | dense | band | krylov
-  // Threads over blocks of cells: -1 (the default, "auto"): every core when
-  // the scene is large enough to gain, else 1; 0: every core; results do not
-  // depend on it.
-  int threads = -1;
-  // Rates (and, for rush_larsen, exp(b dt)) of voltage_only gates from tables
-  // in V (linear, 0.05 mV). Unset: on for the fixed-step methods (their APD90
-  // moves < 0.001 ms, docs/numerics.md#lookup-tables), off for CVODE (a table makes
-  // the right-hand side only piecewise smooth).
-  std::optional<bool> lookup_tables;
-  bool use_lookup_tables() const { return lookup_tables.value_or(method != "cvode"); }
-  bool fixed_step() const { return fixed_step(method); }
-  static bool fixed_step(const std::string& method);  // integrate/integrator.cpp, from the registry
-  bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
 
 // One block of output.traces: these variables of these cells.

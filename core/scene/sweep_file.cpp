@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 #include "scene/scene.hpp"
 #include "scene/schema/schema_check.hpp"
 

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 

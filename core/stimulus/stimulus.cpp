@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "util/json_reader.hpp"
+
 namespace fibrodem {
 
 namespace {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "scene/scene.hpp"
+#include "stimulus/stimulus_spec.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {

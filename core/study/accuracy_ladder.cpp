@@ -8,7 +8,7 @@
 
 #include "model/plugin_registry.hpp"
 #include "run/simulation.hpp"
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 
 namespace fibrodem {
 namespace {

@@ -9,11 +9,9 @@
 #include <utility>
 #include <vector>
 
-namespace fibrodem {
+#include "model/cell_type.hpp"
 
-enum class CellType { myocyte = 0, fibroblast = 1 };
-inline constexpr std::array<const char*, 2> kCellTypeNames = {"myocyte", "fibroblast"};
-inline const char* cell_type_name(CellType t) { return kCellTypeNames[static_cast<int>(t)]; }
+namespace fibrodem {
 
 struct Particle {
   double x_um = 0, y_um = 0, r_um = 0;

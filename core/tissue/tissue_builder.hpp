@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {

@@ -3,7 +3,7 @@
 #include <pybind11/pybind11.h>
 
 #include "binding.hpp"
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 
 namespace py = pybind11;
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem::python {
 

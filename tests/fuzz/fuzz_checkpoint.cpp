@@ -16,7 +16,7 @@
 #include <string>
 
 #include "io/checkpoint_file.hpp"
-#include "io/sha256.hpp"
+#include "util/sha256.hpp"
 #include "run/checkpoint_dir.hpp"
 #include "run/simulation.hpp"
 #include "scene/scene.hpp"

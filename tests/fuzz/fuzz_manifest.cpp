@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 #include "fuzz_scene.hpp"
 #include "scene/scene.hpp"
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 #include "fuzz_scene.hpp"
 #include "scene/scene.hpp"
 #include "scene/sweep_file.hpp"

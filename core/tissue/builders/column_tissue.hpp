@@ -23,7 +23,7 @@
 #include <optional>
 #include <vector>
 
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {

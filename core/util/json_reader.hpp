@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/manifest_error.hpp"
+#include "util/manifest_error.hpp"
 
 namespace fibrodem {
 

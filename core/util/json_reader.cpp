@@ -1,4 +1,4 @@
-#include "scene/json_reader.hpp"
+#include "util/json_reader.hpp"
 
 #include <cmath>
 #include <sstream>
