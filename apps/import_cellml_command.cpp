@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "apps/commands.hpp"
+#include "apps/plugin_name.hpp"
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 
@@ -22,6 +23,11 @@ CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& o) 
 }
 
 int import_cellml_command(const cellml::ImportOptions& options) {
+  // The rule new-model and the SDK's CMake functions apply, checked before any work.
+  if (!valid_plugin_name(options.name)) {
+    std::cerr << "error: --name '" << options.name << "': expected " << kPluginNameRule << "\n";
+    return 5;
+  }
   try {
     const auto result = cellml::import_cellml(options);
     std::cout << "wrote " << (result.folder / (options.name + ".cpp")).string() << " and "
