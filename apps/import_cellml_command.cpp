@@ -33,6 +33,11 @@ int import_cellml_command(const cellml::ImportOptions& options) {
     std::cout << "wrote " << (result.folder / (options.name + ".cpp")).string() << " and "
               << (result.folder / "CMakeLists.txt").string() << "\n";
     for (const auto& note : result.notes) std::cout << "  " << note << "\n";
+    const std::string build = (result.folder / "build").string();
+    std::cout << "build it against an installed fibrodem:\n"
+              << "  cmake -S " << result.folder.string() << " -B " << build
+              << " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
+              << "  cmake --build " << build << "\n";
     return 0;
   } catch (const cellml::ImportError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -97,7 +97,7 @@ int new_model_command(const NewModelArgs& args) {
   for (const auto& [file, text] : files) std::cout << "  " << file.filename().string() << "\n";
   std::cout << "build it against an installed fibrodem:\n"
             << "  cmake -S " << dir.string() << " -B " << (dir / "build").string()
-            << " -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
+            << " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
             << "  cmake --build " << (dir / "build").string() << " && ctest --test-dir " << (dir / "build").string()
             << "\n";
   return 0;

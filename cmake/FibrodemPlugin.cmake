@@ -35,6 +35,18 @@ if(CMAKE_SCRIPT_MODE_FILE STREQUAL CMAKE_CURRENT_LIST_FILE)
   return()
 endif()
 
+# A plugin project configured on its own (the top-level project, as the
+# skeletons of `fibrodem new-model` and `fibrodem import-cellml`) without a
+# build type is built as Release, as fibrodem itself is: a build without a
+# type has no optimisation flags at all. -DCMAKE_BUILD_TYPE=Debug,
+# RelWithDebInfo or None (no flags: the compiler's defaults) choose another.
+get_property(_fibrodem_multi_config GLOBAL PROPERTY GENERATOR_IS_MULTI_CONFIG)
+if(NOT CMAKE_BUILD_TYPE AND NOT _fibrodem_multi_config AND CMAKE_SOURCE_DIR STREQUAL PROJECT_SOURCE_DIR)
+  set(CMAKE_BUILD_TYPE Release CACHE STRING "Build type (default Release)" FORCE)
+  message(STATUS "fibrodem plugin: no CMAKE_BUILD_TYPE given, building Release")
+endif()
+unset(_fibrodem_multi_config)
+
 function(fibrodem_add_cell_model name)
   _fibrodem_add_plugin(fibrodem_${name} ${name} ${ARGN})
 endfunction()
