@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "apps/commands.hpp"
+#include "apps/plugin_name.hpp"
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 
@@ -24,6 +25,11 @@ CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& o) 
 }
 
 int import_cellml_command(const cellml::ImportOptions& options) {
+  // The rule new-model and the SDK's CMake functions apply, checked before any work.
+  if (!valid_plugin_name(options.name)) {
+    std::cerr << "error: --name '" << options.name << "': expected " << kPluginNameRule << "\n";
+    return 5;
+  }
   try {
     const auto result = cellml::import_cellml(options);
     std::cout << "wrote " << (result.folder / (options.name + ".cpp")).string() << " and "
@@ -34,6 +40,11 @@ int import_cellml_command(const cellml::ImportOptions& options) {
       std::cerr << "warning: " << result.unit_warnings.size() << " unit inconsistenc"
                 << (result.unit_warnings.size() == 1 ? "y" : "ies") << " imported with the numbers as written (listed in the plugin's header; "
                    "--strict-units refuses them)\n";
+    const std::string build = (result.folder / "build").string();
+    std::cout << "build it against an installed fibrodem:\n"
+              << "  cmake -S " << result.folder.string() << " -B " << build
+              << " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
+              << "  cmake --build " << build << "\n";
     return 0;
   } catch (const cellml::ImportError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -8,6 +8,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/new_model_templates.hpp"
+#include "apps/plugin_name.hpp"
 
 namespace fibrodem::cli {
 
@@ -36,19 +37,11 @@ std::string class_name(const std::string& name) {
   return out;
 }
 
-bool valid_name(const std::string& name) {
-  if (name.empty() || name.size() > 64 || !(name[0] >= 'a' && name[0] <= 'z')) return false;
-  for (char c : name)
-    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')) return false;
-  return true;
-}
-
 }  // namespace
 
 int new_model_command(const NewModelArgs& args) {
-  if (!valid_name(args.name)) {
-    std::cerr << "error: model name '" << args.name
-              << "': expected lower-case letters, digits and '_', starting with a letter (at most 64)\n";
+  if (!valid_plugin_name(args.name)) {
+    std::cerr << "error: model name '" << args.name << "': expected " << kPluginNameRule << "\n";
     return 2;
   }
   const char* source = nullptr;
@@ -104,7 +97,7 @@ int new_model_command(const NewModelArgs& args) {
   for (const auto& [file, text] : files) std::cout << "  " << file.filename().string() << "\n";
   std::cout << "build it against an installed fibrodem:\n"
             << "  cmake -S " << dir.string() << " -B " << (dir / "build").string()
-            << " -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
+            << " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
             << "  cmake --build " << (dir / "build").string() << " && ctest --test-dir " << (dir / "build").string()
             << "\n";
   return 0;

@@ -8,12 +8,14 @@ namespace fibrodem::cli::templates {
 inline constexpr const char* kCMakeLists = R"TPL(# Builds the @KIND@ plugin `@NAME@` out of the fibrodem tree, against an
 # installed fibrodem (its plugin SDK: headers only, nothing to link):
 #
-#   cmake -S . -B build -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>
+#   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>
 #   cmake --build build
 #   ctest --test-dir build          # runs @NAME@_test.json with the plugin
 #   FIBRODEM_PLUGIN_PATH=$PWD/build fibrodem run @NAME@_test.json
 #   cmake --install build --prefix <fibrodem's install prefix>   # optional:
 #                                   # then fibrodem finds it without the path
+# Without a build type, fibrodem's CMake package chooses Release; Debug or
+# RelWithDebInfo build for a debugger (docs/build_types.md in fibrodem).
 cmake_minimum_required(VERSION 3.20)
 project(@NAME@ LANGUAGES CXX)
 

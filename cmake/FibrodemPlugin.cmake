@@ -17,6 +17,36 @@
 #                                lib/fibrodem/plugins, where an installed
 #                                fibrodem of the same prefix looks)
 #   FIBRODEM_PLUGIN_NO_INSTALL   TRUE: no install rule (test plugins)
+
+# The rule for a plugin's name, the one `fibrodem new-model` and `fibrodem
+# import-cellml` check (apps/plugin_name.hpp): ASCII letters, digits and '_',
+# starting with a letter, at most 64 characters. The name becomes a file name,
+# a CMake target, the model's name in manifests and a C++ class name.
+# Script mode can call it too: cmake -D name=NAME -P <this file>.
+function(fibrodem_check_plugin_name name)
+  string(LENGTH "${name}" length)
+  if(NOT name MATCHES "^[A-Za-z][A-Za-z0-9_]*$" OR length GREATER 64)
+    message(FATAL_ERROR "fibrodem plugin name '${name}': expected ASCII letters, digits and '_', "
+                        "starting with a letter, at most 64 characters")
+  endif()
+endfunction()
+if(CMAKE_SCRIPT_MODE_FILE STREQUAL CMAKE_CURRENT_LIST_FILE)
+  fibrodem_check_plugin_name("${name}")
+  return()
+endif()
+
+# A plugin project configured on its own (the top-level project, as the
+# skeletons of `fibrodem new-model` and `fibrodem import-cellml`) without a
+# build type is built as Release, as fibrodem itself is: a build without a
+# type has no optimisation flags at all. -DCMAKE_BUILD_TYPE=Debug,
+# RelWithDebInfo or None (no flags: the compiler's defaults) choose another.
+get_property(_fibrodem_multi_config GLOBAL PROPERTY GENERATOR_IS_MULTI_CONFIG)
+if(NOT CMAKE_BUILD_TYPE AND NOT _fibrodem_multi_config AND CMAKE_SOURCE_DIR STREQUAL PROJECT_SOURCE_DIR)
+  set(CMAKE_BUILD_TYPE Release CACHE STRING "Build type (default Release)" FORCE)
+  message(STATUS "fibrodem plugin: no CMAKE_BUILD_TYPE given, building Release")
+endif()
+unset(_fibrodem_multi_config)
+
 function(fibrodem_add_cell_model name)
   _fibrodem_add_plugin(fibrodem_${name} ${name} ${ARGN})
 endfunction()
@@ -26,9 +56,7 @@ function(fibrodem_add_contact_law name)
 endfunction()
 
 function(_fibrodem_add_plugin target name)
-  if(NOT name MATCHES "^[a-z][a-z0-9_]*$")
-    message(FATAL_ERROR "fibrodem plugin name '${name}': expected lower-case letters, digits and '_', starting with a letter")
-  endif()
+  fibrodem_check_plugin_name("${name}")
   if(NOT ARGN)
     message(FATAL_ERROR "fibrodem plugin '${name}': no source files given")
   endif()

@@ -20,6 +20,31 @@
 
 #include <cmath>
 #include <cstddef>
+
+// GCC 12 without optimisation (-O0, as in Debug builds) defines
+// _mm512_mask_blend_epi8/_epi16 as macros that C-cast their operands to byte
+// and word vectors, which an xsimd batch object cannot take; xsimd 8's AVX512BW
+// select (Debian 12's libxsimd-dev) hands them batch objects in a branch it
+// also compiles for 32- and 64-bit lanes (a runtime switch on sizeof(T)), so
+// every translation unit that reaches select on int64 lanes (xsimd::log does)
+// fails to compile at -O0 with -march=x86-64-v4 or an AVX-512 -march=native
+// ("invalid cast ... to type '__v64qi'"). xsimd 10 passes the registers
+// instead (xsimd pull request 852). The two macros are redefined here to take
+// the register first, as GCC's own inline functions do when optimising; with
+// optimisation on (or another compiler or ISA) nothing here applies, so
+// optimised code is unchanged. xsimd must be included through this header for
+// the redefinition to precede its templates.
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__OPTIMIZE__) && defined(__AVX512BW__)
+#include <immintrin.h>
+#undef _mm512_mask_blend_epi8
+#undef _mm512_mask_blend_epi16
+#define _mm512_mask_blend_epi8(mask, a, b)                                               \
+  ((__m512i)__builtin_ia32_blendmb_512_mask((__v64qi)(__m512i)(a), (__v64qi)(__m512i)(b), \
+                                            (__mmask64)(mask)))
+#define _mm512_mask_blend_epi16(mask, a, b)                                              \
+  ((__m512i)__builtin_ia32_blendmw_512_mask((__v32hi)(__m512i)(a), (__v32hi)(__m512i)(b), \
+                                            (__mmask32)(mask)))
+#endif
 #include <xsimd/xsimd.hpp>
 
 // Small lane functions are always inlined: a call per function and lane group
