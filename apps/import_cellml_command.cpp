@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "apps/commands.hpp"
-#include "apps/plugin_name.hpp"
+#include "util/plugin_name.hpp"
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/new_model_templates.hpp"
-#include "apps/plugin_name.hpp"
+#include "util/plugin_name.hpp"
 
 namespace fibrodem::cli {
 

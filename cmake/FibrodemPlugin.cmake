@@ -19,7 +19,7 @@
 #   FIBRODEM_PLUGIN_NO_INSTALL   TRUE: no install rule (test plugins)
 
 # The rule for a plugin's name, the one `fibrodem new-model` and `fibrodem
-# import-cellml` check (apps/plugin_name.hpp): ASCII letters, digits and '_',
+# import-cellml` check (core/util/plugin_name.hpp): ASCII letters, digits and '_',
 # starting with a letter, at most 64 characters. The name becomes a file name,
 # a CMake target, the model's name in manifests and a C++ class name.
 # Script mode can call it too: cmake -D name=NAME -P <this file>.

@@ -1,5 +1,5 @@
 // A plugin's name follows one rule in the three places that check it:
-// `fibrodem new-model`, `fibrodem import-cellml` (apps/plugin_name.hpp) and
+// `fibrodem new-model`, `fibrodem import-cellml` (core/util/plugin_name.hpp) and
 // the SDK's fibrodem_add_cell_model / fibrodem_add_contact_law
 // (cmake/FibrodemPlugin.cmake). The expected verdicts come from what a name
 // becomes: a C++ class name that is not reserved (no leading '_', [lex.name]),
@@ -15,7 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "apps/plugin_name.hpp"
+#include "util/plugin_name.hpp"
 
 namespace fs = std::filesystem;
 
@@ -81,7 +81,7 @@ fs::path fresh_dir(const std::string& tag) {
 TEST_CASE("plugin names: letters of either case, digits and '_', starting with a letter, at most 64") {
   for (const auto& c : kNames) {
     CAPTURE(c.name);
-    CHECK(fibrodem::cli::valid_plugin_name(c.name) == c.valid);
+    CHECK(fibrodem::valid_plugin_name(c.name) == c.valid);
   }
 }
 
@@ -95,7 +95,7 @@ TEST_CASE("plugin names: the SDK's CMake check gives the same verdict as the C++
     CHECK((code == 0) == c.valid);
     if (!c.valid) {
       CHECK(one_line(err).find("fibrodem plugin name '" + c.name + "'") != std::string::npos);
-      CHECK(one_line(err).find(std::string("expected ") + fibrodem::cli::kPluginNameRule) != std::string::npos);
+      CHECK(one_line(err).find(std::string("expected ") + fibrodem::kPluginNameRule) != std::string::npos);
     }
   }
   fs::remove_all(dir);
@@ -114,12 +114,12 @@ TEST_CASE("plugin names: new-model and import-cellml take deckerA and refuse _de
 
   CHECK(run(kFibrodem + " new-model _decker --dir '" + (dir / "new_bad").string() + "'", dir / "err.txt", err) == 2);
   CHECK(err.find("'_decker'") != std::string::npos);
-  CHECK(err.find(fibrodem::cli::kPluginNameRule) != std::string::npos);
+  CHECK(err.find(fibrodem::kPluginNameRule) != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "new_bad"));
   CHECK(run(kFibrodem + " import-cellml '" + cellml + "' --name _decker --out '" + (dir / "import_bad").string() + "'",
             dir / "err.txt", err) == 5);
   CHECK(err.find("--name '_decker'") != std::string::npos);
-  CHECK(err.find(fibrodem::cli::kPluginNameRule) != std::string::npos);
+  CHECK(err.find(fibrodem::kPluginNameRule) != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "import_bad"));
   fs::remove_all(dir);
 }

@@ -2,12 +2,12 @@
 
 #include <fstream>
 #include <random>
-#include <regex>
 
 #include "cellml/import_error.hpp"
 #include "cellml/model_analysis.hpp"
 #include "cellml/plugin_writer.hpp"
 #include "cellml/units_check.hpp"
+#include "util/plugin_name.hpp"
 
 namespace fibrodem::cellml {
 
@@ -41,8 +41,8 @@ std::string with_unit_warnings(const std::string& cpp, const std::vector<std::st
 }  // namespace
 
 ImportResult import_cellml(const ImportOptions& o) {
-  if (!std::regex_match(o.name, std::regex("[A-Za-z_][A-Za-z0-9_]*")))
-    throw ImportError("--name '" + o.name + "': expected a plugin name of letters, digits and '_'");
+  if (!valid_plugin_name(o.name))
+    throw ImportError("--name '" + o.name + "': expected " + kPluginNameRule);
   if (o.kind != "ionic" && o.kind != "myofilament")
     throw ImportError("--kind '" + o.kind + "': expected ionic or myofilament");
   WriterOptions w;

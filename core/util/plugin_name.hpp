@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <string_view>
 
-namespace fibrodem::cli {
+namespace fibrodem {
 
 inline constexpr std::size_t kPluginNameMaxLength = 64;
 inline constexpr const char* kPluginNameRule =
@@ -27,4 +27,4 @@ inline bool valid_plugin_name(std::string_view name) {
   return true;
 }
 
-}  // namespace fibrodem::cli
+}  // namespace fibrodem
