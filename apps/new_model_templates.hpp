@@ -40,8 +40,9 @@ inline constexpr const char* kIonicSource = R"TPL(// @NAME@: a cell-model plugin
 //   dn/dt = (n_inf(V) - n) / tau_n
 // Replace the equations, states and parameters with your model's; say in
 // `reference` where they come from. Units: mV, ms, pA, pF, nS (nS x mV = pA,
-// pA / pF = mV/ms). The README section "Writing a cell-model plugin" has the
-// whole contract; check the plugin with `fibrodem plugins` after building.
+// pA / pF = mV/ms). fibrodem's docs/plugins.md ("Writing a cell-model
+// plugin") has the whole contract; check the plugin with
+// `fibrodem check-plugin` after building.
 #include <type_traits>
 
 #include "model/block_access.hpp"
@@ -255,8 +256,9 @@ inline constexpr const char* kContactLawSource = R"TPL(// @NAME@: a contact-law 
 //   F_s -= ks ds      (incremental, while intact or pressed)
 //   F_n total = F_n - c_n dn/dt,  c_n = 2 beta sqrt(m_eff kn)
 // kn, ks are the manifest's mechanics.kn_N_per_m, ks_N_per_m (per contact,
-// after the fibroblast factor). Replace with your law; the README section
-// "Plugin SDK" describes the contract (mechanics/contact_law_plugin.hpp).
+// after the fibroblast factor). Replace with your law; fibrodem's
+// docs/plugins.md ("Contact-law plugins") describes the contract
+// (mechanics/contact_law_plugin.hpp).
 // Units: SI (m, N, kg, s).
 #include <cmath>
 #include <cstdint>

@@ -89,7 +89,7 @@ class Scene:
 
 def load_scene(source):
     """A Scene from a manifest file (str or os.PathLike, JSON) or a dict of the
-    manifest (the JSON format of the README: durations in ms, currents in pA,
+    manifest (the JSON format of docs/reference/manifest.md: durations in ms, currents in pA,
     conductances in nS).
 
     Raises ManifestError naming the JSON path of a bad value and what was
