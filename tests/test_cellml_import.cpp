@@ -317,6 +317,19 @@ TEST_CASE("import-cellml: a state's derivative on a right side is that state's r
   }
 }
 
+TEST_CASE("import-cellml: a CellML variable named dV_dt does not clash with the plugin's own") {
+  // dv_dt_named_2_0.cellml: dV/dt = dV_dt = (i_stim - g (V - E)) / C, C 10 pF, g 2 nS, E -80 mV, V0 -70 mV.
+  // By hand at V0: g (V - E) = 20 pA; dV/dt = -2 mV/ms with i_ext 0, (50 - 20) / 10 = 3 mV/ms with i_ext
+  // 50 pA; I_ion = i_ext - C dV/dt = 20 pA either way.
+  auto model = load("cellml_dv_dt_named");
+  REQUIRE(model->info().states.size() == 1);
+  OneCell cell(model);
+  CHECK(cell.rates(cell.y, 0.0, 0.0)[0] == doctest::Approx(-2.0).epsilon(1e-12));
+  CHECK(cell.outputs[0] == doctest::Approx(20.0).epsilon(1e-12));
+  CHECK(cell.rates(cell.y, 0.0, 50.0)[0] == doctest::Approx(3.0).epsilon(1e-12));
+  CHECK(cell.outputs[0] == doctest::Approx(20.0).epsilon(1e-12));
+}
+
 TEST_CASE("import-cellml: refusals name the element and leave no plugin behind") {
   const fs::path out = scratch("refused");
   const std::string loop = import_error_of("algebraic_loop.cellml", out);

@@ -22,7 +22,7 @@ const std::set<std::string>& reserved() {
       "private", "protected", "public", "register", "reinterpret_cast", "return", "short", "signed", "sizeof",
       "static", "static_assert", "static_cast", "struct", "switch", "template", "this", "throw", "true", "try",
       "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void", "volatile", "wchar_t",
-      "while", "xor", "xor_eq", "C_pF", "M_PI", "M_E", "NAN", "INFINITY", "main", "info_", "Model"};
+      "while", "xor", "xor_eq", "C_pF", "dV_dt", "M_PI", "M_E", "NAN", "INFINITY", "main", "info_", "Model"};
   return words;
 }
 
