@@ -271,3 +271,20 @@ TEST_CASE("import-cellml: a model whose potential is Vm runs from a manifest tra
                  "cell.pulse_current (structure: a current of time and constants alone in dV/dt) replaced by i_ext.") !=
         std::string::npos);
 }
+
+TEST_CASE("import-cellml: of a chain of currents named as the stimulus, the one dV/dt uses is taken") {
+  // tests/cellml/stimulus_chain_1_1.cellml: membrane.i_Stim = stimulus_protocol.Istim, both stimulus
+  // names. By hand at V0 -80 mV (C 20 pF, g 1 nS, E -85 mV): g (V - E) = 5 pA; dV/dt = -5/20 = -0.25 mV/ms
+  // with i_ext 0, -(5 - 100)/20 = 4.75 mV/ms with i_ext 100 pA (i_Stim = -i_ext), also at t = 10.5 ms,
+  // inside the CellML's own -800 pA pulse, which the plugin leaves out.
+  const auto r = import("stimulus_chain_1_1.cellml", "stimulus_chain");
+  const std::string notes = all_notes(r);
+  INFO(notes);
+  CHECK(notes.find("stimulus: membrane.i_Stim [pA] (rule: name: i_Stim) is fibrodem's input i_ext") != std::string::npos);
+  CHECK(notes.find("the CellML's membrane.C [pF] is the capacitance parameter") != std::string::npos);
+  const auto plugin = load("cellml_stimulus_chain");  // the same file, imported at build time
+  for (double t : {0.0, 10.5}) {
+    CHECK(evaluate(*plugin, {-80.0}, t, 0.0, false).dydt[0] == doctest::Approx(-0.25).epsilon(1e-12));
+    CHECK(evaluate(*plugin, {-80.0}, t, 100.0, false).dydt[0] == doctest::Approx(4.75).epsilon(1e-12));
+  }
+}

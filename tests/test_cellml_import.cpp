@@ -288,6 +288,48 @@ TEST_CASE("import-cellml: CellML 1.0, 1.1 and 2.0 of the same model give the sam
   }
 }
 
+TEST_CASE("import-cellml: a state's derivative on a right side is that state's rate") {
+  // derivative_on_rhs_1_0.cellml: dO/dt = k_on L (1 - O) - k_off O in 1/s (k_on 200 /mM/s, L 0.5 mM,
+  // k_off 476 /s, O0 0.0275); Ca_a and Ca_b (mM, ms) lose B dO/dt (B 0.08 mM), Ca_a through an
+  // algebraic d(O)/d(time) connected from per second to per ms, Ca_b through d(O)/d(time) inline.
+  // By hand: dO/dt(0) = 100 x 0.9725 - 476 x 0.0275 = 84.16 /s = 0.08416 /ms, dCa/dt(0) = -0.0067328 mM/ms;
+  // O(t) = O_inf + (O0 - O_inf) exp(-t / tau), O_inf = 100/576, tau = 1/576 s; Ca(t) = 0.05 - B (O(t) - O0).
+  auto model = load("cellml_derivative");
+  const auto& info = model->info();
+  const int kO = index_of(info.states, "O"), ka = index_of(info.states, "Ca_a"), kb = index_of(info.states, "Ca_b");
+  OneCell cell(model);
+  const auto r0 = cell.rates(cell.y, 0.0, 0.0);
+  CHECK(r0[kO] == doctest::Approx(0.08416).epsilon(1e-12));
+  CHECK(r0[ka] == doctest::Approx(-0.0067328).epsilon(1e-12));
+  CHECK(r0[kb] == doctest::Approx(-0.0067328).epsilon(1e-12));
+  const double O0 = 0.0275, O_inf = 100.0 / 576.0, tau_ms = 1000.0 / 576.0, B = 0.08;
+  double t = 0.0;
+  const double dt = 0.01;
+  for (double check : {1.0, 5.0, 20.0}) {
+    while (t < check - 1e-9) {
+      cell.step(t, dt, [](double) { return 0.0; });
+      t += dt;
+    }
+    const double O = O_inf + (O0 - O_inf) * std::exp(-t / tau_ms);
+    CHECK(cell.y[kO] == doctest::Approx(O).epsilon(1e-10));  // RK4 at dt/tau 0.006: error ~1e-13
+    CHECK(cell.y[ka] == doctest::Approx(0.05 - B * (O - O0)).epsilon(1e-10));
+    CHECK(cell.y[kb] == doctest::Approx(0.05 - B * (O - O0)).epsilon(1e-10));
+  }
+}
+
+TEST_CASE("import-cellml: a CellML variable named dV_dt does not clash with the plugin's own") {
+  // dv_dt_named_2_0.cellml: dV/dt = dV_dt = (i_stim - g (V - E)) / C, C 10 pF, g 2 nS, E -80 mV, V0 -70 mV.
+  // By hand at V0: g (V - E) = 20 pA; dV/dt = -2 mV/ms with i_ext 0, (50 - 20) / 10 = 3 mV/ms with i_ext
+  // 50 pA; I_ion = i_ext - C dV/dt = 20 pA either way.
+  auto model = load("cellml_dv_dt_named");
+  REQUIRE(model->info().states.size() == 1);
+  OneCell cell(model);
+  CHECK(cell.rates(cell.y, 0.0, 0.0)[0] == doctest::Approx(-2.0).epsilon(1e-12));
+  CHECK(cell.outputs[0] == doctest::Approx(20.0).epsilon(1e-12));
+  CHECK(cell.rates(cell.y, 0.0, 50.0)[0] == doctest::Approx(3.0).epsilon(1e-12));
+  CHECK(cell.outputs[0] == doctest::Approx(20.0).epsilon(1e-12));
+}
+
 TEST_CASE("import-cellml: refusals name the element and leave no plugin behind") {
   const fs::path out = scratch("refused");
   const std::string loop = import_error_of("algebraic_loop.cellml", out);
@@ -300,6 +342,11 @@ TEST_CASE("import-cellml: refusals name the element and leave no plugin behind")
   const std::string units = import_error_of("inconsistent_units.cellml", out);
   CHECK(units.find("inconsistent units") != std::string::npos);
   CHECK(units.find("/model[@name='inconsistent_units']/connection/map_variables (line 18)") != std::string::npos);
+  const std::string algebraic = import_error_of("derivative_of_algebraic.cellml", out);
+  CHECK(algebraic.find("d(a)/d(time) on a right side: membrane.a is not a state") != std::string::npos);
+  CHECK(algebraic.find("/component[@name='membrane']/math/apply[2]/apply[2]/apply (line 13)") != std::string::npos);
+  const std::string itself = import_error_of("derivative_of_itself.cellml", out);
+  CHECK(itself.find("the rate of membrane.x is defined through its own derivative") != std::string::npos);
   // Slips inside equations are warnings (test_cellml_units.cpp).
   CHECK_FALSE(fs::exists(out));
   for (const auto& entry : fs::directory_iterator(out.parent_path()))

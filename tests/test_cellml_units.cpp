@@ -146,9 +146,10 @@ TEST_CASE("import-cellml units: a slip of scale alone is warned about and the nu
 
 TEST_CASE("import-cellml units: models with consistent units (scaled across connections) import without warnings") {
   // rc_membrane connects V in volt to V in mV and i_leak in pA to ampere:
-  // conversions at connections, not slips.
+  // conversions at connections, not slips. derivative_on_rhs: d(O)/d(time) on a right side has O's
+  // units over time's (dimensionless / ms against B's mM and dCa/dt's mM/ms).
   for (const std::string file : {"rc_membrane_1_0", "rc_membrane_1_1", "rc_membrane_2_0", "hh_1952_1_0",
-                                 "fitzhugh_nagumo_2_0", "mathml_coverage_2_0"}) {
+                                 "fitzhugh_nagumo_2_0", "mathml_coverage_2_0", "derivative_on_rhs_1_0"}) {
     auto o = options(kCellml / (file + ".cellml"), true);
     if (file.rfind("fitzhugh", 0) == 0) o.stimulus = "stimulus.z";
     CHECK_MESSAGE(cellml::import_cellml(o).unit_warnings.empty(), file);

@@ -5,6 +5,8 @@
 #include <map>
 #include <set>
 
+#include "cellml/import_error.hpp"
+
 namespace fibrodem::cellml {
 
 namespace {
@@ -20,7 +22,7 @@ const std::set<std::string>& reserved() {
       "private", "protected", "public", "register", "reinterpret_cast", "return", "short", "signed", "sizeof",
       "static", "static_assert", "static_cast", "struct", "switch", "template", "this", "throw", "true", "try",
       "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void", "volatile", "wchar_t",
-      "while", "xor", "xor_eq", "C_pF", "M_PI", "M_E", "NAN", "INFINITY", "main", "info_", "Model"};
+      "while", "xor", "xor_eq", "C_pF", "dV_dt", "M_PI", "M_E", "NAN", "INFINITY", "main", "info_", "Model"};
   return words;
 }
 
@@ -73,6 +75,7 @@ Code ExpressionWriter::emit(const Expr& e) {
     case Expr::Kind::piecewise: return piecewise(e);
     case Expr::Kind::apply: break;
   }
+  if (e.op == "diff") return derivative(e);
   if (e.op == "divide" && rewrite_divide)
     if (auto rewritten = rewrite_divide(e)) return *rewritten;
   std::vector<Code> a;
@@ -129,6 +132,21 @@ Code ExpressionWriter::emit(const Expr& e) {
     return c;
   }
   return {"cm_" + op + "(" + a[0].text + ")", lane, false};  // trigonometric and hyperbolic (cellml_math.hpp)
+}
+
+// d(x)/d(t) on a right side: x's own rate expression, in x's and t's units
+// (the writer emits it again where it is used rather than reading the rate,
+// which is computed after the algebraic quantities).
+Code ExpressionWriter::derivative(const Expr& e) {
+  const int x = e.args[0].var, t = e.args[1].var, q = m_.quantity_of[x];
+  if (q == b_.v && b_.stim < 0)
+    throw ImportError(e.path + ": d(" + e.args[0].name + ")/d(" + e.args[1].name +
+                      ") of the membrane potential on a right side, in a model without a stimulus variable "
+                      "(fibrodem adds i_ext to dV/dt itself there; name one with --stimulus)");
+  const Code rate = emit(m_.doc.equations[m_.quantities[q].equation].rhs);
+  const double f = snapped(m_.rate_factor(q) * m_.factor_to(x) / m_.factor_to(t));
+  if (f == 1.0) return {"(" + rate.text + ")", rate.lane, false};
+  return {"(" + rate.text + " * " + lit(f) + ")", rate.lane, false};
 }
 
 Code ExpressionWriter::piecewise(const Expr& e) {

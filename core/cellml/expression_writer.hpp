@@ -46,6 +46,7 @@ class ExpressionWriter {
  private:
   Code variable(int v) const;
   Code piecewise(const Expr& e);
+  Code derivative(const Expr& e);
 
   const Model& m_;
   const InterfaceMap& b_;

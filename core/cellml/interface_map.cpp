@@ -210,6 +210,18 @@ class Mapper {
         if (!name_among(q, names).empty()) named.push_back(q);
         if (m_.quantities[q].role == Role::algebraic && inputs_of(q)[m_.time]) timed.push_back(q);
       }
+      // A chain of named currents (membrane.i_Stim = stimulus_protocol.Istim, a copy, a unit
+      // conversion, a sign) is one stimulus: the one nearest dV/dt, used by none of the others.
+      if (named.size() > 1) {
+        std::vector<int> outermost;
+        for (int q : named) {
+          bool used_by_other = false;
+          for (int other : named)
+            if (other != q && inputs_of(other)[q]) used_by_other = true;
+          if (!used_by_other) outermost.push_back(q);
+        }
+        if (outermost.size() == 1) named = outermost;
+      }
       if (named.size() > 1)
         throw ImportError(m_.doc.file + ": several currents are named as a stimulus (" + list(named) +
                           "); name it with --stimulus component.variable");

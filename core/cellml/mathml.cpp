@@ -67,6 +67,41 @@ Expr read_cn(const pugi::xml_node& node, const std::string& path) {
   return e;
 }
 
+// d(x)/d(t) inside an expression: op "diff", args {x, t} (CellML 1.0 section
+// 4.2.3 admits <diff> anywhere in the MathML subset; Nygren 1998 reads a
+// state's rate this way). model_analysis.cpp gives it the rate of x.
+Expr read_derivative(const pugi::xml_node& node, const std::string& text, const std::string& path) {
+  Expr e;
+  e.kind = Expr::Kind::apply;
+  e.op = "diff";
+  e.path = path;
+  Expr x, t;
+  for (const auto& child : node.children()) {
+    if (child.type() != pugi::node_element) continue;
+    const std::string ct = local_name(child);
+    if (ct == "diff") continue;
+    if (ct == "bvar") {
+      for (const auto& c : child.children()) {
+        if (c.type() != pugi::node_element) continue;
+        if (local_name(c) == "degree")
+          throw ImportError(element_path(c, text) + ": a derivative of order other than 1 is not supported");
+        if (local_name(c) != "ci")
+          throw ImportError(element_path(c, text) + ": the <bvar> of a derivative must be a <ci>");
+        t = read_expression(c, text);
+      }
+    } else if (ct == "ci") {
+      x = read_expression(child, text);
+    } else {
+      throw ImportError(element_path(child, text) + ": the derivative of <" + ct + "> (only of a variable)");
+    }
+  }
+  if (x.name.empty() || t.name.empty())
+    throw ImportError(path + ": a derivative needs <bvar><ci>t</ci></bvar> and <ci>x</ci>");
+  e.args.push_back(std::move(x));
+  e.args.push_back(std::move(t));
+  return e;
+}
+
 }  // namespace
 
 bool supported_operator(const std::string& op) { return operators().count(op) > 0; }
@@ -170,8 +205,7 @@ Expr read_expression(const pugi::xml_node& node, const std::string& text) {
     if (first) {
       first = false;
       e.op = ct;
-      if (ct == "diff")
-        throw ImportError(element_path(child, text) + ": <diff> is allowed only as the left side of an equation");
+      if (ct == "diff") return read_derivative(node, text, path);
       if (!supported_operator(ct))
         throw ImportError(element_path(child, text) + ": unsupported MathML element <" + ct + ">");
       continue;

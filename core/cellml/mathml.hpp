@@ -23,7 +23,8 @@ struct Expr {
   std::string op;
   // apply: the operands (root: the degree is appended, default 2; log: the
   // base, default 10); piecewise: value, condition, value, condition, ...,
-  // then the otherwise value if has_otherwise.
+  // then the otherwise value if has_otherwise; diff (a derivative inside an
+  // expression): the variable, then the bound variable.
   std::vector<Expr> args;
   bool has_otherwise = false;
   std::string path;  // the element's path in the document, with its line

@@ -19,9 +19,45 @@ int find_root(std::vector<int>& parent, int x) {
   return x;
 }
 
+bool is_derivative(const Expr& e) { return e.kind == Expr::Kind::apply && e.op == "diff"; }
+
+// A derivative d(x)/d(t) inside an expression uses x and whatever x's rate
+// uses, since it is evaluated as that rate (check_derivatives() has made
+// sure x is a state and that no rate reads itself).
 void collect_uses(const Model& m, const Expr& e, std::vector<int>& out) {
   if (e.kind == Expr::Kind::variable) out.push_back(m.quantity_of[e.var]);
+  if (is_derivative(e)) {
+    const auto& q = m.quantities[m.quantity_of[e.args[0].var]];
+    out.push_back(m.quantity_of[e.args[0].var]);
+    collect_uses(m, m.doc.equations[q.equation].rhs, out);
+    return;
+  }
   for (const auto& a : e.args) collect_uses(m, a, out);
+}
+
+// Every d(x)/d(t) on a right side: x a state, t the independent variable, and
+// no chain of such derivatives that leads back to the rate it started from.
+void check_derivatives(const Model& m, const Expr& e, std::vector<int>& chain) {
+  if (is_derivative(e)) {
+    const auto& x = m.doc.variables[e.args[0].var];
+    const int q = m.quantity_of[e.args[0].var];
+    if (m.quantities[q].role != Role::state)
+      throw ImportError(e.path + ": d(" + x.name + ")/d(" + e.args[1].name + ") on a right side: " + x.qualified() +
+                        " is not a state (only the rate of a state, from its own equation, can be used)");
+    if (m.quantity_of[e.args[1].var] != m.time)
+      throw ImportError(e.path + ": d(" + x.name + ")/d(" + e.args[1].name + "): " +
+                        m.doc.variables[e.args[1].var].qualified() + " is not the independent variable " +
+                        m.source(m.time).qualified());
+    for (int c : chain)
+      if (c == q)
+        throw ImportError(e.path + ": the rate of " + x.qualified() +
+                          " is defined through its own derivative (an implicit equation)");
+    chain.push_back(q);
+    check_derivatives(m, m.doc.equations[m.quantities[q].equation].rhs, chain);
+    chain.pop_back();
+    return;
+  }
+  for (const auto& a : e.args) check_derivatives(m, a, chain);
 }
 
 std::optional<double> as_number(const std::string& s) {
@@ -204,6 +240,12 @@ Model analyse(Document doc) {
     }
   }
   for (int qi = 0; qi < static_cast<int>(m.quantities.size()); ++qi) {
+    const auto& q = m.quantities[qi];
+    std::vector<int> chain;
+    if (q.role == Role::state) chain.push_back(qi);
+    if (q.equation >= 0) check_derivatives(m, m.doc.equations[q.equation].rhs, chain);
+  }
+  for (int qi = 0; qi < static_cast<int>(m.quantities.size()); ++qi) {
     auto& q = m.quantities[qi];
     if (q.equation >= 0) collect_uses(m, m.doc.equations[q.equation].rhs, q.uses);
     if (q.role == Role::state) m.states.push_back(qi);
@@ -277,6 +319,10 @@ double Evaluator::eval(const Expr& e) const {
     case Expr::Kind::apply: break;
   }
   const std::string& op = e.op;
+  if (op == "diff") {  // d(x)/d(t) in x's and t's own units
+    const int x = e.args[0].var, t = e.args[1].var;
+    return rate(m_.quantity_of[x]) * m_.factor_to(x) / m_.factor_to(t);
+  }
   if (op == "plus") {
     double s = 0;
     for (std::size_t i = 0; i < a.size(); ++i) s += arg(i);

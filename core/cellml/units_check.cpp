@@ -39,6 +39,7 @@ std::string term(const Expr& e) {
     return a.kind == Expr::Kind::apply && infix(a.op) ? "(" + t + ")" : t;
   };
   if (e.op == "minus" && e.args.size() == 1) return "-" + operand(e.args[0]);
+  if (e.op == "diff") return "d(" + e.args[0].name + ")/d(" + e.args[1].name + ")";
   std::string out;
   if (infix(e.op)) {
     const std::string sep = e.op == "plus" ? " + " : e.op == "minus" ? " - " : e.op == "times" ? " * " : e.op == "divide" ? " / " : "^";
@@ -149,6 +150,10 @@ class Checker {
  private:
   std::optional<Found> apply(const Expr& e) {
     const std::string& op = e.op;
+    if (op == "diff") {  // d(x)/d(t): x's units over t's
+      const auto x = unit(e.args[0]), t = unit(e.args[1]);
+      return times(*x, *t, -1.0);
+    }
     if (op == "plus" || op == "minus" || op == "min" || op == "max" || op == "rem") {
       std::vector<const Expr*> all;
       for (const auto& a : e.args) all.push_back(&a);
