@@ -127,7 +127,9 @@ TEST_CASE("import-cellml: a stimulus lumped into an ionic current becomes i_ext 
     // t = 10.5 ms lies in the CellML's own pulse (10 to 11 ms, -800 pA): the plugin must ignore it.
     for (double t : {0.0, 10.5})
       for (double i_ext : {0.0, 350.0, -120.0})
-        for (auto [V, K_i] : {std::pair{-85.0, 140.0}, std::pair{-20.0, 120.0}}) {
+        for (const auto& state : {std::pair{-85.0, 140.0}, std::pair{-20.0, 120.0}}) {
+          // Named copies, not a structured binding: INFO's lambda may not capture one (clang 14).
+          const double V = state.first, K_i = state.second;
           const auto r = evaluate(*model, {V, K_i}, t, i_ext, lanes);
           const auto expected = lumped_rates(V, K_i, i_ext);
           INFO("lanes " << lanes << " t " << t << " i_ext " << i_ext << " V " << V << " K_i " << K_i);
