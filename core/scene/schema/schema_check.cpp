@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -28,6 +29,12 @@ std::unique_ptr<valijson::Schema> parse_schema(const json& document) {
 }
 
 bool valid(const valijson::Schema& schema, const json& instance) {
+  // One validation at a time: a `pattern` compiles a std::regex, which fills
+  // the locale's shared ctype cache unsynchronised, and a sweep's worker
+  // threads read scenes at once (ThreadSanitizer reports it). Validation is
+  // a small part of reading a manifest.
+  static std::mutex one_at_a_time;
+  const std::lock_guard<std::mutex> lock(one_at_a_time);
   valijson::Validator validator;  // strict types: 1.5 is no integer, "1" no number
   valijson::adapters::NlohmannJsonAdapter target(instance);
   return validator.validate(schema, target, nullptr);
