@@ -16,6 +16,7 @@
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 #include "model/plugin_registry.hpp"
+#include "support/cellml_plugins.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -23,53 +24,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kCellml = fs::path(FIBRODEM_SOURCE_DIR) / "tests" / "cellml";
-const fs::path kGenerated = fs::path(FIBRODEM_BINARY_DIR) / "cellml_plugins";
-
-std::shared_ptr<const CellModel> load(const std::string& name) {
-  static PluginRegistry registry({kGenerated});
-  return registry.load(name);
-}
-
-int index_of(const std::vector<StateInfo>& states, const std::string& name) {
-  for (std::size_t k = 0; k < states.size(); ++k)
-    if (states[k].name == name) return static_cast<int>(k);
-  FAIL("no state " << name);
-  return -1;
-}
-
-int output_of(const ModelInfo& info, const std::string& name) {
-  for (std::size_t k = 0; k < info.outputs.size(); ++k)
-    if (info.outputs[k].name == name) return static_cast<int>(k);
-  FAIL("no output " << name);
-  return -1;
-}
-
-// One cell's rates dy/dt = a + b y as the plugin returns them, and its outputs.
-struct Rates {
-  std::vector<double> dydt, outputs;
-};
-
-Rates evaluate(const CellModel& model, const std::vector<double>& y, double t_ms, double i_ext_pA, bool lanes) {
-  const auto& info = model.info();
-  std::vector<double> params, a(y.size()), b(y.size()), inputs{i_ext_pA}, outputs(info.outputs.size());
-  for (const auto& p : info.parameters) params.push_back(p.default_value);
-  BlockView v;
-  v.begin = 0;
-  v.end = 1;
-  v.stride = 1;
-  v.y = y.data();
-  v.params = params.data();
-  v.inputs = inputs.data();
-  v.a = a.data();
-  v.b = b.data();
-  v.outputs = outputs.data();
-  v.scalar_reference = !lanes;
-  model.evaluate(v, t_ms);
-  Rates r{std::vector<double>(y.size()), outputs};
-  for (std::size_t k = 0; k < y.size(); ++k) r.dydt[k] = a[k] + b[k] * y[k];
-  return r;
-}
+using testing::evaluate;
+using testing::index_of;
+using testing::kCellml;
+using testing::kGenerated;
+using testing::load;
+using testing::output_of;
 
 cellml::ImportResult import(const std::string& file, const std::string& name,
                             const std::function<void(cellml::ImportOptions&)>& edit = {}) {

@@ -13,26 +13,17 @@
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 #include "model/plugin_registry.hpp"
+#include "support/cellml_plugins.hpp"
 
 using namespace fibrodem;
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kCellml = fs::path(FIBRODEM_SOURCE_DIR) / "tests" / "cellml";
-const fs::path kGenerated = fs::path(FIBRODEM_BINARY_DIR) / "cellml_plugins";
-
-std::shared_ptr<const CellModel> load(const std::string& name) {
-  static PluginRegistry registry({kGenerated});
-  return registry.load(name);
-}
-
-int index_of(const std::vector<StateInfo>& states, const std::string& name) {
-  for (std::size_t k = 0; k < states.size(); ++k)
-    if (states[k].name == name) return static_cast<int>(k);
-  FAIL("no state " << name);
-  return -1;
-}
+using testing::index_of;
+using testing::kCellml;
+using testing::kGenerated;
+using testing::load;
 
 // One cell, classic RK4 on dy/dt = a + b y as the model returns it.
 struct OneCell {

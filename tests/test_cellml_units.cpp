@@ -15,14 +15,14 @@
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 #include "model/plugin_registry.hpp"
+#include "support/cellml_plugins.hpp"
 
 using namespace fibrodem;
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kCellml = fs::path(FIBRODEM_SOURCE_DIR) / "tests" / "cellml";
-const fs::path kGenerated = fs::path(FIBRODEM_BINARY_DIR) / "cellml_plugins";
+using testing::kCellml;
 const std::string kVolt = "ampere^-1 kilogram^1 metre^2 second^-3";
 
 fs::path scratch(const std::string& name) {
@@ -64,25 +64,9 @@ std::string refusal(const fs::path& file, bool strict) {
 
 // dV/dt [mV/ms] of a one-state plugin at V_mV, no i_ext (dy/dt = a + b y).
 double rate(const std::string& plugin, double V_mV) {
-  static PluginRegistry registry({kGenerated});
-  const auto model = registry.load(plugin);
+  const auto model = testing::load(plugin);
   REQUIRE(model->info().states.size() == 1);
-  std::vector<double> y{V_mV}, params, a(1), b(1), inputs(model->info().inputs.size(), 0.0),
-      outputs(model->info().outputs.size(), 0.0);
-  for (const auto& p : model->info().parameters) params.push_back(p.default_value);
-  BlockView v;
-  v.begin = 0;
-  v.end = 1;
-  v.stride = 1;
-  v.y = y.data();
-  v.params = params.data();
-  v.inputs = inputs.data();
-  v.a = a.data();
-  v.b = b.data();
-  v.outputs = outputs.data();
-  v.scalar_reference = true;
-  model->evaluate(v, 0.0);
-  return a[0] + b[0] * V_mV;
+  return testing::evaluate(*model, {V_mV}, 0.0, 0.0, false).dydt[0];
 }
 
 const std::string kSlipPath = "/model[@name='background_slip']/component[@name='membrane']/math/";

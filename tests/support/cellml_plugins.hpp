@@ -1,0 +1,69 @@
+// Helpers shared by the CellML importer's test suites: where the test models
+// and the plugins built from them are, loading those plugins, and one cell's
+// rates as a plugin returns them.
+#pragma once
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/plugin_registry.hpp"
+
+namespace fibrodem::testing {
+
+// tests/cellml, and the plugins tests/CMakeLists.txt imports from it at build time.
+inline const std::filesystem::path kCellml = std::filesystem::path(FIBRODEM_SOURCE_DIR) / "tests" / "cellml";
+inline const std::filesystem::path kGenerated = std::filesystem::path(FIBRODEM_BINARY_DIR) / "cellml_plugins";
+
+inline std::shared_ptr<const CellModel> load(const std::string& name) {
+  static PluginRegistry registry({kGenerated});
+  return registry.load(name);
+}
+
+inline int index_of(const std::vector<StateInfo>& states, const std::string& name) {
+  for (std::size_t k = 0; k < states.size(); ++k)
+    if (states[k].name == name) return static_cast<int>(k);
+  FAIL("no state " << name);
+  return -1;
+}
+
+inline int output_of(const ModelInfo& info, const std::string& name) {
+  for (std::size_t k = 0; k < info.outputs.size(); ++k)
+    if (info.outputs[k].name == name) return static_cast<int>(k);
+  FAIL("no output " << name);
+  return -1;
+}
+
+// One cell's rates dy/dt = a + b y as the plugin returns them, and its outputs.
+struct Rates {
+  std::vector<double> dydt, outputs;
+};
+
+// The model's default parameters, its one input i_ext; in SIMD lanes or the
+// scalar reference path.
+inline Rates evaluate(const CellModel& model, const std::vector<double>& y, double t_ms, double i_ext_pA,
+                      bool lanes) {
+  const auto& info = model.info();
+  std::vector<double> params, a(y.size()), b(y.size()), inputs{i_ext_pA}, outputs(info.outputs.size());
+  for (const auto& p : info.parameters) params.push_back(p.default_value);
+  BlockView v;
+  v.begin = 0;
+  v.end = 1;
+  v.stride = 1;
+  v.y = y.data();
+  v.params = params.data();
+  v.inputs = inputs.data();
+  v.a = a.data();
+  v.b = b.data();
+  v.outputs = outputs.data();
+  v.scalar_reference = !lanes;
+  model.evaluate(v, t_ms);
+  Rates r{std::vector<double>(y.size()), outputs};
+  for (std::size_t k = 0; k < y.size(); ++k) r.dydt[k] = a[k] + b[k] * y[k];
+  return r;
+}
+
+}  // namespace fibrodem::testing
