@@ -8,9 +8,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <sstream>
 #include <unistd.h>
 
 #include "cellml/import.hpp"
@@ -30,6 +28,8 @@ using testing::kCellml;
 using testing::kGenerated;
 using testing::load;
 using testing::output_of;
+using testing::rk4;
+using testing::without_origin;
 
 cellml::ImportResult import(const std::string& file, const std::string& name,
                             const std::function<void(cellml::ImportOptions&)>& edit = {}) {
@@ -50,17 +50,6 @@ std::string all_notes(const cellml::ImportResult& r) {
 
 std::string source_of(const cellml::ImportResult& r, const std::string& name) {
   return testing::read_file(r.folder / (name + ".cpp"));
-}
-
-// A generated source without the lines that name the file and its CellML version.
-std::string without_origin(const std::string& text) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line))
-    if (line.find(".cellml") == std::string::npos && line.find("CellML 1.") == std::string::npos &&
-        line.find("CellML 2.") == std::string::npos)
-      out += line + "\n";
-  return out;
 }
 
 // tests/cellml/lumped_stimulus_*.cellml, by hand: i_tot = i_L + i_stim, dV/dt = -i_tot / Cm,
@@ -113,15 +102,6 @@ TEST_CASE("import-cellml: the lumped model paced by i_ext follows its equations 
   auto f_plugin = [&](double t, const std::array<double, 2>& s) {
     const auto r = evaluate(*model, {s[0], s[1]}, t, i_ext(t), true);
     return std::array<double, 2>{r.dydt[0], r.dydt[1]};
-  };
-  auto rk4 = [](std::array<double, 2>& s, double t, double dt, const auto& f) {
-    auto add = [](std::array<double, 2> x, const std::array<double, 2>& k, double h) {
-      for (int i = 0; i < 2; ++i) x[i] += h * k[i];
-      return x;
-    };
-    const auto k1 = f(t, s), k2 = f(t + dt / 2, add(s, k1, dt / 2)), k3 = f(t + dt / 2, add(s, k2, dt / 2)),
-               k4 = f(t + dt, add(s, k3, dt));
-    for (int i = 0; i < 2; ++i) s[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
   };
   std::array<double, 2> plugin{-85.0, 140.0};
   double peak = -100;

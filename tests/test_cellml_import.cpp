@@ -6,14 +6,13 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <sstream>
 
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 #include "model/plugin_registry.hpp"
 #include "support/cellml_plugins.hpp"
+#include "support/scenes.hpp"
 
 using namespace fibrodem;
 namespace fs = std::filesystem;
@@ -24,37 +23,22 @@ using testing::index_of;
 using testing::kCellml;
 using testing::kGenerated;
 using testing::load;
+using testing::rk4;
+using testing::without_origin;
 
 // One cell, classic RK4 on dy/dt = a + b y as the model returns it.
 struct OneCell {
   std::shared_ptr<const CellModel> model;
-  std::vector<double> y, params, a, b, inputs, outputs;
+  std::vector<double> y, outputs;  // outputs: as the last evaluation left them
   OneCell(std::shared_ptr<const CellModel> m) : model(std::move(m)) {
     for (const auto& s : model->info().states) y.push_back(s.initial);
-    for (const auto& p : model->info().parameters) params.push_back(p.default_value);
-    a.resize(y.size());
-    b.resize(y.size());
-    inputs.assign(model->info().inputs.size(), 0.0);
     outputs.assign(model->info().outputs.size(), 0.0);
   }
   bool lanes = false;  // evaluate in SIMD lanes instead of the scalar reference path
   std::vector<double> rates(const std::vector<double>& state, double t, double i_ext) {
-    inputs[0] = i_ext;
-    BlockView v;
-    v.begin = 0;
-    v.end = 1;
-    v.stride = 1;
-    v.y = state.data();
-    v.params = params.data();
-    v.inputs = inputs.data();
-    v.a = a.data();
-    v.b = b.data();
-    v.outputs = outputs.data();
-    v.scalar_reference = !lanes;
-    model->evaluate(v, t);
-    std::vector<double> r(state.size());
-    for (std::size_t k = 0; k < r.size(); ++k) r[k] = a[k] + b[k] * state[k];
-    return r;
+    testing::Rates r = testing::evaluate(*model, state, t, i_ext, lanes);
+    outputs = std::move(r.outputs);
+    return r.dydt;
   }
   void step(double t, double dt, const std::function<double(double)>& i_ext) {
     auto add = [](std::vector<double> x, const std::vector<double>& k, double h) {
@@ -69,35 +53,6 @@ struct OneCell {
   }
 };
 
-// The same RK4 on a hand-written right-hand side (the reference).
-template <std::size_t N, class F>
-void rk4(std::array<double, N>& y, double t, double dt, F f) {
-  auto add = [](std::array<double, N> x, const std::array<double, N>& k, double h) {
-    for (std::size_t i = 0; i < N; ++i) x[i] += h * k[i];
-    return x;
-  };
-  const auto k1 = f(t, y), k2 = f(t + dt / 2, add(y, k1, dt / 2)), k3 = f(t + dt / 2, add(y, k2, dt / 2)),
-             k4 = f(t + dt, add(y, k3, dt));
-  for (std::size_t i = 0; i < N; ++i) y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// A generated source without the lines that name the file and its CellML version.
-std::string without_origin(const std::string& text) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line))
-    if (line.find(".cellml") == std::string::npos && line.find("CellML 1.") == std::string::npos &&
-        line.find("CellML 2.") == std::string::npos)
-      out += line + "\n";
-  return out;
-}
 
 fs::path scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("fibrodem_cellml_test_" + std::to_string(::getpid())) / name;
@@ -272,7 +227,7 @@ TEST_CASE("import-cellml: CellML 1.0, 1.1 and 2.0 of the same model give the sam
       if (model == "fitzhugh_nagumo") o.stimulus = "stimulus.z";
       const auto result = cellml::import_cellml(o);
       CHECK(fs::exists(result.folder / "CMakeLists.txt"));
-      const std::string text = without_origin(read_text(result.folder / (model + ".cpp")));
+      const std::string text = without_origin(testing::read_file(result.folder / (model + ".cpp")));
       if (first.empty()) first = text;
       else CHECK_MESSAGE(text == first, model << " " << version);
     }

@@ -9,13 +9,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
 #include "model/plugin_registry.hpp"
 #include "support/cellml_plugins.hpp"
+#include "support/scenes.hpp"
 
 using namespace fibrodem;
 namespace fs = std::filesystem;
@@ -30,13 +29,6 @@ fs::path scratch(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(dir.parent_path());
   return dir;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 cellml::ImportOptions options(const fs::path& file, bool strict) {
@@ -88,7 +80,7 @@ TEST_CASE("import-cellml units: a dimensionless constant in a background current
     const auto result = import(kCellml / ("background_slip_" + version + ".cellml"));
     CHECK(result.unit_warnings == kSlipWarnings);
     // Every warning is in the generated source's header, one per line.
-    const std::string source = read_text(result.folder / ("units_background_slip_" + version + ".cpp"));
+    const std::string source = testing::read_file(result.folder / ("units_background_slip_" + version + ".cpp"));
     const std::string header = source.substr(0, source.find("#include"));
     for (const auto& w : kSlipWarnings) CHECK(header.find("//   - " + w + "\n") != std::string::npos);
     CHECK(header.find("Unit inconsistencies in the CellML (2), imported with the numbers as written") != std::string::npos);

@@ -5,8 +5,11 @@
 
 #include <doctest/doctest.h>
 
+#include <array>
+#include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -64,6 +67,31 @@ inline Rates evaluate(const CellModel& model, const std::vector<double>& y, doub
   Rates r{std::vector<double>(y.size()), outputs};
   for (std::size_t k = 0; k < y.size(); ++k) r.dydt[k] = a[k] + b[k] * y[k];
   return r;
+}
+
+// One classic RK4 step of dy/dt = f(t, y) (the same method on a plugin and on a
+// right-hand side written by hand, so the two differ by round-off alone).
+template <std::size_t N, class F>
+void rk4(std::array<double, N>& y, double t, double dt, F f) {
+  auto add = [](std::array<double, N> x, const std::array<double, N>& k, double h) {
+    for (std::size_t i = 0; i < N; ++i) x[i] += h * k[i];
+    return x;
+  };
+  const auto k1 = f(t, y), k2 = f(t + dt / 2, add(y, k1, dt / 2)), k3 = f(t + dt / 2, add(y, k2, dt / 2)),
+             k4 = f(t + dt, add(y, k3, dt));
+  for (std::size_t i = 0; i < N; ++i) y[i] += dt / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+}
+
+// A generated source without the lines that name the file and its CellML
+// version (the 1.0, 1.1 and 2.0 forms of a model give the same rest).
+inline std::string without_origin(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.find(".cellml") == std::string::npos && line.find("CellML 1.") == std::string::npos &&
+        line.find("CellML 2.") == std::string::npos)
+      out += line + "\n";
+  return out;
 }
 
 }  // namespace fibrodem::testing
