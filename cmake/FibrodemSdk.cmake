@@ -16,7 +16,7 @@ set(FIBRODEM_SDK_HEADERS
   mechanics/contact_law_plugin.hpp)
 set(FIBRODEM_SDK_STAGE ${CMAKE_BINARY_DIR}/sdk/include)
 foreach(header IN LISTS FIBRODEM_SDK_HEADERS)
-  configure_file(${PROJECT_SOURCE_DIR}/core/${header} ${FIBRODEM_SDK_STAGE}/${header} COPYONLY)
+  configure_file(${PROJECT_SOURCE_DIR}/sdk/${header} ${FIBRODEM_SDK_STAGE}/${header} COPYONLY)
 endforeach()
 
 add_library(fibrodem_plugin_sdk INTERFACE)
@@ -26,9 +26,9 @@ target_compile_features(fibrodem_plugin_sdk INTERFACE cxx_std_20)
 target_link_libraries(fibrodem_plugin_sdk INTERFACE fibrodem_xsimd)
 
 # The ABI numbers, for the CMake package and the pkg-config file.
-file(STRINGS ${PROJECT_SOURCE_DIR}/core/model/cell_model.hpp abi REGEX "kPluginAbiVersion = [0-9]+")
+file(STRINGS ${PROJECT_SOURCE_DIR}/sdk/model/cell_model.hpp abi REGEX "kPluginAbiVersion = [0-9]+")
 string(REGEX MATCH "[0-9]+" FIBRODEM_PLUGIN_ABI_VERSION "${abi}")
-file(STRINGS ${PROJECT_SOURCE_DIR}/core/mechanics/contact_law_plugin.hpp abi REGEX "kContactLawAbiVersion = [0-9]+")
+file(STRINGS ${PROJECT_SOURCE_DIR}/sdk/mechanics/contact_law_plugin.hpp abi REGEX "kContactLawAbiVersion = [0-9]+")
 string(REGEX MATCH "[0-9]+" FIBRODEM_CONTACT_LAW_ABI_VERSION "${abi}")
 
 # ---- install: headers, xsimd, CMake package, pkg-config ---------------------
@@ -36,7 +36,7 @@ set(FIBRODEM_SDK_INCLUDE_DIR include/fibrodem)
 set(FIBRODEM_CMAKE_DIR lib/cmake/fibrodem)
 foreach(header IN LISTS FIBRODEM_SDK_HEADERS)
   get_filename_component(subdir ${header} DIRECTORY)
-  install(FILES core/${header} DESTINATION ${FIBRODEM_SDK_INCLUDE_DIR}/${subdir})
+  install(FILES sdk/${header} DESTINATION ${FIBRODEM_SDK_INCLUDE_DIR}/${subdir})
 endforeach()
 # xsimd is header-only (Debian's libxsimd-dev): the install carries a copy of
 # the headers fibrodem was built with, and its licence, so that a plugin needs

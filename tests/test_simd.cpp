@@ -1,4 +1,4 @@
-// Cell models in SIMD lanes (core/model/simd.hpp, block_access.hpp):
+// Cell models in SIMD lanes (sdk/model/simd.hpp, block_access.hpp):
 //  (a) lanes and the scalar reference path (solver.simd false) differ by
 //      round-off only, over whole beats of every ionic model;
 //  (b) a cell's derivatives do not depend on where it sits in its block (a
