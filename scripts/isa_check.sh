@@ -26,7 +26,7 @@ sdk_headers=$(sed -n '/^set(FIBRODEM_SDK_HEADERS/,/)/p' cmake/FibrodemSdk.cmake 
 [ -n "$sdk_headers" ] || { echo "isa_check: no SDK headers found in cmake/FibrodemSdk.cmake" >&2; exit 1; }
 for header in $sdk_headers; do
   mkdir -p "$work/include/$(dirname "$header")"
-  cp "core/$header" "$work/include/$header"
+  cp "sdk/$header" "$work/include/$header"
 done
 
 {
