@@ -76,3 +76,51 @@ TEST_CASE("settle: a paced myocyte starts from its own diastole, so V hardly dri
   CHECK(settled < 0.1 * unsettled);  // settled, it stays
   unsetenv("FIBRODEM_CACHE_DIR");
 }
+
+namespace {
+
+// One colman myocyte coupled to four active fibroblasts (Maleckar 2009), no
+// stimulus: the fibroblasts start at their isolated rest, about -47 mV,
+// which the myocyte's coupling pulls down.
+json coupled_pair_at_rest(double duration_ms) {
+  return json::parse(R"({"fibrodem": 1, "name": "pair_rest", "duration_ms": )" + std::to_string(duration_ms) + R"(,
+    "tissue": {"builder": "cell_pair", "fibroblasts": 4},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "maleckar_active2"}},
+    "coupling": {"law": "gap_junction", "D_m_nS": 1000, "D_f_nS": 8},
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"traces": {"cells": [0, 1], "variables": ["V"], "every_ms": 1}}})");
+}
+
+}  // namespace
+
+TEST_CASE("settle (the tissue): t = 0 is where the coupled tissue at rest would be after that long") {
+  // The reference is the same tissue run from its unsettled start for 500 ms:
+  // the settle is that run moved before t = 0 (the same fixed steps, no
+  // stimulus), so the fibroblast's V agrees to round-off.
+  Simulation unsettled(parse_scene(coupled_pair_at_rest(500)));
+  unsettled.run();
+  const auto& V_free = unsettled.trace("V", 1);
+  json m = coupled_pair_at_rest(20);
+  m["settle"] = {{"ms", 500}};
+  Simulation settled(parse_scene(m));
+  settled.run();
+  const auto& V_settled = settled.trace("V", 1);
+  CHECK(V_settled.front() == doctest::Approx(V_free.back()).epsilon(1e-9));
+  // The transient the settle removes: over the unsettled run's first 20 ms
+  // the fibroblast moves by several mV; settled, it hardly moves.
+  const double drift_unsettled = std::abs(V_free[20] - V_free.front());
+  const double drift_settled = std::abs(V_settled.back() - V_settled.front());
+  CAPTURE(drift_unsettled);
+  CAPTURE(drift_settled);
+  CHECK(drift_unsettled > 1.0);
+  CHECK(drift_settled < 0.05 * drift_unsettled);
+  CHECK(notes_of(settled).find("settle: the coupled tissue at rest for 500 ms") != std::string::npos);
+}
+
+TEST_CASE("settle (the tissue): a negative length is refused, naming settle.ms") {
+  json m = coupled_pair_at_rest(20);
+  m["settle"] = {{"ms", -1}};
+  CHECK_THROWS_WITH_AS(parse_scene(m), doctest::Contains("settle.ms"), ManifestError);
+  m["settle"] = {{"ms", 10}, {"pacing", 1}};
+  CHECK_THROWS_WITH_AS(parse_scene(m), doctest::Contains("settle.pacing"), ManifestError);
+}

@@ -69,6 +69,7 @@ void Simulation::Impl::run() {
         [this](const BeatBiomarkers& b) { record_beat(b); });
     if (scene.output.rmp_method == "pre_upstroke")
       tracker->use_pre_upstroke_rmp(scene.output.rmp_window_ms, scene.output.rmp_gap_ms);
+    if (!resume_point) settle_tissue();
     system.record_rest_lengths();
     if (resume_point) {
       resume();

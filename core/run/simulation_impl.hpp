@@ -5,6 +5,7 @@
 //                               myofilaments, mechanics, solver, threads
 //   simulation_checkpoints.cpp  checkpoints written and a run resumed from one
 //   simulation_outputs.cpp      output files, run.log, snapshots, progress
+//   simulation_settle.cpp       the coupled tissue settled at rest before t = 0
 // and, on their own, mechanics_coupling.hpp (the cells driving the DEM) and
 // state_guard.hpp (state limits and blow-up diagnosis).
 #pragma once
@@ -100,6 +101,7 @@ struct Simulation::Impl : StepObserver {
   void build_mechanics();
   void build_lookup_tables();
   void start_from_initial_state();
+  void settle_tissue();
   void check_explicit_stability();
   void guard_resources();
 

@@ -358,6 +358,11 @@ Scene parse_scene(const json& manifest) {
     scene.initial_state.time_ms = init.number("time_ms", -1.0, 0.0, 1e9);
     init.finish();
   }
+  if (top.has("settle")) {
+    JsonReader settle = top.object("settle");
+    scene.settle.ms = settle.number("ms", std::nullopt, 0.0, 1e6);
+    settle.finish();
+  }
   scene.plugin_path = read_plugin_path(top);
   top.finish();
   // After the reader's own checks (their messages are the more specific): a

@@ -126,6 +126,12 @@ struct InitialStateSpec {
   double time_ms = -1;  // which of the folder's checkpoints (< 0: the latest)
 };
 
+// settle: before t = 0 the coupled tissue runs at rest (no stimulus, no
+// mechanics) for ms; 0: not at all.
+struct TissueSettleSpec {
+  double ms = 0;
+};
+
 struct Scene {
   std::string name;
   std::uint64_t seed = 0;
@@ -141,6 +147,7 @@ struct Scene {
   SolverSpec solver;
   OutputSpec output;
   InitialStateSpec initial_state;
+  TissueSettleSpec settle;
   // plugin_path: directories searched for plugins before $FIBRODEM_PLUGIN_PATH
   // and the bundled ones (each checked to exist).
   std::vector<std::string> plugin_path;
