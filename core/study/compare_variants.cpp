@@ -6,6 +6,7 @@
 #include "run/output_dir.hpp"
 #include "run/run_record.hpp"
 #include "run/simulation.hpp"
+#include "study/plugin_search.hpp"
 
 namespace fibrodem {
 
@@ -25,7 +26,7 @@ Variant run_variant(const std::string& label, const json& manifest, const Compar
   if (!options.report) scene.output.report = false;
   RunOptions run_options;
   run_options.console_log = options.console_log;
-  Simulation simulation(scene, nullptr, run_options);
+  Simulation simulation(scene, registry_searching(scene, options.plugin_search_path), run_options);
   simulation.run();
   return {record_of(simulation, label.substr(label.rfind('/') + 1)), simulation.summary()};
 }
@@ -36,14 +37,14 @@ long long first_seed(const json& a) {
 
 // Both variants' scenes built (tissue, plugins, names, traces) and their output
 // folders checked before either runs; errors say which variant.
-void validate_variants(const std::vector<std::pair<std::string, const json*>>& variants, const fs::path& dir,
-                       bool overwrite) {
+void validate_variants(const std::vector<std::pair<std::string, const json*>>& variants,
+                       const CompareOptions& options) {
   for (const auto& [label, manifest] : variants) {
     try {
       Scene scene = parse_scene(*manifest);
-      prepare_output_dir(dir / label, overwrite);
+      prepare_output_dir(options.out / label, options.overwrite);
       scene.output.dir.clear();  // validating writes nothing
-      Simulation check(scene);
+      Simulation check(scene, registry_searching(scene, options.plugin_search_path));
     } catch (const ManifestError& e) {
       throw ManifestError(label + ": " + e.path(), std::string(e.what()).substr(std::string("manifest: ").size()));
     } catch (const PluginError& e) {
@@ -110,11 +111,11 @@ CompareResult run_compare(const json& a, const json& b, const CompareOptions& op
     json a0 = a, b0 = b;
     a0["seed"] = b0["seed"] = first_seed(a);
     const std::string tissue = "seed_" + std::to_string(first_seed(a));
-    validate_variants({{tissue + "/A", &a0}, {tissue + "/B", &b0}}, options.out, options.overwrite);
+    validate_variants({{tissue + "/A", &a0}, {tissue + "/B", &b0}}, options);
     compare_over_seeds(a, b, options, result);
     return result;
   }
-  validate_variants({{"A", &a}, {"B", &b}}, options.out, options.overwrite);
+  validate_variants({{"A", &a}, {"B", &b}}, options);
   const Variant va = run_variant("A", a, options);
   const Variant vb = run_variant("B", b, options);
   write_comparison(va.record, vb.record, options.out);

@@ -23,6 +23,9 @@ struct CompareOptions {
   bool overwrite = false;     // replace earlier runs' files in out/A, out/B, ...
   bool report = true;         // report.html (the comparison's and each run's)
   bool console_log = false;   // the runs' logs also on stderr
+  // Where plugins are searched after a manifest's plugin_path; empty: as
+  // `fibrodem run` searches (study/plugin_search.hpp).
+  std::vector<std::filesystem::path> plugin_search_path;
 };
 
 // Where a comparison goes without --out: out/compare_<A's name>.

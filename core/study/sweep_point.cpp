@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "run/simulation.hpp"
+#include "study/plugin_search.hpp"
 
 namespace fibrodem {
 
@@ -95,15 +96,9 @@ void run_here(const InProcessRunner& runner, const json& manifest, SweepRun& poi
   scene.output.dir = dir.string();
   scene.output.overwrite = true;
   if (!report) scene.output.report = false;
-  std::shared_ptr<PluginRegistry> registry;  // null: the Simulation searches as `fibrodem run` does
-  if (!runner.plugin_search_path.empty()) {
-    std::vector<fs::path> search(scene.plugin_path.begin(), scene.plugin_path.end());
-    search.insert(search.end(), runner.plugin_search_path.begin(), runner.plugin_search_path.end());
-    registry = std::make_shared<PluginRegistry>(std::move(search));
-  }
   std::string error;
   try {
-    Simulation simulation(scene, registry);
+    Simulation simulation(scene, registry_searching(scene, runner.plugin_search_path));
     simulation.run();
   } catch (const std::exception& e) {
     error = e.what();

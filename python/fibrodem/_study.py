@@ -26,10 +26,17 @@ def _on_main_thread():
 
 def sweep_executable():
     """The `fibrodem` executable a sweep's points run in (one child process
-    each): $FIBRODEM_EXE if set, else the command line built with this module
-    (its folder is fibrodem._core.cli_dir); None if that is not an executable
-    file (then points run in this process)."""
-    exe = os.environ.get("FIBRODEM_EXE") or os.path.join(_core.cli_dir, "fibrodem")
+    each): $FIBRODEM_EXE if set (FileNotFoundError if it is not an executable
+    file), else the command line built with this module (in
+    fibrodem._core.cli_dir) if it is there, else None (points run in this
+    process). A `fibrodem` on PATH is not used: it may be another build."""
+    given = os.environ.get("FIBRODEM_EXE")
+    if given:
+        if not (os.path.isfile(given) and os.access(given, os.X_OK)):
+            raise FileNotFoundError("FIBRODEM_EXE=%s is not an executable file (unset it to run a sweep's points in "
+                                    "this process, or point it to a fibrodem executable)" % given)
+        return given
+    exe = os.path.join(_core.cli_dir, "fibrodem")
     return exe if os.path.isfile(exe) and os.access(exe, os.X_OK) else None
 
 

@@ -184,6 +184,7 @@ py::dict compare(py::handle a_source, py::handle b_source, const py::list& overr
   options.overwrite = overwrite;
   options.report = report;
   options.console_log = console_log;
+  options.plugin_search_path = PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR);
   CompareResult result;
   std::string stopped, failed;
   {
