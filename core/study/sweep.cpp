@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "scene/scene.hpp"
@@ -31,6 +32,8 @@ std::vector<SweepRun> sweep_points(const SweepFile& sweep) {
 void run_sweep_points(const SweepFile& sweep, std::vector<SweepRun>& runs, const std::vector<std::size_t>& which,
                       const SweepOptions& options) {
   if (options.out.empty()) throw std::invalid_argument("run_sweep_points: no output folder");
+  if (const auto* child = std::get_if<ChildProcessRunner>(&options.runner); child && child->executable.empty())
+    throw std::invalid_argument("run_sweep_points: a child-process runner without a fibrodem executable");
   const unsigned jobs = options.jobs > 0 ? options.jobs : std::max(1u, std::thread::hardware_concurrency());
   std::atomic<std::size_t> next{0};
   std::mutex report_lock;

@@ -30,7 +30,8 @@ struct InProcessRunner {
   std::vector<std::filesystem::path> plugin_search_path;
 };
 
-using PointRunner = std::variant<ChildProcessRunner, InProcessRunner>;
+// (In-process by default: it needs nothing from the caller.)
+using PointRunner = std::variant<InProcessRunner, ChildProcessRunner>;
 
 // Runs `point` (its values set) into `dir` and fills its summary, status,
 // error and reused; never throws (a bad point is "failed" with its error).

@@ -163,8 +163,9 @@ def test_compare_two_manifests_and_a_bad_b(cell_pair, tmp_path):
                                rtol=1e-15)
 
     b["cells"]["fibroblast"]["model"] = "no_such_model"
-    with pytest.raises(fibrodem.PluginError, match="^B: "):
+    with pytest.raises(fibrodem.ManifestError) as error:
         fibrodem.compare(cell_pair, b, out=tmp_path / "bad")
+    assert error.value.path == "B: cells.fibroblast.model" and "no_such_model" in str(error.value)
     assert not (tmp_path / "bad" / "A" / "summary.json").exists()  # checked before A ran
     with pytest.raises(fibrodem.ManifestError, match="two manifests"):
         fibrodem.compare(cell_pair, out=tmp_path / "one")
