@@ -5,6 +5,10 @@
     scene.set("coupling.D_f_nS", 2.0)          # as --set coupling.D_f_nS=2
     result = fibrodem.run(scene)               # in memory; out="dir" writes the run's folder
     result.trace("V", 0), result.biomarkers, result.summary["mean_biomarkers"]
+    swept = fibrodem.sweep("examples/sweep_cell_pair.json", out="out/s")  # as `fibrodem sweep`
+    swept.table, swept.stats
+    ab = fibrodem.compare(scene, a_set={"coupling.D_f_nS": 1}, b_set={"coupling.D_f_nS": 4})
+    ab.rows, ab.paired                         # as `fibrodem compare`
 
 Units follow the manifest: time ms, voltage mV, current pA (whole cell),
 capacitance pF, conductance nS, concentration mM, length um.
@@ -21,10 +25,12 @@ from . import _core
 from ._errors import ManifestError, PluginError, RunError
 from ._progress import TextBar
 from ._result import Result, biomarker_array, read, read_sweep
+from ._study import Comparison, SweepResult, compare, sweep, sweep_executable
 
 __version__ = _core.version
 __all__ = ["Scene", "load_scene", "run", "read", "read_sweep", "plugins", "simulate_cell", "pacing", "Result",
-           "CellLog", "ManifestError", "PluginError", "RunError"]
+           "CellLog", "ManifestError", "PluginError", "RunError", "sweep", "SweepResult", "sweep_executable", "compare",
+           "Comparison"]
 
 
 def _type_name(value):

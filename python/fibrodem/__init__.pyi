@@ -63,3 +63,46 @@ def simulate_cell(model: str, variant: Optional[str] = ..., parameters: Optional
                   duration_ms: float = ..., solver: Union[None, str, Mapping[str, Any]] = ...,
                   log: Sequence[str] = ..., log_every_ms: Optional[float] = ..., cell_type: str = ...,
                   initial_state: Optional[Mapping[str, float]] = ...) -> CellLog: ...
+
+Overrides = Union[None, Mapping[str, JSONValue], Sequence[str]]   # {path: value} or ["PATH=VALUE", ...]
+ManifestSource = Union[PathLike, Mapping[str, Any], Scene]
+
+class SweepResult:
+    table: Any                       # sweep.csv's rows: DataFrame if pandas is installed, else a structured np.ndarray
+    stats: Any                       # sweep_stats.csv's rows (with seeds), else None
+    statuses: list[str]              # "completed", "failed", "interrupted", "crashed"
+    errors: list[str]
+    summaries: list[Optional[dict]]
+    values: list[dict[str, Any]]     # grid path -> value per run (with "seed")
+    seeds: list[int]
+    reused: int
+    markdown: str
+    out_dir: str
+    runner: str                      # "process: <executable>" or "in_process"
+    @property
+    def completed(self) -> bool: ...
+    def result(self, k: int) -> Result: ...
+    def __len__(self) -> int: ...
+
+class Comparison:
+    rows: Any                        # comparison.csv's rows
+    paired: Any                      # paired.csv's rows (with seeds), else None
+    seeds: list[int]
+    summaries_a: list[dict]
+    summaries_b: list[dict]
+    markdown: str
+    out_dir: str
+    a_dir: str
+    b_dir: str
+    @property
+    def a(self) -> Result: ...
+    @property
+    def b(self) -> Result: ...
+
+def sweep_executable() -> Optional[str]: ...
+def sweep(sweep: Union[PathLike, Mapping[str, Any]], out: Optional[PathLike] = ..., jobs: int = ...,
+          set: Overrides = ..., overwrite: bool = ..., report: bool = ...,
+          runner: Optional[str] = ...) -> SweepResult: ...   # runner: None, "process", "in_process"
+def compare(a: ManifestSource, b: Optional[ManifestSource] = ..., out: Optional[PathLike] = ...,
+            set: Overrides = ..., a_set: Overrides = ..., b_set: Overrides = ..., seeds: int = ...,
+            overwrite: bool = ..., report: bool = ..., quiet: bool = ...) -> Comparison: ...

@@ -22,5 +22,6 @@ void bind_scene(pybind11::module_& m);
 void bind_run(pybind11::module_& m);
 void bind_simulate_cell(pybind11::module_& m);
 void bind_plugins(pybind11::module_& m);
+void bind_study(pybind11::module_& m);
 
 }  // namespace fibrodem::python

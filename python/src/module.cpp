@@ -32,4 +32,5 @@ PYBIND11_MODULE(_core, m) {
   fibrodem::python::bind_run(m);
   fibrodem::python::bind_simulate_cell(m);
   fibrodem::python::bind_plugins(m);
+  fibrodem::python::bind_study(m);
 }

@@ -1,4 +1,4 @@
-#include "apps/sweep_table.hpp"
+#include "study/sweep_table.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -11,7 +11,7 @@
 #include "measure/sample_statistics.hpp"
 #include "measure/summary_metrics.hpp"
 
-namespace fibrodem::cli {
+namespace fibrodem {
 
 namespace {
 
@@ -165,6 +165,18 @@ void write_plot(const std::vector<PlotPanel>& panels, const std::filesystem::pat
 
 }  // namespace
 
+std::vector<GridPointStatistics> grid_point_statistics(const SweepFile& sweep, const std::vector<SweepRun>& runs) {
+  const std::vector<GridPoint> points = grid_points(sweep, runs);
+  const auto stats = statistics(points, summary_metrics());
+  std::vector<GridPointStatistics> out;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    GridPointStatistics p{points[k].values, 0, stats[k]};
+    for (const SweepRun* r : points[k].runs) p.completed += r->status == "completed";
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
 std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRun>& runs,
                                const std::filesystem::path& dir, bool report) {
   SweepReportContent content;
@@ -211,4 +223,4 @@ std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRu
   return md.str();
 }
 
-}  // namespace fibrodem::cli
+}  // namespace fibrodem

@@ -1,0 +1,223 @@
+// fibrodem._core.sweep and fibrodem._core.compare: the study layer's sweep
+// and A/B comparison (the engines of `fibrodem sweep` and `fibrodem
+// compare`), run with the GIL released. The package (fibrodem/_study.py)
+// turns their dicts into SweepResult and Comparison.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <csignal>
+#include <filesystem>
+#include <optional>
+
+#include "binding.hpp"
+#include "measure/summary_metrics.hpp"
+#include "py_json.hpp"
+#include "run/interrupt.hpp"
+#include "scene/scene.hpp"
+#include "study/compare_variants.hpp"
+#include "study/sweep.hpp"
+
+namespace py = pybind11;
+
+namespace fibrodem::python {
+
+namespace {
+
+// Each entry "PATH=VALUE" (as --set) or a (path, value) pair.
+std::vector<std::string> assignments(const py::list& overrides, const std::string& what) {
+  std::vector<std::string> out;
+  for (py::handle item : overrides) {
+    if (py::isinstance<py::str>(item)) {
+      out.push_back(item.cast<std::string>());
+    } else if (py::isinstance<py::tuple>(item) && py::len(item) == 2 && py::isinstance<py::str>(item[py::int_(0)])) {
+      const auto path = item[py::int_(0)].cast<std::string>();
+      out.push_back(override_assignment(path, to_json(item[py::int_(1)], what + "[" + path + "]")));
+    } else {
+      throw py::type_error(what + ": each entry must be 'PATH=VALUE' or a (path, value) pair, not " +
+                           std::string(py::str(py::type::of(item).attr("__name__"))));
+    }
+  }
+  return out;
+}
+
+// A manifest given as a file path (str) or a dict.
+json manifest_of(py::handle source, const std::string& what) {
+  if (py::isinstance<py::str>(source)) return read_manifest_file(source.cast<std::string>());
+  return to_json(source, what);
+}
+
+py::dict summary_statistics(const SampleSummary& s) {
+  py::dict d;
+  d["n"] = s.n, d["mean"] = s.mean, d["sd"] = s.sd, d["ci95_low"] = s.ci95_low, d["ci95_high"] = s.ci95_high;
+  return d;
+}
+
+py::dict values_dict(const SweepValues& values) {
+  py::dict d;
+  for (const auto& [path, v] : values) d[py::str(path)] = to_python(v);
+  return d;
+}
+
+py::dict sweep_dict(const SweepResult& result, const SweepFile& sweep) {
+  const auto& metrics = summary_metrics();
+  py::list names, runs, statistics;
+  for (const auto& m : metrics) names.append(m.name);
+  for (const auto& r : result.runs) {
+    py::dict run, values;
+    run["values"] = values_dict(r.values);
+    for (const auto& m : metrics) values[py::str(m.name)] = m.of(r.summary);
+    run["metrics"] = values;
+    run["status"] = r.status, run["error"] = r.error, run["reused"] = r.reused;
+    run["summary"] = to_python(r.summary);
+    runs.append(run);
+  }
+  for (const auto& p : result.statistics) {
+    py::dict point, of_metric;
+    point["values"] = values_dict(p.values);
+    point["completed"] = p.completed;
+    for (std::size_t m = 0; m < metrics.size(); ++m) of_metric[py::str(metrics[m].name)] = summary_statistics(p.metrics[m]);
+    point["metrics"] = of_metric;
+    statistics.append(point);
+  }
+  py::dict d;
+  d["out_dir"] = result.dir.string();
+  d["markdown"] = result.markdown;
+  d["metric_names"] = names;
+  d["runs"] = runs;
+  d["statistics"] = statistics;
+  d["seeds"] = sweep.seeds;
+  d["reused"] = result.reused;
+  return d;
+}
+
+// source: the sweep file's path (str) or its JSON (dict), whose manifest
+// path is relative to `base_dir`, unless `manifest` (a dict) is given.
+py::dict sweep(py::handle source, py::object manifest, const std::string& base_dir, const py::list& overrides,
+               const std::string& out, unsigned jobs, bool overwrite, bool report, const std::string& executable,
+               bool catch_sigint) {
+  const std::vector<std::string> sets = assignments(overrides, "sweep(): set");
+  SweepFile file;
+  if (py::isinstance<py::str>(source)) {
+    file = load_sweep_file(source.cast<std::string>(), sets);
+  } else {
+    const json given = manifest.is_none() ? json(nullptr) : to_json(manifest, "sweep(): the manifest");
+    file = read_sweep(
+        to_json(source, "sweep()"),
+        [&](const std::string& name) {
+          return given.is_null() ? read_manifest_file((std::filesystem::path(base_dir) / name).string()) : given;
+        },
+        sets);
+  }
+  SweepOptions options;
+  options.out = out.empty() ? default_sweep_dir(file) : std::filesystem::path(out);
+  options.jobs = jobs;
+  options.overwrite = overwrite;
+  options.report = report;
+  if (executable.empty())
+    options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR)};
+  else
+    options.runner = ChildProcessRunner{executable};
+  options.stop_requested = [] { return interrupt_signal() != 0; };
+  SweepResult result;
+  int stopped_by = 0;
+  {
+    py::gil_scoped_release release;
+    std::optional<ScopedInterruptHandler> sigint;
+    if (catch_sigint) sigint.emplace(SIGINT);
+    result = run_sweep(file, options);
+    stopped_by = interrupt_signal();
+  }
+  py::dict d = sweep_dict(result, file);
+  d["interrupted"] = stopped_by != 0 ? py::object(py::str(signal_name(stopped_by))) : py::object(py::none());
+  return d;
+}
+
+py::dict compare_result_dict(const CompareResult& r) {
+  py::list rows, paired;
+  for (const auto& row : r.rows) {
+    py::dict d;
+    d["type"] = row.type, d["metric"] = row.metric, d["a"] = row.a, d["b"] = row.b;
+    d["b_minus_a"] = row.diff(), d["relative_diff"] = row.relative_diff();
+    rows.append(d);
+  }
+  for (const auto& p : r.paired) {
+    py::dict d;
+    d["metric"] = p.metric, d["pairs"] = p.difference.n, d["a_mean"] = p.a_mean, d["b_mean"] = p.b_mean;
+    d["b_minus_a_mean"] = p.difference.mean, d["b_minus_a_sd"] = p.difference.sd;
+    d["ci95_low"] = p.difference.ci95_low, d["ci95_high"] = p.difference.ci95_high, d["t"] = p.t, d["p"] = p.p;
+    paired.append(d);
+  }
+  py::list a, b;
+  for (const auto& s : r.summaries_a) a.append(to_python(s));
+  for (const auto& s : r.summaries_b) b.append(to_python(s));
+  py::dict d;
+  d["out_dir"] = r.dir.string();
+  d["a_dir"] = (r.dir / r.a_dir).string();
+  d["b_dir"] = (r.dir / r.b_dir).string();
+  d["rows"] = rows;
+  d["paired"] = paired;
+  d["seeds"] = r.seeds;
+  d["summaries_a"] = a;
+  d["summaries_b"] = b;
+  d["markdown"] = r.markdown;
+  return d;
+}
+
+// As `fibrodem compare`: a and b are manifests (paths or dicts); b None: a
+// again (then a_set or b_set makes the difference).
+py::dict compare(py::handle a_source, py::handle b_source, const py::list& overrides, const py::list& a_overrides,
+                 const py::list& b_overrides, const std::string& out, int seeds, bool overwrite, bool report,
+                 bool console_log, bool catch_sigint) {
+  const auto sets = assignments(overrides, "compare(): set");
+  const auto a_sets = assignments(a_overrides, "compare(): a_set");
+  const auto b_sets = assignments(b_overrides, "compare(): b_set");
+  if (b_source.is_none() && a_sets.empty() && b_sets.empty())
+    throw ManifestError("", "compare needs two manifests, or one manifest with a_set and b_set overrides");
+  json a = manifest_of(a_source, "compare(): a");
+  json b = b_source.is_none() ? a : manifest_of(b_source, "compare(): b");
+  for (const auto& s : sets) apply_override(a, s), apply_override(b, s);
+  for (const auto& s : a_sets) apply_override(a, s);
+  for (const auto& s : b_sets) apply_override(b, s);
+  CompareOptions options;
+  options.out = out.empty() ? default_compare_dir(a) : std::filesystem::path(out);
+  options.seeds = seeds;
+  options.overwrite = overwrite;
+  options.report = report;
+  options.console_log = console_log;
+  options.plugin_search_path = PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR);
+  CompareResult result;
+  std::string stopped, failed;
+  {
+    py::gil_scoped_release release;
+    std::optional<ScopedInterruptHandler> sigint;
+    if (catch_sigint) sigint.emplace(SIGINT);
+    try {
+      result = run_compare(a, b, options);
+    } catch (const InterruptedError& e) {
+      stopped = e.what();
+    } catch (const ManifestError&) {
+      throw;
+    } catch (const PluginError&) {
+      throw;
+    } catch (const std::exception& e) {
+      failed = e.what();
+    }
+  }
+  py::dict d = compare_result_dict(result);
+  d["status"] = !stopped.empty() ? "interrupted" : !failed.empty() ? "failed" : "completed";
+  d["message"] = !stopped.empty() ? stopped : failed;
+  return d;
+}
+
+}  // namespace
+
+void bind_study(py::module_& m) {
+  m.def("sweep", &sweep, py::arg("source"), py::arg("manifest"), py::arg("base_dir"), py::arg("overrides"),
+        py::arg("out"), py::arg("jobs"), py::arg("overwrite"), py::arg("report"), py::arg("executable"),
+        py::arg("catch_sigint"));
+  m.def("compare", &compare, py::arg("a"), py::arg("b"), py::arg("overrides"), py::arg("a_overrides"),
+        py::arg("b_overrides"), py::arg("out"), py::arg("seeds"), py::arg("overwrite"), py::arg("report"),
+        py::arg("console_log"), py::arg("catch_sigint"));
+}
+
+}  // namespace fibrodem::python
