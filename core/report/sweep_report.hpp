@@ -1,5 +1,5 @@
 // sweep/report.html: a sweep's tables and its metrics against the grid axes,
-// from what apps/sweep_table has computed (the same rows as sweep.md, the
+// from what study/sweep_table has computed (the same rows as sweep.md, the
 // same panels as sweep.png, drawn as SVG), with links to each run's report.
 #pragma once
 
