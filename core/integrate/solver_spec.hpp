@@ -1,10 +1,12 @@
 // The manifest's `solver` section: the integration method of the cells and
-// its settings. Read by scene/scene.cpp; integrate/integrator.hpp makes the
-// integrator it names.
+// its settings, and its reader. integrate/integrator.hpp makes the integrator
+// it names.
 #pragma once
 
 #include <optional>
 #include <string>
+
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 
@@ -36,5 +38,8 @@ struct SolverSpec {
   static bool fixed_step(const std::string& method);  // integrate/integrator.cpp, from the registry
   bool simd = true;                    // false: models one cell at a time in double (the reference path)
 };
+
+// Reads the manifest's `solver` object (ManifestError naming the JSON path).
+SolverSpec read_solver_spec(JsonReader solver);
 
 }  // namespace fibrodem

@@ -26,78 +26,10 @@ std::vector<int> read_cell_indices(const json& list, const std::string& path) {
   return cells;
 }
 
-// `key`: an object of names (of parameters, or of states) to numbers.
-std::map<std::string, double> read_named_numbers(JsonReader& r, const std::string& key, const std::string& what) {
-  std::map<std::string, double> numbers;
-  const json& object = r.raw(key);
-  if (object.is_null()) return numbers;
-  if (!object.is_object())
-    throw ManifestError(r.path_of(key), "expected an object of " + what + " names to numbers, got " + describe_json(object));
-  for (const auto& [name, value] : object.items()) {
-    if (!value.is_number())
-      throw ManifestError(join_path(r.path_of(key), name), "expected a number, got " + describe_json(value));
-    numbers[name] = value.get<double>();
-  }
-  return numbers;
-}
 
-// A model's `parameters` and `initial_state` (per-state overrides of its initial values).
-void read_parameters(JsonReader& r, ModelSpec& spec) {
-  spec.parameters = read_named_numbers(r, "parameters", "parameter");
-  spec.initial_state = read_named_numbers(r, "initial_state", "state");
-}
 
-// `"myofilament": "rice"` or `"myofilament": {"model": "rice", "variant": ..., "parameters": {...}}`.
-ModelSpec read_myofilament(const json& value, const std::string& path) {
-  ModelSpec spec;
-  spec.path = path;
-  if (value.is_string()) {
-    spec.model = value.get<std::string>();
-    return spec;
-  }
-  if (!value.is_object())
-    throw ManifestError(path, "expected a model name or an object with \"model\", got " + describe_json(value));
-  JsonReader r(value, path);
-  spec.model = r.text("model", std::nullopt);
-  spec.variant = r.text("variant", std::string());
-  read_parameters(r, spec);
-  r.finish();
-  return spec;
-}
 
-CellTypeSpec read_cell_type_spec(JsonReader r) {
-  CellTypeSpec spec;
-  spec.path = r.path();
-  spec.ionic.path = r.path();
-  spec.ionic.model = r.text("model", std::nullopt);
-  spec.ionic.variant = r.text("variant", std::string());
-  read_parameters(r, spec.ionic);
-  if (r.has("myofilament")) spec.myofilament = read_myofilament(r.raw("myofilament"), r.path_of("myofilament"));
-  spec.calcium_feedback = r.boolean("calcium_feedback", false);
-  if (r.has("settle")) {
-    JsonReader settle = r.object("settle");
-    spec.settle.ms = settle.number("ms", std::nullopt, 1e-3, 1e7);
-    if (settle.has("pacing")) {
-      JsonReader pacing = settle.object("pacing");
-      spec.settle.period_ms = pacing.number("period_ms", std::nullopt, 1.0, 1e6);
-      spec.settle.duration_ms = pacing.number("duration_ms", 2.0, 1e-3, 1e3);
-      spec.settle.amplitude_pA = pacing.number("amplitude_pA", std::nullopt, -1e6, 1e6);
-      pacing.finish();
-    }
-    settle.finish();
-  }
-  r.finish();
-  return spec;
-}
 
-MechanoElectricSpec read_mechano_electric(JsonReader r) {
-  MechanoElectricSpec m;
-  m.G_SAC_nS = r.number("G_SAC_nS", m.G_SAC_nS, 0.0, 1e6);
-  m.E_SAC_mV = r.number("E_SAC_mV", m.E_SAC_mV, -200.0, 200.0);
-  m.lambda_max = r.number("lambda_max", m.lambda_max, 1.0 + 1e-6, 10.0);
-  r.finish();
-  return m;
-}
 
 StimulusTarget read_target(const json& t, const std::string& path) {
   StimulusTarget target;
@@ -151,39 +83,6 @@ StimulusSpec read_stimulus(JsonReader r) {
   return s;
 }
 
-SolverSpec read_solver(JsonReader r) {
-  SolverSpec s;
-  std::vector<std::string> methods = {"auto"};
-  for (const auto& entry : integrators()) methods.push_back(entry.name);
-  s.method = r.text("method", s.method, methods);
-  // auto chooses the step or the tolerances itself: a manifest gives one or the other.
-  for (const char* key : {"dt_ms", "rtol", "atol"}) {
-    if (s.method == "auto" && r.has(key))
-      throw ManifestError(r.path_of(key), std::string("solver.method \"auto\" chooses ") + key +
-                                              " itself (set solver.accuracy, or name a method; on the command "
-                                              "line, replace the whole solver: --set 'solver={\"method\":\"auto\"}')");
-  }
-  if (s.method != "auto" && r.has("accuracy"))
-    throw ManifestError(r.path_of("accuracy"), "applies to solver.method \"auto\" only (got \"" + s.method + "\")");
-  s.accuracy_ms = r.number("accuracy", s.accuracy_ms, 1e-4, 100.0);
-  s.dt_ms = r.number("dt_ms", s.dt_ms, 1e-7, 10.0);
-  if (s.method == "adaptive") {
-    s.rtol = SolverSpec::kAdaptiveRtol;
-    s.atol = SolverSpec::kAdaptiveAtol;
-  }
-  s.rtol = r.number("rtol", s.rtol, 1e-14, 1e-1);
-  s.atol = r.number("atol", s.atol, 1e-16, 1.0);
-  s.max_step_ms = r.number("max_step_ms", 0.0, 0.0, kInf);
-  s.linear_solver = r.text("linear_solver", s.linear_solver, {"auto", "dense", "band", "krylov"});
-  if (r.has("threads") && r.raw("threads").is_string())
-    r.text("threads", "auto", {"auto"});  // "auto" is the default; anything else is an error
-  else
-    s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
-  if (r.has("lookup_tables")) s.lookup_tables = r.boolean("lookup_tables", false);
-  s.simd = r.boolean("simd", s.simd);
-  r.finish();
-  return s;
-}
 
 // output.traces: {cells, variables, every_ms, from_ms}, or a list of such
 // blocks; every_ms and from_ms, where blocks give them, must agree (one
@@ -263,17 +162,6 @@ OutputSpec read_output(JsonReader r) {
   return o;
 }
 
-CouplingSpec read_coupling(JsonReader r) {
-  CouplingSpec c;
-  c.present = true;
-  c.law = r.text("law", c.law, {"gap_junction"});
-  c.D_m_nS = r.number("D_m_nS", c.D_m_nS, 0.0, 1e9);
-  c.D_f_nS = r.number("D_f_nS", c.D_f_nS, 0.0, 1e9);
-  c.scheme = r.text("scheme", c.scheme, {"explicit", "implicit"});
-  c.dt_ms = r.number("dt_ms", 0.0, 0.0, 1e3);
-  r.finish();
-  return c;
-}
 }  // namespace
 
 // plugin_path: a directory or a list of them, each an existing directory
@@ -331,14 +219,14 @@ Scene parse_scene(const json& manifest) {
     scene.cells[type] = read_cell_type_spec(cells.object(type_name));
   }
 
-  if (top.has("coupling")) scene.coupling = read_coupling(top.object("coupling"));
+  if (top.has("coupling")) scene.coupling = read_coupling_spec(top.object("coupling"));
   if (top.has("mechanics")) {
     JsonReader mechanics = top.object("mechanics");
     scene.mechanics = read_dem_spec(mechanics);
     mechanics.finish();
   }
   if (top.has("mechano_electric_feedback"))
-    scene.mechano_electric = read_mechano_electric(top.object("mechano_electric_feedback"));
+    scene.mechano_electric = read_mechano_electric_spec(top.object("mechano_electric_feedback"));
 
   const json& stimuli = top.raw("stimulus");
   if (!stimuli.is_null()) {
@@ -348,7 +236,7 @@ Scene parse_scene(const json& manifest) {
       scene.stimuli.push_back(read_stimulus(JsonReader(stimuli[i], index_path("stimulus", i))));
   }
 
-  if (top.has("solver")) scene.solver = read_solver(top.object("solver"));
+  if (top.has("solver")) scene.solver = read_solver_spec(top.object("solver"));
   if (top.has("output")) scene.output = read_output(top.object("output"));
   if (top.has("initial_state")) {
     JsonReader init = top.object("initial_state");

@@ -11,8 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "coupling/coupling_spec.hpp"
 #include "integrate/solver_spec.hpp"
 #include "mechanics/dem_spec.hpp"
+#include "mechanics/mechano_electric_spec.hpp"
+#include "model/cell_type_spec.hpp"
 #include "stimulus/stimulus_spec.hpp"
 #include "util/json_reader.hpp"
 #include "tissue/tissue_builder.hpp"
@@ -20,49 +23,6 @@
 namespace fibrodem {
 
 inline constexpr int kManifestFormat = 1;
-
-// One model of a cell type: a plugin, its variant, parameter overrides.
-struct ModelSpec {
-  std::string model;
-  std::string variant;  // empty: the model's default variant
-  std::map<std::string, double> parameters;
-  std::map<std::string, double> initial_state;  // per state, over the model's (and variant's) initial value
-  std::string path;     // JSON path of this model's object, for errors found later
-};
-
-// cells.TYPE.settle (run/settle.hpp): the ionic model alone for ms before
-// t = 0, at rest, or paced by pulses every period_ms from t = 0 when given.
-struct SettleSpec {
-  double ms = 0;  // 0: no settling
-  double period_ms = 0, duration_ms = 2, amplitude_pA = 0;
-};
-
-struct CellTypeSpec {
-  ModelSpec ionic;
-  SettleSpec settle;
-  std::optional<ModelSpec> myofilament;  // driven by the ionic model's Ca_i
-  bool calcium_feedback = false;  // troponin buffering fed back into the host's Ca_i
-  std::string path;
-};
-
-// Stretch-activated current of the effect mechano_electric_feedback:
-// I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E) for lambda = SL/SL_rest > 1
-// (the form of Kuijpers et al. 2007, Am J Physiol 292:H2832; values here are
-// order-of-magnitude defaults, not the seed paper's, which it does not state).
-struct MechanoElectricSpec {
-  double G_SAC_nS = 5.0;
-  double E_SAC_mV = 0.0;
-  double lambda_max = 1.1;
-};
-
-struct CouplingSpec {
-  bool present = false;  // the manifest has a `coupling` section
-  std::string law = "gap_junction";
-  double D_m_nS = 1000.0;  // myocyte-myocyte (seed paper eq. 5)
-  double D_f_nS = 2.0;     // any pair with a fibroblast
-  std::string scheme = "explicit";  // explicit | implicit (backward Euler)
-  double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step
-};
 
 // One block of output.traces: these variables of these cells.
 struct TraceBlock {

@@ -1,0 +1,23 @@
+// The manifest's `coupling` section: the gap-junction conductances (seed
+// paper eq. 5) and how the coupling is stepped, and its reader.
+#pragma once
+
+#include <string>
+
+#include "util/json_reader.hpp"
+
+namespace fibrodem {
+
+struct CouplingSpec {
+  bool present = false;  // the manifest has a `coupling` section
+  std::string law = "gap_junction";
+  double D_m_nS = 1000.0;  // myocyte-myocyte (seed paper eq. 5)
+  double D_f_nS = 2.0;     // any pair with a fibroblast
+  std::string scheme = "explicit";  // explicit | implicit (backward Euler)
+  double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step
+};
+
+// Reads the manifest's `coupling` object (ManifestError naming the JSON path).
+CouplingSpec read_coupling_spec(JsonReader coupling);
+
+}  // namespace fibrodem
