@@ -93,8 +93,8 @@ Restitution restitution(const std::string& model, const std::string& var, int s1
 
 }  // namespace
 
-TEST_CASE("colman2013_caf: Colman 2013's AF4 remodelling factors on colman2013") {
-  // Factors: Colman et al. 2013 (set AF4), as in the first author's code of the
+TEST_CASE("colman2013_caf: Colman 2013's AF_Col_4 remodelling factors on colman2013") {
+  // Factors: Colman et al. 2013 (set AF_Col_4), as in the first author's code of the
   // paper's sets (MSCSF lib/Model.c "AF_Col_4"); see plugins/colman/colman.cpp.
   const std::map<std::string, double> factor = {{"g_CaL_scale", 0.30}, {"g_to_scale", 0.34}, {"g_Kur_scale", 0.50},
                                                 {"g_K1_scale", 2.0},   {"g_Ks_scale", 2.0},  {"g_NaCa_scale", 1.55},

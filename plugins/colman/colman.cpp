@@ -719,7 +719,7 @@ const std::pair<const char*, double> kBrocklehurstInitial[] = {
 };
 
 // colman2013_caf: chronic-AF electrical remodelling of Colman et al. 2013 (J Physiol
-// 591:4249, "AF4", the set that adds Ca-handling remodelling to the ionic one), on
+// 591:4249; the set that remodels Ca handling as well as the currents), on
 // colman2013. The factors are those of the first author's own code of the paper's
 // remodelling sets (michaelcolman/MSCSF, lib/Model.c set_remodelling_hAM(),
 // "AF_Col_4", commented "Colman et al. 2013 J Physiol 591(17):4249-72"), applied as
@@ -830,7 +830,7 @@ Colman::Colman() {
   for (const auto& [name, value] : kBrocklehurstInitial) brocklehurst.initial_state[name] = value;
   fibrodem::VariantInfo caf{
       "colman2013_caf",
-      "colman2013 with the chronic-AF electrical remodelling of Colman et al. 2013 (set AF4: "
+      "colman2013 with the chronic-AF electrical remodelling of Colman et al. 2013 (set AF_Col_4: "
       "g_CaL x0.3, g_to x0.34, g_Kur x0.5, g_K1 x2, g_Ks x2, I_NaCa x1.55, SR leak x1.25, RyR "
       "release x3); initial state = its own 1 Hz steady state.",
       colman2013.parameters,
