@@ -60,10 +60,11 @@ TEST_CASE("colman: model description and variants") {
   CHECK(info.parameters[info.capacitance_parameter].default_value == 100.0);  // Cm 100 pF
   CHECK(info.outputs.at(0).name == "I_ion");
   CHECK(info.outputs.at(1).name == "Ca_i");
-  REQUIRE(info.variants.size() == 3);
+  REQUIRE(info.variants.size() == 4);
   CHECK(info.variants[0].name == "colman2013");  // default
   CHECK(info.variants[1].name == "ni2017");
   CHECK(info.variants[2].name == "brocklehurst2022_tissue");
+  CHECK(info.variants[3].name == "colman2013_caf");  // tests/test_af_remodelling.cpp
   // The default variant is the parameter defaults (one source of truth).
   for (const auto& [name, value] : info.variants[0].parameters) {
     const std::string parameter = name;  // (clang 14 cannot capture a structured binding)

@@ -43,8 +43,9 @@ std::pair<std::string, std::string> schema_location(const std::string& reader_pa
   std::string location = std::regex_replace(reader_path, std::regex(R"(\[\d+\])"), "[]");
   location = std::regex_replace(location, std::regex(R"(^cells\.(myocyte|fibroblast)\b)"), "cells.TYPE");
   if (location == "cells") key = "TYPE";
-  if (location == "tissue" && key != "builder")
-    location += "{builder=" + manifest["tissue"]["builder"].get<std::string>() + "}";
+  const std::string branch = "tissue{builder=" + manifest["tissue"]["builder"].get<std::string>() + "}";
+  if (location == "tissue" && key != "builder") location = branch;
+  else if (location.rfind("tissue.", 0) == 0) location = branch + location.substr(6);  // a builder's nested object
   return {location, key};
 }
 
@@ -79,7 +80,7 @@ KeySet minus(const KeySet& a, const KeySet& b) {
 
 std::vector<fs::path> example_files() {
   std::vector<fs::path> files;
-  for (const auto& folder : {kSource / "examples", kSource / "examples" / "paper"})
+  for (const auto& folder : {kSource / "examples", kSource / "examples" / "paper", kSource / "examples" / "arrhythmia"})
     for (const auto& entry : fs::directory_iterator(folder))
       if (entry.path().extension() == ".json") files.push_back(entry.path());
   std::sort(files.begin(), files.end());
@@ -152,6 +153,16 @@ std::vector<json> coverage_manifests() {
   m["tissue"] = interstitial_keys;
   m["tissue"].update({{"builder", "fibrotic_patch"}, {"arrangement", "interstitial"}, {"column_stride", 2}});
   manifests.push_back(m);
+  m["tissue"] = {{"builder", "fibrotic_sheet"}, {"width_mm", 0.2}, {"length_mm", 0.5},
+                 {"fibrosis", {{"density", 0.1}, {"pattern", "diffuse"}, {"as", "fibroblasts"}}}};
+  manifests.push_back(m);
+  m["tissue"]["fibrosis"] = {{"density", 0.1}, {"pattern", "patchy"}, {"correlation_length_mm", 0.1}};
+  manifests.push_back(m);
+  m["tissue"]["fibrosis"] = {{"density", 0.1}, {"pattern", "interstitial"}, {"line_length_mm", 0.25}};
+  manifests.push_back(m);
+  m["tissue"]["fibrosis"] = {{"density", 0.1}, {"pattern", "compact"}, {"centre_x_frac", 0.5}, {"centre_y_frac", 0.5},
+                             {"aspect", 2}};
+  manifests.push_back(m);
   return manifests;
 }
 
@@ -187,8 +198,9 @@ TEST_CASE("every example manifest and sweep file validates against its schema an
       ++manifests;
     }
   }
-  // examples/ holds 17 manifests and 7 sweep files, examples/paper/ 6 sweep files.
-  CHECK(manifests == 17);
+  // examples/ holds 17 manifests and 7 sweep files, examples/paper/ 6 sweep files,
+  // examples/arrhythmia/ 1 manifest.
+  CHECK(manifests == 18);
   CHECK(sweeps == 13);
 }
 

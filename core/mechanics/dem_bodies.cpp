@@ -35,6 +35,12 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
 void DemSolver::add_bodies(const Tissue& t) {
   cells_ = t.cell_count();
   const std::size_t np = t.particles.size();
+  // Every builder that makes a mechanical body bonds the particles of coupled
+  // cells; a tissue with couplings and no bonds is a cell graph only (fibrotic_sheet).
+  if (!t.cell_edges.empty() && t.bonds.empty())
+    throw std::invalid_argument("mechanics: the tissue's " + std::to_string(t.cell_edges.size()) +
+                                " coupled cell pairs have no mechanical bonds (builder fibrotic_sheet makes the "
+                                "cell graph only); leave mechanics out of effects, or use a builder that bonds cells");
   const double rho = spec_.density_kg_per_m3;  // x 1 m thickness
   cell_body_.assign(cells_, -1);
   pbody_.assign(np, -1);

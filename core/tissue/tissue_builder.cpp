@@ -12,6 +12,7 @@ const std::map<std::string, TissueBuilderFactory>& tissue_builders() {
       {"in_series", make_in_series_builder},
       {"interstitial", make_interstitial_builder},
       {"fibrotic_patch", make_fibrotic_patch_builder},
+      {"fibrotic_sheet", make_fibrotic_sheet_builder},
   };
   return builders;
 }

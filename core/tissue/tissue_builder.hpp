@@ -35,6 +35,7 @@ std::unique_ptr<TissueBuilder> make_strand_builder(JsonReader& tissue);
 std::unique_ptr<TissueBuilder> make_in_series_builder(JsonReader& tissue);
 std::unique_ptr<TissueBuilder> make_interstitial_builder(JsonReader& tissue);
 std::unique_ptr<TissueBuilder> make_fibrotic_patch_builder(JsonReader& tissue);
+std::unique_ptr<TissueBuilder> make_fibrotic_sheet_builder(JsonReader& tissue);
 
 // Reads a `type` key naming a cell type.
 CellType read_cell_type(JsonReader& reader, const std::string& key, CellType fallback);

@@ -718,6 +718,36 @@ const std::pair<const char*, double> kBrocklehurstInitial[] = {
     {"ryr_o_i", 0.0006655952797},  {"ryr_c_i", 0.8746253082},  {"ryr_a_i", 0.1334580883},
 };
 
+// colman2013_caf: chronic-AF electrical remodelling of Colman et al. 2013 (J Physiol
+// 591:4249; the set that remodels Ca handling as well as the currents), on
+// colman2013. The factors are those of the first author's own code of the paper's
+// remodelling sets (michaelcolman/MSCSF, lib/Model.c set_remodelling_hAM(),
+// "AF_Col_4", commented "Colman et al. 2013 J Physiol 591(17):4249-72"), applied as
+// the model's AF scale parameters.
+const std::pair<const char*, double> kColman2013CafScales[] = {
+    {"g_CaL_scale", 0.30},   // GCaL x 0.3 (-70 %)
+    {"g_to_scale", 0.34},    // Gto x 0.34 (-66 %)
+    {"g_Kur_scale", 0.50},   // GKur x 0.5 (-50 %)
+    {"g_K1_scale", 2.0},     // GK1 x 2 (+100 %)
+    {"g_Ks_scale", 2.0},     // GKs x 2 (+100 %)
+    {"g_NaCa_scale", 1.55},  // GNCX x 1.55 (+55 %)
+    {"SR_leak_scale", 1.25}, // Gleak x 1.25 (+25 %)
+    {"g_rel_scale", 3.0},    // Grel x 3 (RyR release, +200 %)
+};
+// Its initial state: its own 1 Hz steady state, the state before the 301st
+// stimulus of 300 beats (2000 pA x 2 ms, Rush-Larsen, dt 0.02 ms) from
+// colman2013's; APD90 then changes by < 0.01 ms a beat (120.94 ms at beat 300).
+const std::pair<const char*, double> kColman2013CafInitial[] = {
+    {"V", -78.41583885},  {"m", 0.004572721191},  {"h", 0.9364126617},  {"j", 0.9551968818},
+    {"d", 0.0001931254604},  {"f", 0.9801752821},  {"fca", 0.7890654839},  {"xr", 0.0005451760756},
+    {"xs", 0.02093176315},  {"ito_r", 0.01843573801},  {"ito_s", 0.8636999359},
+    {"ikur_a", 0.0002202618245},  {"ikur_i", 0.9753171417},  {"Na_i", 11.17},  {"K_i", 114.76},
+    {"Ca_i", 9.795236531e-05},  {"Ca_ss", 9.355923302e-05},  {"Ca_SRi", 0.4531212802},
+    {"Ca_SRss", 0.4481489601},  {"SERCACa", 0.002648059743},  {"SERCACass", 0.002573796146},
+    {"ryr_o_ss", 0.0001714719665},  {"ryr_c_ss", 0.9976027195},  {"ryr_a_ss", 0.1335951506},
+    {"ryr_o_i", 0.000273046044},  {"ryr_c_i", 0.9903669221},  {"ryr_a_i", 0.1240645743},
+};
+
 Colman::Colman() {
   info_.name = "colman";
   info_.version = "1.0.0";
@@ -725,7 +755,8 @@ Colman::Colman() {
       "Colman et al. 2013 human atrial myocyte (right atrium): CRN 1998 with Maleckar 2009 I_to/I_Kur "
       "and simplified Koivumaki 2011 Ca handling. Variants: colman2013 (default), ni2017 (Ni et al. 2017 "
       "updated model exactly as Myokit ni-2017.mmt), brocklehurst2022_tissue (colman2013 with a "
-      "stretch-activated current active at rest, calibrated to the seed paper's tissue RMP).";
+      "stretch-activated current active at rest, calibrated to the seed paper's tissue RMP), "
+      "colman2013_caf (colman2013 with Colman 2013's chronic-AF remodelling).";
   info_.reference =
       "Colman MA et al. J Physiol 591:4249-4272 (2013); Ni H et al. Front Physiol 8:946 (2017); "
       "Courtemanche M et al. Am J Physiol 275:H301 (1998); Maleckar MM et al. Am J Physiol 297:H1398 (2009); "
@@ -797,7 +828,16 @@ Colman::Colman() {
       {}};
   brocklehurst.parameters["g_SAC_nS_per_pF"] = kBrocklehurstGSac_nS_per_pF;
   for (const auto& [name, value] : kBrocklehurstInitial) brocklehurst.initial_state[name] = value;
-  info_.variants = {colman2013, ni2017, brocklehurst};
+  fibrodem::VariantInfo caf{
+      "colman2013_caf",
+      "colman2013 with the chronic-AF electrical remodelling of Colman et al. 2013 (set AF_Col_4: "
+      "g_CaL x0.3, g_to x0.34, g_Kur x0.5, g_K1 x2, g_Ks x2, I_NaCa x1.55, SR leak x1.25, RyR "
+      "release x3); initial state = its own 1 Hz steady state.",
+      colman2013.parameters,
+      {}};
+  for (const auto& [name, value] : kColman2013CafScales) caf.parameters[name] = value;
+  for (const auto& [name, value] : kColman2013CafInitial) caf.initial_state[name] = value;
+  info_.variants = {colman2013, ni2017, brocklehurst, caf};
 }
 
 }  // namespace

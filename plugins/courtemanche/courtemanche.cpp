@@ -216,10 +216,11 @@ class Courtemanche1998 final : public fibrodem::CellModel {
     info_.version = "1.0.0";
     info_.description =
         "Courtemanche-Ramirez-Nattel 1998 human atrial myocyte (CellML constants and initial "
-        "state).";
+        "state); variant courtemanche1999_caf: the chronic-AF remodelling of Courtemanche et al. 1999.";
     info_.reference =
         "Courtemanche M, Ramirez RJ, Nattel S. Am J Physiol 275:H301-H321 (1998); CellML "
-        "courtemanche_ramirez_nattel_1998 (Physiome Model Repository)";
+        "courtemanche_ramirez_nattel_1998 (Physiome Model Repository); Courtemanche M, Ramirez RJ, "
+        "Nattel S. Cardiovasc Res 42:477-489 (1999)";
     info_.kind = fibrodem::ModelKind::ionic;
 
     const double g0 = 0.0, g1 = 1.0;
@@ -355,7 +356,34 @@ class Courtemanche1998 final : public fibrodem::CellModel {
         {"u", 3.854472816e-53}, {"v", 1.0},
         {"w", 0.999196963},
     };
-    info_.variants = {cellml, paced};
+    // Chronic-AF ionic remodelling of Courtemanche, Ramirez, Nattel 1999 (Cardiovasc Res
+    // 42:477, "Ionic targets for drug therapy and atrial fibrillation-induced electrical
+    // remodeling"): I_to -50 %, I_CaL -70 %, I_Kur -50 % (the paper's combined cAF set,
+    // from the current densities measured in cAF patients' myocytes; both parts of
+    // g_Kur scaled). Its initial state: the state before the 301st stimulus of 300
+    // cAF beats at 1 Hz (2000 pA x 2 ms, Rush-Larsen, dt 0.005 ms) from the paced_1hz
+    // state; like the control model, Na_i and K_i keep drifting (APD90 192.7 ms at
+    // beat 300, changing by ~0.006 ms a beat).
+    fibrodem::VariantInfo caf;
+    caf.name = "courtemanche1999_caf";
+    caf.description =
+        "Courtemanche et al. 1999 chronic-AF remodelling: g_to x0.5, g_CaL x0.3, g_Kur x0.5; initial "
+        "state after 300 beats at 1 Hz from paced_1hz";
+    caf.parameters = {
+        {"g_to", 0.5 * p[kg_to].default_value},
+        {"g_CaL", 0.3 * p[kg_CaL].default_value},
+        {"g_Kur_base", 0.5 * p[kg_Kur_base].default_value},
+        {"g_Kur_var", 0.5 * p[kg_Kur_var].default_value},
+    };
+    caf.initial_state = {
+        {"V", -81.59372587},  {"Na_i", 12.17931133},  {"K_i", 136.8422254},  {"Ca_i", 9.545524702e-05},
+        {"Ca_up", 1.226337335},  {"Ca_rel", 0.9288224899},  {"m", 0.002717292614},
+        {"h", 0.9679316157},  {"j", 0.9795406029},  {"oa", 0.02974892119},  {"oi", 0.9992985233},
+        {"ua", 0.00475879112},  {"ui", 0.990854801},  {"xr", 0.000527549067},  {"xs", 0.01864481449},
+        {"d", 0.0001298259315},  {"f", 0.9678299918},  {"f_Ca", 0.7856354733},  {"u", 2.981780279e-53},
+        {"v", 1.0},  {"w", 0.9992177588},
+    };
+    info_.variants = {cellml, paced, caf};
 
     info_.voltage_state = kV;
     info_.capacitance_parameter = kCm_pF;

@@ -24,10 +24,13 @@ std::string section_title(const std::string& location) {
   if (location.empty()) return "Top level";
   const auto brace = location.find('{');
   if (brace == std::string::npos) return "`" + location + "`";
-  // "tissue{builder=strand}" -> `tissue` with `"builder": "strand"`
-  const std::string tag = location.substr(brace + 1, location.size() - brace - 2);
+  // "tissue{builder=strand}" -> `tissue` with `"builder": "strand"`; a branch's
+  // nested object "tissue{builder=fibrotic_sheet}.fibrosis" -> `tissue.fibrosis` with ...
+  const auto close = location.find('}', brace);
+  const std::string tag = location.substr(brace + 1, close - brace - 1);
+  const std::string path = location.substr(0, brace) + location.substr(close + 1);
   const auto eq = tag.find('=');
-  return "`" + location.substr(0, brace) + "` with `\"" + tag.substr(0, eq) + "\": \"" + tag.substr(eq + 1) + "\"`";
+  return "`" + path + "` with `\"" + tag.substr(0, eq) + "\": \"" + tag.substr(eq + 1) + "\"`";
 }
 
 std::string anchor_note(const std::string& location) {
