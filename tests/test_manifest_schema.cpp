@@ -94,7 +94,7 @@ SweepFile read_example_sweep(const fs::path& file) {
 
 // Manifests that together make the code read every key it knows: each
 // builder (the fibrotic patch with both arrangements), both forms of
-// output.traces, a region stimulus target, every optional section.
+// output.traces, each form of a region stimulus target, every optional section.
 std::vector<json> coverage_manifests() {
   const json full = json::parse(R"({
     "fibrodem": 1, "name": "every_key", "seed": 3, "duration_ms": 10,
@@ -134,8 +134,11 @@ std::vector<json> coverage_manifests() {
   m = full;
   m["tissue"] = {{"builder", "strand"}, {"type", "myocyte"}, {"cells", 3}};
   m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};
+  // The other two forms of a region: a rectangle and a circle in mm.
+  m["stimulus"][0]["target"] = {{"x_min_mm", -1}, {"x_max_mm", 1}, {"y_min_mm", -1}, {"y_max_mm", 1}, {"type", "myocyte"}};
   manifests.push_back(m);
   m["tissue"] = {{"builder", "in_series"}, {"width_mm", 0.1}, {"height_mm", 0.2}, {"fm_ratio", 0.41}};
+  m["stimulus"][0]["target"] = {{"center_x_mm", 0}, {"center_y_mm", 0.1}, {"radius_mm", 0.05}, {"type", "myocyte"}};
   manifests.push_back(m);
   const json interstitial_keys = {{"max_rotation_deg", 10}, {"max_offset_um", 2}, {"fibroblast_radius_um", {1, 4}},
                                   {"growth_max", 1.5}, {"growth", "overlap"}, {"fill_attempts_per_um2", 0.07},
@@ -209,8 +212,8 @@ TEST_CASE("the manifest reader reads exactly the keys the manifest schema lists"
   const KeySet listed_not_read = minus(in_schema, read);
   CHECK_MESSAGE(read_not_listed.empty(), "keys the code reads that the schema lacks:" << listed(read_not_listed));
   CHECK_MESSAGE(listed_not_read.empty(), "keys the schema lists that the code never reads:" << listed(listed_not_read));
-  // A count to notice a walk that finds nothing: the schema's 151 (location, key) pairs.
-  CHECK(in_schema.size() == 151);
+  // A count to notice a walk that finds nothing: the schema's 158 (location, key) pairs.
+  CHECK(in_schema.size() == 158);
 }
 
 TEST_CASE("the sweep reader reads exactly the keys the sweep schema lists") {
