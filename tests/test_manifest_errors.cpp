@@ -125,6 +125,13 @@ TEST_CASE("a region in mm that holds no cell, or has no size, is refused at its 
   }, "stimulus[0].target", "one form of region");
 }
 
+TEST_CASE("output.reentry's delay is a whole number of samples") {
+  expect_error([](json& m) { m["output"]["reentry"] = {{"every_ms", 2}, {"tau_ms", 5}}; }, "output.reentry.tau_ms",
+               "whole multiple of every_ms");
+  expect_error([](json& m) { m["output"]["reentry"] = {{"f_min_hz", 10}, {"f_max_hz", 5}}; },
+               "output.reentry.f_max_hz", "more than f_min_hz");
+}
+
 TEST_CASE("traces name existing cells and variables") {
   expect_error([](json& m) { m["output"]["traces"]["cells"] = {0, 4}; }, "output.traces.cells[1]",
                "does not exist");

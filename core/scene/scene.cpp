@@ -4,6 +4,7 @@
 #include "integrate/integrator.hpp"
 #include "scene/schema/schema_check.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <optional>
 #include <tuple>
@@ -258,6 +259,29 @@ static TraceSpec read_traces(const json& raw, const std::string& path) {
   return spec;
 }
 
+// output.reentry: the delay must be a whole number of samples (the phase
+// pairs each sample with an earlier one).
+ReentrySpec read_reentry(JsonReader r) {
+  ReentrySpec e;
+  e.on = true;
+  e.every_ms = r.number("every_ms", e.every_ms, 1e-3, 1e4);
+  e.from_ms = r.number("from_ms", e.from_ms, 0.0, kInf);
+  e.tau_ms = r.number("tau_ms", e.tau_ms, 1e-3, 1e4);
+  const double samples = e.tau_ms / e.every_ms;
+  if (samples < 1 - 1e-9 || std::abs(samples - std::round(samples)) > 1e-6 * samples)
+    throw ManifestError(r.path_of("tau_ms"), "expected a whole multiple of every_ms (" + describe_json(e.every_ms) +
+                                                 " ms), got " + describe_json(e.tau_ms));
+  e.V_star_mV = r.number("V_star_mV", e.V_star_mV, -200.0, 200.0);
+  e.link_mm = r.number("link_mm", e.link_mm, 1e-6, 1e6);
+  e.f_min_hz = r.number("f_min_hz", e.f_min_hz, 0.0, 1e4);
+  e.f_max_hz = r.number("f_max_hz", e.f_max_hz, 1e-3, 1e4);
+  if (e.f_max_hz <= e.f_min_hz)
+    throw ManifestError(r.path_of("f_max_hz"), "expected more than f_min_hz (" + describe_json(e.f_min_hz) +
+                                                   " Hz), got " + describe_json(e.f_max_hz));
+  r.finish();
+  return e;
+}
+
 OutputSpec read_output(JsonReader r) {
   OutputSpec o;
   o.dir = r.text("dir", std::string());
@@ -295,6 +319,7 @@ OutputSpec read_output(JsonReader r) {
     o.cv_method = b.text("cv", o.cv_method, {"fit", "transit"});
     b.finish();
   }
+  if (r.has("reentry")) o.reentry = read_reentry(r.object("reentry"));
   r.finish();
   return o;
 }
