@@ -65,8 +65,8 @@ std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tiss
       if (cells.empty()) {
         const auto box = tissue.bounds_um();
         throw ManifestError(path + ".target",
-                            fmt::format("this region contains no cell{} (the tissue's cell centres span x {:g}..{:g} "
-                                        "mm, y {:g}..{:g} mm)",
+                            fmt::format("this region contains no cell{} (the tissue spans x {:g}..{:g} mm, "
+                                        "y {:g}..{:g} mm)",
                                         target.region_type ? std::string(" of type ") + cell_type_name(*target.region_type) : "",
                                         box[0] / 1000, box[1] / 1000, box[2] / 1000, box[3] / 1000));
       }
