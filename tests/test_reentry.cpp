@@ -10,6 +10,8 @@
 #include "measure/phase_singularities.hpp"
 #include "measure/reentry.hpp"
 #include "measure/singularity_tracking.hpp"
+#include "report/run_report.hpp"
+#include "report/singularity_panel.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -256,6 +258,10 @@ TEST_CASE("a run with output.reentry: a planar wave has no phase singularity and
   REQUIRE(r["unreached_fraction_per_beat"].size() == 2);
   for (const auto& beat : r["unreached_fraction_per_beat"]) CHECK(beat["fraction"] == 0.0);
   CHECK(r["cells_in_spectrum"] == s["cells"]["myocyte"]);
+  // report.html shows the section, and says that there is nothing to draw.
+  const std::string page = testing::read_file(write_run_report(dir));
+  CHECK(page.find("Re-entry") != std::string::npos);
+  CHECK(page.find("No phase singularity in phase_singularities.csv.") != std::string::npos);
 }
 
 TEST_CASE("a run with output.reentry: a beat inside the refractory period is blocked") {
@@ -270,4 +276,23 @@ TEST_CASE("a run with output.reentry: a beat inside the refractory period is blo
   REQUIRE(fractions.size() == 2);
   CHECK(fractions[0]["fraction"] == 0.0);
   CHECK(fractions[1]["fraction"].get<double>() > 0.25);
+}
+
+TEST_CASE("the report draws each tracked phase singularity's trajectory, longest-lived first") {
+  CsvTable table;
+  table.header = {"t_ms", "id", "x_mm", "y_mm", "chirality"};
+  table.rows = {{"1", "0", "0.5", "0.5", "1"},  {"1", "1", "2", "2", "-1"}, {"2", "0", "0.6", "0.5", "1"},
+                {"3", "0", "0.7", "0.55", "1"}, {"3", "2", "3", "1", "1"},  {"4", "2", "3.1", "1", "1"}};
+  const auto panel = singularity_trajectories(table);
+  REQUIRE(panel);
+  CHECK(panel->title == "Phase singularity trajectories (3 tracked)");
+  REQUIRE(panel->series.size() == 3);
+  // id 0 lives 2 ms, id 2 1 ms, id 1 a single frame.
+  CHECK(panel->series[0].label == "PS 0 (+1)");
+  CHECK(panel->series[0].x == std::vector<double>{0.5, 0.6, 0.7});
+  CHECK(panel->series[0].y == std::vector<double>{0.5, 0.5, 0.55});
+  CHECK(panel->series[1].label == "PS 2 (+1)");
+  CHECK(panel->series[2].label == "PS 1 (-1)");
+  table.rows.clear();
+  CHECK_FALSE(singularity_trajectories(table));
 }
