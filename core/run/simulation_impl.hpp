@@ -80,7 +80,6 @@ struct Simulation::Impl : StepObserver {
   // and what was measured at the end (summary.json's "reentry").
   VoltageFrames reentry_frames;
   std::vector<double> V_previous;
-  double t_previous = 0;
   long long reentry_next_sample = 0;  // index k of the next sample time from_ms + k every_ms
   json reentry_measured;
 

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <filesystem>
 
 #include "report/run_report.hpp"
@@ -120,7 +119,6 @@ void Simulation::Impl::start_reentry_sampling(double t) {
   reentry_frames = VoltageFrames(tissue.cell_count());
   system.gather_voltage();
   V_previous = system.V_mV;
-  t_previous = t;
   const auto& spec = scene.output.reentry;
   // The first sample at or after t (a resumed run measures from where it resumed).
   reentry_next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
@@ -144,7 +142,6 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
     reentry_frames.add(next, V);
   }
   V_previous = system.V_mV;
-  t_previous = t_new;
 }
 
 // summary.json's "reentry" and phase_singularities.csv, from the samples.
