@@ -103,6 +103,35 @@ TEST_CASE("a stimulus target that names no cell is refused") {
   expect_error([](json& m) { m["stimulus"][0]["target"] = 7; }, "stimulus[0].target", "expected a cell type");
 }
 
+TEST_CASE("a region in mm that holds no cell, or has no size, is refused at its JSON path") {
+  // The single cell sits at the origin: a rectangle or circle away from it holds no cell.
+  expect_error([](json& m) {
+    m["stimulus"][0]["target"] = {{"x_min_mm", 1}, {"x_max_mm", 2}, {"y_min_mm", 0}, {"y_max_mm", 1}};
+  }, "stimulus[0].target", "no cell");
+  expect_error([](json& m) {
+    m["stimulus"][0]["target"] = {{"center_x_mm", 5}, {"center_y_mm", 5}, {"radius_mm", 1}};
+  }, "stimulus[0].target", "no cell");
+  expect_error([](json& m) {
+    m["stimulus"][0]["target"] = {{"center_x_mm", 0}, {"center_y_mm", 0}, {"radius_mm", -0.5}};
+  }, "stimulus[0].target.radius_mm", "expected a number in [");
+  expect_error([](json& m) {
+    m["stimulus"][0]["target"] = {{"center_x_mm", 0}, {"center_y_mm", 0}};
+  }, "stimulus[0].target.radius_mm", "required value is missing");
+  expect_error([](json& m) {
+    m["stimulus"][0]["target"] = {{"x_min_mm", 1}, {"x_max_mm", 0}, {"y_min_mm", 0}, {"y_max_mm", 1}};
+  }, "stimulus[0].target.x_max_mm", "expected x_max_mm >= x_min_mm");
+  expect_error([](json& m) {
+    m["stimulus"][0]["target"] = {{"x_min_frac", 0}, {"radius_mm", 1}};
+  }, "stimulus[0].target", "one form of region");
+}
+
+TEST_CASE("output.reentry's delay is a whole number of samples") {
+  expect_error([](json& m) { m["output"]["reentry"] = {{"every_ms", 2}, {"tau_ms", 5}}; }, "output.reentry.tau_ms",
+               "whole multiple of every_ms");
+  expect_error([](json& m) { m["output"]["reentry"] = {{"f_min_hz", 10}, {"f_max_hz", 5}}; },
+               "output.reentry.f_max_hz", "more than f_min_hz");
+}
+
 TEST_CASE("traces name existing cells and variables") {
   expect_error([](json& m) { m["output"]["traces"]["cells"] = {0, 4}; }, "output.traces.cells[1]",
                "does not exist");

@@ -95,8 +95,8 @@ SweepFile read_example_sweep(const fs::path& file) {
 
 // Manifests that together make the code read every key it knows: each
 // builder (the fibrotic patch with both arrangements), both forms of
-// output.traces, a region stimulus target, every optional section (the
-// tissue's settle among them).
+// output.traces, each form of a region stimulus target, every optional
+// section (the tissue's settle among them).
 std::vector<json> coverage_manifests() {
   const json full = json::parse(R"({
     "fibrodem": 1, "name": "every_key", "seed": 3, "duration_ms": 10,
@@ -120,7 +120,9 @@ std::vector<json> coverage_manifests() {
                "traces": {"cells": [0], "variables": ["V"], "every_ms": 1, "from_ms": 0},
                "snapshots": {"every_ms": 5, "from_ms": 0, "png": true, "vtk": true},
                "checkpoint": {"every_ms": 5, "keep": 2},
-               "biomarkers": {"from_ms": 0, "rmp": "pre_upstroke", "rmp_window_ms": 5, "rmp_gap_ms": 2, "cv": "fit"}},
+               "biomarkers": {"from_ms": 0, "rmp": "pre_upstroke", "rmp_window_ms": 5, "rmp_gap_ms": 2, "cv": "fit"},
+               "reentry": {"every_ms": 1, "from_ms": 0, "tau_ms": 10, "V_star_mV": -50, "link_mm": 1,
+                           "f_min_hz": 1, "f_max_hz": 30}},
     "initial_state": {"from": "some_run", "time_ms": 5},
     "settle": {"ms": 5}
   })");
@@ -137,8 +139,11 @@ std::vector<json> coverage_manifests() {
   m = full;
   m["tissue"] = {{"builder", "strand"}, {"type", "myocyte"}, {"cells", 3}};
   m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};
+  // The other two forms of a region: a rectangle and a circle in mm.
+  m["stimulus"][0]["target"] = {{"x_min_mm", -1}, {"x_max_mm", 1}, {"y_min_mm", -1}, {"y_max_mm", 1}, {"type", "myocyte"}};
   manifests.push_back(m);
   m["tissue"] = {{"builder", "in_series"}, {"width_mm", 0.1}, {"height_mm", 0.2}, {"fm_ratio", 0.41}};
+  m["stimulus"][0]["target"] = {{"center_x_mm", 0}, {"center_y_mm", 0.1}, {"radius_mm", 0.05}, {"type", "myocyte"}};
   manifests.push_back(m);
   const json interstitial_keys = {{"max_rotation_deg", 10}, {"max_offset_um", 2}, {"fibroblast_radius_um", {1, 4}},
                                   {"growth_max", 1.5}, {"growth", "overlap"}, {"fill_attempts_per_um2", 0.07},

@@ -57,3 +57,64 @@ TEST_CASE("CVODE does not step over a short pulse and delivers its exact charge"
     if (std::abs(t[k] - 502.3) < 1e-9) CHECK(V[k] - (-49.6) == doctest::Approx(rise).epsilon(1e-5));
   CHECK(*std::max_element(V.begin(), V.end()) == doctest::Approx(-49.6 + rise).epsilon(1e-5));
 }
+
+namespace {
+// An in-series sheet of myocytes and fibroblasts, 1 x 2 mm, with a
+// stimulus target to resolve on it.
+struct Sheet {
+  Tissue tissue;
+  std::vector<int> cells;
+};
+Sheet resolve_on_sheet(const json& target) {
+  json m = testing::passive_cell_manifest();
+  m["tissue"] = {{"builder", "in_series"}, {"width_mm", 1.0}, {"height_mm", 2.0}, {"fm_ratio", 0.41}};
+  m["cells"]["myocyte"] = {{"model", "colman"}};
+  m["stimulus"][0]["target"] = target;
+  Scene scene = parse_scene(m);
+  Sheet sheet{scene.tissue->build(0), {}};
+  Stimulus stimulus(scene.stimuli, sheet.tissue);
+  sheet.cells = stimulus.trains()[0].cells;
+  return sheet;
+}
+}  // namespace
+
+TEST_CASE("a rectangle in mm takes exactly the cells whose centre lies in it") {
+  // Reference: the cells counted directly from their centres, here.
+  const json rect = {{"x_min_mm", 0.2}, {"x_max_mm", 0.6}, {"y_min_mm", 0.5}, {"y_max_mm", 1.1}};
+  const Sheet sheet = resolve_on_sheet(rect);
+  std::vector<int> expected;
+  for (int c = 0; c < static_cast<int>(sheet.tissue.cell_count()); ++c) {
+    const double x = sheet.tissue.x_um[c], y = sheet.tissue.y_um[c];
+    if (x >= 200 && x <= 600 && y >= 500 && y <= 1100) expected.push_back(c);
+  }
+  REQUIRE(expected.size() > 10);
+  CHECK(expected.size() < sheet.tissue.cell_count() / 2);
+  CHECK(sheet.cells == expected);
+  // With a type filter: the myocytes among them.
+  json myocytes_only = rect;
+  myocytes_only["type"] = "myocyte";
+  std::vector<int> expected_myocytes;
+  for (int c : expected)
+    if (sheet.tissue.type[c] == CellType::myocyte) expected_myocytes.push_back(c);
+  REQUIRE(expected_myocytes.size() < expected.size());  // the sheet has fibroblasts in it
+  CHECK(resolve_on_sheet(myocytes_only).cells == expected_myocytes);
+}
+
+TEST_CASE("a circle in mm takes exactly the cells whose centre lies in it") {
+  const Sheet sheet = resolve_on_sheet({{"center_x_mm", 0.5}, {"center_y_mm", 1.0}, {"radius_mm", 0.3}});
+  std::vector<int> expected;
+  for (int c = 0; c < static_cast<int>(sheet.tissue.cell_count()); ++c)
+    if (std::hypot(sheet.tissue.x_um[c] - 500, sheet.tissue.y_um[c] - 1000) <= 300) expected.push_back(c);
+  REQUIRE(expected.size() > 10);
+  CHECK(sheet.cells == expected);
+}
+
+TEST_CASE("the fractions form of a region still selects by the bounding box") {
+  const Sheet sheet = resolve_on_sheet({{"y_max_frac", 0.25}});
+  const auto box = sheet.tissue.bounds_um();
+  std::vector<int> expected;
+  for (int c = 0; c < static_cast<int>(sheet.tissue.cell_count()); ++c)
+    if ((sheet.tissue.y_um[c] - box[2]) / (box[3] - box[2]) <= 0.25) expected.push_back(c);
+  REQUIRE(!expected.empty());
+  CHECK(sheet.cells == expected);
+}

@@ -10,6 +10,7 @@
 
 #include "io/csv_writer.hpp"
 #include "io/plot_svg.hpp"
+#include "report/singularity_panel.hpp"
 #include "report/biomarker_spread.hpp"
 #include "report/html_document.hpp"
 #include "report/trace_panels.hpp"
@@ -232,6 +233,27 @@ void traces_section(HtmlDocument& page, const RunFolder& f) {
     page.svg_figure(panels[k].title, plot_of({panels[k]}, 1, 340, "trace" + std::to_string(k) + "-"));
 }
 
+// With output.reentry: summary.json's reentry and the phase singularities' trajectories.
+void reentry_section(HtmlDocument& page, const fs::path& dir, const json& s) {
+  if (!s.is_object() || !s.contains("reentry") || !s["reentry"].is_object()) return;
+  page.heading(2, "Re-entry", "reentry");
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& [key, value] : s["reentry"].items())
+    if (!value.is_array() && !value.is_object()) rows.push_back({key, text_of(value)});
+  page.table({"measure", "value"}, rows);
+  std::error_code error;
+  const auto bytes = fs::file_size(dir / "phase_singularities.csv", error);
+  if (!error && bytes > kMostCsvBytes) {
+    page.paragraph("phase_singularities.csv (" + std::to_string(bytes >> 20) + " MB) is too large to plot here.");
+    return;
+  }
+  const auto table = read_csv_table(dir / "phase_singularities.csv");
+  if (const auto panel = table ? singularity_trajectories(*table) : std::nullopt)
+    page.svg_figure(panel->title, plot_of({*panel}, 1, 600, "ps-"));
+  else
+    page.paragraph("No phase singularity in phase_singularities.csv.");
+}
+
 void pictures_section(HtmlDocument& page, const fs::path& dir) {
   std::vector<std::pair<std::string, fs::path>> snapshots;
   if (fs::is_directory(dir))
@@ -269,6 +291,7 @@ fs::path write_run_report(const fs::path& dir) {
   traces_section(page, f);
   biomarker_section(page, f);
   if (f.summary.is_object()) conduction_section(page, f.summary);
+  reentry_section(page, dir, f.summary);
   pictures_section(page, dir);
   if (f.summary.is_object()) scene_section(page, f.summary);
   std::string log;

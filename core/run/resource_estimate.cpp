@@ -86,6 +86,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   for (const auto& block : tr.blocks) columns += static_cast<double>(block.cells.size() * block.variables.size());
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
+  if (const auto& re = scene.output.reentry; re.on) {
+    // V of every cell at every sample, as float, and the spectrum's bins.
+    const double frames = samples(scene.duration_ms, re.from_ms, re.every_ms);
+    const double bins = std::max(0.0, (re.f_max_hz - re.f_min_hz) * frames * re.every_ms / 1000.0) + 1;
+    e.memory.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples", cells, frames),
+                        4 * cells * frames + 16 * cells * bins,
+                        "output.reentry: a larger every_ms, a later from_ms, or a smaller tissue"});
+  }
   if (mechanics)
     e.memory.push_back({fmt::format("DEM: {} particles, {} bonds", tissue.particles.size(), tissue.bonds.size()),
                         256.0 * static_cast<double>(tissue.particles.size()) +

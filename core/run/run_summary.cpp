@@ -117,6 +117,7 @@ json run_summary(const RunFacts& f) {
   s["mean_biomarkers"] = mean_biomarkers(f.beats);
   s["conduction"] = conduction(f.tissue, f.system.stimulus, f.beats, f.scene.output.cv_method);
   s["cv_cm_per_s"] = s["conduction"].empty() ? json(nullptr) : s["conduction"].back()["cv_cm_per_s"];
+  if (!f.reentry.is_null()) s["reentry"] = f.reentry;
   s["peak_strain"] = f.mechanics ? json{{"xx", f.peak_strain[0]}, {"yy", f.peak_strain[1]}, {"xy", f.peak_strain[2]}}
                                  : json(nullptr);
   if (f.mechanics) s["mechanics_step_ms"] = f.mechanics_step_ms;  // the smallest step taken

@@ -58,6 +58,7 @@ struct RunFacts {
   // resumed run started from (null when none).
   json last_checkpoint = nullptr, resumed_from = nullptr;
   json trace_units = json::object();  // traced variable -> unit (TraceRecorder::units)
+  json reentry = nullptr;             // output.reentry's measurements (measure/reentry.hpp), or null
 };
 
 json run_summary(const RunFacts& facts);

@@ -77,6 +77,7 @@ void Simulation::Impl::run() {
       system.gather_voltage();
       tracker->start(0.0, system.V_mV.data());
     }
+    start_reentry_sampling(start_ms);
     try {
       advance_and_time_integrator();
     } catch (const InterruptedError& e) {
@@ -86,6 +87,10 @@ void Simulation::Impl::run() {
       log->warn("{}: stopping with every output written", error);
     }
     tracker->finish();
+    {
+      ScopeTimer measuring(measurement_seconds);
+      measure_reentry();
+    }
     ScopeTimer timer(output_seconds);
     if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats);
     writer.finish();
@@ -171,6 +176,7 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   if (!system.voltage_fresh) system.gather_voltage();
   if (!(system.voltages_observed && tracker->steps_by_range(t_new)))  // else done in on_step_voltages
     tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+  sample_reentry_if_due(t_old, t_new);
   auto measured = Clock::now();
   measurement_seconds += std::chrono::duration<double>(measured - start).count();
   if (mechanics) {
@@ -216,7 +222,8 @@ json Simulation::Impl::summary() const {
                       .set_up_seconds = set_up_seconds,
                       .last_checkpoint = last_checkpoint,
                       .resumed_from = resumed_from,
-                      .trace_units = traces.units()});
+                      .trace_units = traces.units(),
+                      .reentry = reentry_measured});
 }
 
 Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> registry, RunOptions options)

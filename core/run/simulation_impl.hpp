@@ -26,6 +26,7 @@
 #include "integrate/stability.hpp"
 #include "io/background_writer.hpp"
 #include "io/csv_writer.hpp"
+#include "measure/reentry.hpp"
 #include "run/checkpoint_dir.hpp"
 #include "run/mechanics_coupling.hpp"
 #include "run/resource_estimate.hpp"
@@ -75,6 +76,13 @@ struct Simulation::Impl : StepObserver {
   // this step, or halfway through writing this checkpoint (1 = the first).
   long long kill_at_step = -1, kill_in_checkpoint = -1, checkpoints_written = 0;
   BackgroundWriter writer;  // the tissue picture and the snapshots
+  // output.reentry: V of every cell at the sample times (interpolated
+  // between the ends of the step around each), V at the last step's end,
+  // and what was measured at the end (summary.json's "reentry").
+  VoltageFrames reentry_frames;
+  std::vector<double> V_previous;
+  long long reentry_next_sample = 0;  // index k of the next sample time from_ms + k every_ms
+  json reentry_measured;
 
   // ---- the life cycle (simulation.cpp) ----
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o);
@@ -120,6 +128,9 @@ struct Simulation::Impl : StepObserver {
   void on_sample(double t) override;
   void record_beat(const BeatBiomarkers& b);
   void snapshot_if_due(double t);
+  void start_reentry_sampling(double t);
+  void sample_reentry_if_due(double t_old, double t_new);
+  void measure_reentry();
   void write_file(std::function<void()> job);
   void reclaim_writer_core();
   void report_progress(std::chrono::steady_clock::time_point now, double t_new);

@@ -5,6 +5,8 @@
 #include <omp.h>
 #include <spdlog/sinks/basic_file_sink.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -107,6 +109,49 @@ void Simulation::Impl::snapshot_if_due(double t) {
     write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.name, *frame); });
     ++snapshots_taken;
   }
+}
+
+// output.reentry: V of every cell at from_ms + k every_ms, linear between
+// the ends of the step that holds the sample time (exact on the steps of a
+// fixed-step method when every_ms is a multiple of its dt).
+void Simulation::Impl::start_reentry_sampling(double t) {
+  if (!scene.output.reentry.on) return;
+  reentry_frames = VoltageFrames(tissue.cell_count());
+  system.gather_voltage();
+  V_previous = system.V_mV;
+  const auto& spec = scene.output.reentry;
+  // The first sample at or after t (a resumed run measures from where it resumed).
+  reentry_next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
+  if (std::abs(t - (spec.from_ms + static_cast<double>(reentry_next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
+    reentry_frames.add(t, system.V_mV);
+    ++reentry_next_sample;
+  }
+}
+
+void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
+  if (!scene.output.reentry.on) return;
+  const auto& spec = scene.output.reentry;
+  for (;;) {
+    const double next = spec.from_ms + static_cast<double>(reentry_next_sample) * spec.every_ms;
+    if (next > t_new + kTimeEpsilon_ms) break;
+    ++reentry_next_sample;
+    if (next < t_old - kTimeEpsilon_ms) continue;  // before a resumed run's start
+    const double w = t_new > t_old ? std::clamp((next - t_old) / (t_new - t_old), 0.0, 1.0) : 1.0;
+    std::vector<double> V(system.V_mV.size());
+    for (std::size_t c = 0; c < V.size(); ++c) V[c] = V_previous[c] + w * (system.V_mV[c] - V_previous[c]);
+    reentry_frames.add(next, V);
+  }
+  V_previous = system.V_mV;
+}
+
+// summary.json's "reentry" and phase_singularities.csv, from the samples.
+void Simulation::Impl::measure_reentry() {
+  if (!scene.output.reentry.on) return;
+  const auto& spec = scene.output.reentry;
+  const ReentrySettings settings{.every_ms = spec.every_ms, .from_ms = spec.from_ms, .tau_ms = spec.tau_ms,
+                                 .V_star_mV = spec.V_star_mV, .link_mm = spec.link_mm, .f_min_hz = spec.f_min_hz,
+                                 .f_max_hz = spec.f_max_hz};
+  reentry_measured = analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats, out);
 }
 
 // A picture or snapshot file, on the writer's thread while the run goes

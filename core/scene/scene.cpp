@@ -4,6 +4,7 @@
 #include "integrate/integrator.hpp"
 #include "scene/schema/schema_check.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <optional>
 #include <tuple>
@@ -31,6 +32,51 @@ std::vector<int> read_cell_indices(const json& list, const std::string& path) {
 
 
 
+// A region target: fractions of the bounding box (x_min_frac..), a rectangle
+// in mm (x_min_mm, x_max_mm, y_min_mm, y_max_mm, all four) or a disc in mm
+// (center_x_mm, center_y_mm, radius_mm); one form per region.
+StimulusTarget read_region(const json& t, const std::string& path) {
+  StimulusTarget target;
+  target.kind = StimulusTarget::Kind::region;
+  JsonReader r(t, path);
+  const bool rect = r.has("x_min_mm") || r.has("x_max_mm") || r.has("y_min_mm") || r.has("y_max_mm");
+  const bool circle = r.has("center_x_mm") || r.has("center_y_mm") || r.has("radius_mm");
+  const bool fractions = r.has("x_min_frac") || r.has("x_max_frac") || r.has("y_min_frac") || r.has("y_max_frac");
+  if (int(rect) + int(circle) + int(fractions) > 1)
+    throw ManifestError(path, "expected one form of region: fractions (x_min_frac..), a rectangle in mm "
+                              "(x_min_mm, x_max_mm, y_min_mm, y_max_mm) or a circle (center_x_mm, center_y_mm, "
+                              "radius_mm), got keys of several");
+  constexpr double kFar_mm = 1e6;
+  if (rect) {
+    target.shape = StimulusTarget::Shape::rect_mm;
+    target.x_min_mm = r.number("x_min_mm", std::nullopt, -kFar_mm, kFar_mm);
+    target.x_max_mm = r.number("x_max_mm", std::nullopt, -kFar_mm, kFar_mm);
+    target.y_min_mm = r.number("y_min_mm", std::nullopt, -kFar_mm, kFar_mm);
+    target.y_max_mm = r.number("y_max_mm", std::nullopt, -kFar_mm, kFar_mm);
+    if (target.x_min_mm > target.x_max_mm)
+      throw ManifestError(r.path_of("x_max_mm"), "expected x_max_mm >= x_min_mm (" + describe_json(target.x_min_mm) +
+                                                     "), got " + describe_json(target.x_max_mm));
+    if (target.y_min_mm > target.y_max_mm)
+      throw ManifestError(r.path_of("y_max_mm"), "expected y_max_mm >= y_min_mm (" + describe_json(target.y_min_mm) +
+                                                     "), got " + describe_json(target.y_max_mm));
+  } else if (circle) {
+    target.shape = StimulusTarget::Shape::circle_mm;
+    target.center_x_mm = r.number("center_x_mm", std::nullopt, -kFar_mm, kFar_mm);
+    target.center_y_mm = r.number("center_y_mm", std::nullopt, -kFar_mm, kFar_mm);
+    target.radius_mm = r.number("radius_mm", std::nullopt, 1e-6, kFar_mm);
+  } else {
+    target.x_min_frac = r.number("x_min_frac", 0.0, 0.0, 1.0);
+    target.x_max_frac = r.number("x_max_frac", 1.0, 0.0, 1.0);
+    target.y_min_frac = r.number("y_min_frac", 0.0, 0.0, 1.0);
+    target.y_max_frac = r.number("y_max_frac", 1.0, 0.0, 1.0);
+    if (target.x_min_frac > target.x_max_frac || target.y_min_frac > target.y_max_frac)
+      throw ManifestError(path, "expected min fractions <= max fractions");
+  }
+  if (r.has("type")) target.region_type = read_cell_type(r, "type", CellType::myocyte);
+  r.finish();
+  return target;
+}
+
 StimulusTarget read_target(const json& t, const std::string& path) {
   StimulusTarget target;
   if (t.is_string()) {
@@ -46,16 +92,7 @@ StimulusTarget read_target(const json& t, const std::string& path) {
     target.cells = read_cell_indices(t, path);
     if (target.cells.empty()) throw ManifestError(path, "expected at least one cell index");
   } else if (t.is_object()) {
-    target.kind = StimulusTarget::Kind::region;
-    JsonReader r(t, path);
-    target.x_min_frac = r.number("x_min_frac", 0.0, 0.0, 1.0);
-    target.x_max_frac = r.number("x_max_frac", 1.0, 0.0, 1.0);
-    target.y_min_frac = r.number("y_min_frac", 0.0, 0.0, 1.0);
-    target.y_max_frac = r.number("y_max_frac", 1.0, 0.0, 1.0);
-    if (r.has("type")) target.region_type = read_cell_type(r, "type", CellType::myocyte);
-    r.finish();
-    if (target.x_min_frac > target.x_max_frac || target.y_min_frac > target.y_max_frac)
-      throw ManifestError(path, "expected min fractions <= max fractions");
+    target = read_region(t, path);
   } else {
     throw ManifestError(path, "expected a cell type, a list of cell indices or a region object, got " +
                                   describe_json(t));
@@ -121,6 +158,29 @@ static TraceSpec read_traces(const json& raw, const std::string& path) {
   return spec;
 }
 
+// output.reentry: the delay must be a whole number of samples (the phase
+// pairs each sample with an earlier one).
+ReentrySpec read_reentry(JsonReader r) {
+  ReentrySpec e;
+  e.on = true;
+  e.every_ms = r.number("every_ms", e.every_ms, 1e-3, 1e4);
+  e.from_ms = r.number("from_ms", e.from_ms, 0.0, kInf);
+  e.tau_ms = r.number("tau_ms", e.tau_ms, 1e-3, 1e4);
+  const double samples = e.tau_ms / e.every_ms;
+  if (samples < 1 - 1e-9 || std::abs(samples - std::round(samples)) > 1e-6 * samples)
+    throw ManifestError(r.path_of("tau_ms"), "expected a whole multiple of every_ms (" + describe_json(e.every_ms) +
+                                                 " ms), got " + describe_json(e.tau_ms));
+  e.V_star_mV = r.number("V_star_mV", e.V_star_mV, -200.0, 200.0);
+  e.link_mm = r.number("link_mm", e.link_mm, 1e-6, 1e6);
+  e.f_min_hz = r.number("f_min_hz", e.f_min_hz, 0.0, 1e4);
+  e.f_max_hz = r.number("f_max_hz", e.f_max_hz, 1e-3, 1e4);
+  if (e.f_max_hz <= e.f_min_hz)
+    throw ManifestError(r.path_of("f_max_hz"), "expected more than f_min_hz (" + describe_json(e.f_min_hz) +
+                                                   " Hz), got " + describe_json(e.f_max_hz));
+  r.finish();
+  return e;
+}
+
 OutputSpec read_output(JsonReader r) {
   OutputSpec o;
   o.dir = r.text("dir", std::string());
@@ -158,6 +218,7 @@ OutputSpec read_output(JsonReader r) {
     o.cv_method = b.text("cv", o.cv_method, {"fit", "transit"});
     b.finish();
   }
+  if (r.has("reentry")) o.reentry = read_reentry(r.object("reentry"));
   r.finish();
   return o;
 }

@@ -53,6 +53,16 @@ struct SnapshotSpec {
   bool png = true, vtk = true;
 };
 
+// output.reentry: V of every cell sampled every every_ms from from_ms for
+// phase singularities (phase_singularities.csv) and summary.json's
+// "reentry" (measure/reentry.hpp, docs/arrhythmia.md). Off unless given.
+struct ReentrySpec {
+  bool on = false;
+  double every_ms = 1.0, from_ms = 0.0;
+  double tau_ms = 10.0, V_star_mV = -50.0, link_mm = 1.0;
+  double f_min_hz = 1.0, f_max_hz = 30.0;
+};
+
 // output.checkpoint: the run's whole state every every_ms, the newest `keep`
 // kept (fibrodem resume DIR continues from the last).
 struct CheckpointSpec {
@@ -77,6 +87,7 @@ struct OutputSpec {
   std::string cv_method = "fit";
   double progress_every_s = 1.0;
   CheckpointSpec checkpoint;
+  ReentrySpec reentry;
 };
 
 // initial_state: the cells (and, with mechanics, the DEM bodies) start from

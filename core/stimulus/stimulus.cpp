@@ -3,11 +3,38 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "util/json_reader.hpp"
 
 namespace fibrodem {
 
 namespace {
+// Whether cell c's centre lies in the target's region (edges included, with
+// a 1e-9 um tolerance: a cell exactly on an edge given in mm is in).
+bool region_contains(const StimulusTarget& target, const Tissue& tissue, int c) {
+  constexpr double kEdge_um = 1e-9;
+  const double x = tissue.x_um[c], y = tissue.y_um[c];
+  switch (target.shape) {
+    case StimulusTarget::Shape::fractions: {
+      const auto box = tissue.bounds_um();
+      const double w = box[1] - box[0], h = box[3] - box[2];
+      const double fx = w > 0 ? (x - box[0]) / w : 0.5;
+      const double fy = h > 0 ? (y - box[2]) / h : 0.5;
+      return fx >= target.x_min_frac && fx <= target.x_max_frac && fy >= target.y_min_frac &&
+             fy <= target.y_max_frac;
+    }
+    case StimulusTarget::Shape::rect_mm:
+      return x >= 1000 * target.x_min_mm - kEdge_um && x <= 1000 * target.x_max_mm + kEdge_um &&
+             y >= 1000 * target.y_min_mm - kEdge_um && y <= 1000 * target.y_max_mm + kEdge_um;
+    case StimulusTarget::Shape::circle_mm: {
+      const double dx = x - 1000 * target.center_x_mm, dy = y - 1000 * target.center_y_mm;
+      return std::hypot(dx, dy) <= 1000 * target.radius_mm + kEdge_um;
+    }
+  }
+  return false;
+}
+
 std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tissue,
                                 const std::string& path) {
   std::vector<int> cells;
@@ -30,19 +57,19 @@ std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tiss
       }
       break;
     case StimulusTarget::Kind::region: {
-      const auto box = tissue.bounds_um();
-      const double w = box[1] - box[0], h = box[3] - box[2];
       for (int c = 0; c < n; ++c) {
-        const double fx = w > 0 ? (tissue.x_um[c] - box[0]) / w : 0.5;
-        const double fy = h > 0 ? (tissue.y_um[c] - box[2]) / h : 0.5;
-        if (fx < target.x_min_frac || fx > target.x_max_frac || fy < target.y_min_frac ||
-            fy > target.y_max_frac)
-          continue;
+        if (!region_contains(target, tissue, c)) continue;
         if (target.region_type && tissue.type[c] != *target.region_type) continue;
         cells.push_back(c);
       }
-      if (cells.empty())
-        throw ManifestError(path + ".target", "this region contains no cell of the tissue");
+      if (cells.empty()) {
+        const auto box = tissue.bounds_um();
+        throw ManifestError(path + ".target",
+                            fmt::format("this region contains no cell{} (the tissue spans x {:g}..{:g} mm, "
+                                        "y {:g}..{:g} mm)",
+                                        target.region_type ? std::string(" of type ") + cell_type_name(*target.region_type) : "",
+                                        box[0] / 1000, box[1] / 1000, box[2] / 1000, box[3] / 1000));
+      }
       break;
     }
   }

@@ -1,6 +1,9 @@
 // The manifest's `stimulus` entries: which cells each pulse train drives
 // (a cell type, listed cells, or a region of the tissue) and when. Read by
-// scene/scene.cpp; turned into currents by stimulus/stimulus.hpp.
+// scene/scene.cpp; turned into currents by stimulus/stimulus.hpp. Protocols
+// (docs/arrhythmia.md): cross-field S1-S2 is a thin edge rectangle then a
+// quadrant rectangle; point S1-S2-S3 and burst pacing are circles with
+// trains of given period and count.
 #pragma once
 
 #include <optional>
@@ -15,8 +18,15 @@ struct StimulusTarget {
   enum class Kind { cell_type, cells, region } kind = Kind::cell_type;
   CellType type = CellType::myocyte;
   std::vector<int> cells;
-  // region, as fractions of the tissue's bounding box; optional type filter
+  // A region selects the cells whose centre lies in it (edges included):
+  //   fractions  a rectangle in fractions of the tissue's bounding box
+  //   rect_mm    a rectangle in the tissue's coordinates [mm]
+  //   circle_mm  a disc in the tissue's coordinates [mm]
+  // with an optional cell type filter.
+  enum class Shape { fractions, rect_mm, circle_mm } shape = Shape::fractions;
   double x_min_frac = 0, x_max_frac = 1, y_min_frac = 0, y_max_frac = 1;
+  double x_min_mm = 0, x_max_mm = 0, y_min_mm = 0, y_max_mm = 0;
+  double center_x_mm = 0, center_y_mm = 0, radius_mm = 0;
   std::optional<CellType> region_type;
 };
 

@@ -1,0 +1,130 @@
+#include "measure/reentry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "io/csv_writer.hpp"
+#include "measure/cell_triangles.hpp"
+#include "measure/dominant_frequency.hpp"
+#include "measure/singularity_tracking.hpp"
+
+namespace fibrodem {
+
+void VoltageFrames::add(double t, const std::vector<double>& V) {
+  t_ms.push_back(t);
+  V_mV.insert(V_mV.end(), V.begin(), V.end());
+}
+
+json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
+  std::map<int, std::pair<int, int>> by_beat;  // beat -> (unreached, measured) myocytes
+  for (const auto& b : beats) {
+    if (b.type != CellType::myocyte) continue;
+    auto& [unreached, measured] = by_beat[b.beat];
+    ++measured;
+    if (!(b.apo_mV - b.rmp_mV >= 20.0)) ++unreached;
+  }
+  json out = json::array();
+  for (const auto& [beat, counts] : by_beat)
+    out.push_back({{"beat", beat},
+                   {"fraction", static_cast<double>(counts.first) / counts.second},
+                   {"myocytes", counts.second}});
+  return out;
+}
+
+namespace {
+// The PS of every frame, tracked; rows of phase_singularities.csv if dir is given.
+SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
+                                       const std::filesystem::path& dir) {
+  const auto triangles = cell_triangles(tissue);
+  const std::size_t delay = static_cast<std::size_t>(std::llround(s.tau_ms / s.every_ms));
+  CsvWriter csv;
+  if (!dir.empty()) csv = CsvWriter(dir / "phase_singularities.csv", {"t_ms", "id", "x_mm", "y_mm", "chirality"});
+  SingularityTracker tracker(s.link_mm);
+  std::vector<double> phase(frames.cells);
+  for (std::size_t k = delay; k < frames.count(); ++k) {
+    const float* now = frames.frame(k);
+    const float* before = frames.frame(k - delay);
+    for (std::size_t c = 0; c < frames.cells; ++c) phase[c] = embedding_phase(now[c], before[c], s.V_star_mV);
+    const auto found = find_phase_singularities(tissue, triangles, phase);
+    const auto ids = tracker.add_frame(frames.t_ms[k], found);
+    if (!csv.is_open()) continue;
+    for (std::size_t j = 0; j < found.size(); ++j) {
+      csv.cell(frames.t_ms[k]).cell(static_cast<long long>(ids[j])).cell(found[j].x_mm).cell(found[j].y_mm)
+          .cell(static_cast<long long>(found[j].chirality));
+      csv.end_row();
+    }
+  }
+  if (csv.is_open()) csv.flush();
+  return tracker;
+}
+
+// Per cell, its activations (upward crossings of V*) at or after `after_ms`:
+// the latest of them anywhere, and the most any cell has.
+std::pair<double, int> activations_after(const VoltageFrames& frames, double V_star_mV, double after_ms) {
+  double last = -std::numeric_limits<double>::infinity();
+  std::vector<int> count(frames.cells, 0);
+  for (std::size_t k = 1; k < frames.count(); ++k) {
+    const float* a = frames.frame(k - 1);
+    const float* b = frames.frame(k);
+    for (std::size_t c = 0; c < frames.cells; ++c) {
+      if (!(a[c] < V_star_mV && b[c] >= V_star_mV)) continue;
+      const double t = frames.t_ms[k - 1] +
+                       (frames.t_ms[k] - frames.t_ms[k - 1]) * (V_star_mV - a[c]) / (double(b[c]) - a[c]);
+      if (t < after_ms) continue;
+      last = std::max(last, t);
+      ++count[c];
+    }
+  }
+  return {last, count.empty() ? 0 : *std::max_element(count.begin(), count.end())};
+}
+
+json dominant_frequency_summary(const VoltageFrames& frames, const ReentrySettings& s) {
+  const auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms, s.f_min_hz, s.f_max_hz);
+  std::vector<double> found;
+  for (double f : df.per_cell_hz)
+    if (std::isfinite(f)) found.push_back(f);
+  json out = {{"dominant_frequency_hz", nullptr}, {"dominant_frequency_range_hz", nullptr},
+              {"frequency_resolution_hz", df.resolution_hz > 0 ? json(df.resolution_hz) : json(nullptr)},
+              {"cells_in_spectrum", found.size()}};
+  if (found.empty()) return out;
+  std::sort(found.begin(), found.end());
+  out["dominant_frequency_hz"] = found[found.size() / 2];  // the median over cells (upper of two middles)
+  out["dominant_frequency_range_hz"] = {found.front(), found.back()};
+  return out;
+}
+}  // namespace
+
+json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
+                     const std::vector<double>& onsets, const std::vector<BeatBiomarkers>& beats,
+                     const std::filesystem::path& dir) {
+  const SingularityTracker tracker = track_singularities(tissue, frames, s, dir);
+  double longest_ms = 0;
+  for (const auto& track : tracker.tracks()) longest_ms = std::max(longest_ms, track.death_ms - track.birth_ms);
+
+  const double last_onset = onsets.empty() ? 0.0 : onsets.back();
+  const auto [last_activation, most] = activations_after(frames, s.V_star_mV, last_onset);
+  const bool active = std::isfinite(last_activation);
+  const double duration = active ? std::max(0.0, last_activation - last_onset) : 0.0;
+  const json cycle = onsets.size() >= 2 ? json(onsets.back() - onsets[onsets.size() - 2]) : json(nullptr);
+
+  json out = {{"detected", !cycle.is_null() && duration > cycle.get<double>()},
+              {"duration_ms", duration},
+              {"cycle_length_ms", cycle},
+              {"last_stimulus_ms", onsets.empty() ? json(nullptr) : json(last_onset)},
+              {"last_activation_ms", active ? json(last_activation) : json(nullptr)},
+              {"activations_after_last_stimulus_max", most},
+              {"phase_singularities_max", tracker.max_per_frame()},
+              {"phase_singularities_tracked", tracker.tracks().size()},
+              {"longest_phase_singularity_ms", longest_ms},
+              {"samples", frames.count()},
+              {"every_ms", s.every_ms},
+              {"tau_ms", s.tau_ms},
+              {"V_star_mV", s.V_star_mV}};
+  out.update(dominant_frequency_summary(frames, s));
+  out["unreached_fraction_per_beat"] = unreached_fractions(beats);
+  return out;
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,58 @@
+// Re-entry measured on V of every cell sampled at a fixed interval
+// (output.reentry, docs/arrhythmia.md): phase singularities found and
+// tracked frame by frame (phase_singularities.csv), activity after the last
+// stimulus, conduction block per beat and the dominant frequency.
+//
+//   activation         an upward crossing of V* between two samples (time
+//                      by linear interpolation)
+//   cycle length       the interval between the last two stimulus onsets
+//                      (S1-S2: the coupling interval; a burst: its period);
+//                      none with fewer than two onsets
+//   duration_ms        last activation anywhere - last stimulus onset (>= 0)
+//   detected           duration_ms > cycle length
+//   unreached fraction per beat: the fraction of myocytes whose action
+//                      potential amplitude (APO - RMP) stays below 20 mV in
+//                      that beat, the criterion of conduction velocity
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <vector>
+
+#include "measure/biomarkers.hpp"
+#include "util/json_reader.hpp"
+
+namespace fibrodem {
+
+struct ReentrySettings {
+  double every_ms = 1.0;      // sampling interval
+  double from_ms = 0.0;       // first sample
+  double tau_ms = 10.0;       // embedding delay, a multiple of every_ms
+  double V_star_mV = -50.0;   // embedding origin and activation threshold
+  double link_mm = 1.0;       // PS tracking: largest step between frames
+  double f_min_hz = 1.0, f_max_hz = 30.0;  // dominant frequency band
+};
+
+// V of every cell at each sample time, as float (frame-major).
+struct VoltageFrames {
+  explicit VoltageFrames(std::size_t cell_count = 0) : cells(cell_count) {}
+  std::size_t cells;
+  std::vector<double> t_ms;
+  std::vector<float> V_mV;
+
+  std::size_t count() const { return t_ms.size(); }
+  const float* frame(std::size_t k) const { return &V_mV[k * cells]; }
+  void add(double t_ms, const std::vector<double>& V);
+};
+
+// summary.json's "reentry"; writes phase_singularities.csv (t_ms, id, x_mm,
+// y_mm, chirality: one row per PS per frame) into dir unless dir is empty.
+json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& settings,
+                     const std::vector<double>& stimulus_onsets_ms, const std::vector<BeatBiomarkers>& beats,
+                     const std::filesystem::path& dir);
+
+// Per beat, the fraction of the myocytes measured in it that it did not
+// reach ([{beat, fraction, myocytes}]).
+json unreached_fractions(const std::vector<BeatBiomarkers>& beats);
+
+}  // namespace fibrodem
