@@ -1,6 +1,6 @@
 // The manifest's `stimulus` entries: which cells each pulse train drives
-// (a cell type, listed cells, or a region of the tissue) and when. Read by
-// scene/scene.cpp; turned into currents by stimulus/stimulus.hpp. Protocols
+// (a cell type, listed cells, or a region of the tissue) and when, and their
+// reader; stimulus/stimulus.hpp turns them into currents. Protocols
 // (docs/arrhythmia.md): cross-field S1-S2 is a thin edge rectangle then a
 // quadrant rectangle; point S1-S2-S3 and burst pacing are circles with
 // trains of given period and count.
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "model/cell_type.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 
@@ -37,5 +38,9 @@ struct StimulusSpec {
   long long count = 1;
   std::string path;
 };
+
+// Reads one entry of the manifest's `stimulus` list (ManifestError naming
+// the JSON path).
+StimulusSpec read_stimulus_spec(JsonReader stimulus);
 
 }  // namespace fibrodem

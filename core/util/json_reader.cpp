@@ -152,4 +152,15 @@ void JsonReader::finish() const {
   }
 }
 
+std::vector<int> read_cell_indices(const json& list, const std::string& path) {
+  std::vector<int> cells;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].is_number_integer() || list[i].get<long long>() < 0)
+      throw ManifestError(index_path(path, i),
+                          "expected a cell index (integer >= 0), got " + describe_json(list[i]));
+    cells.push_back(list[i].get<int>());
+  }
+  return cells;
+}
+
 }  // namespace fibrodem

@@ -52,6 +52,10 @@ class JsonReader {
   std::set<std::string> read_;
 };
 
+// A JSON list of cell indices (integers >= 0), or a ManifestError at
+// path[i] naming the first entry that is not one.
+std::vector<int> read_cell_indices(const json& list, const std::string& path);
+
 // Records every (JSON path of an object, key) that a JsonReader on this
 // thread reads (with or without a value in the manifest) while it lives, so
 // that a test can compare the keys the code reads with those the schema
