@@ -180,7 +180,7 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
     if (split_coupling) {
       const auto start = std::chrono::steady_clock::now();
       system.gather_voltage();
-      system.coupler->implicit_step(system.V_mV.data(), since_coupling);
+      system.coupler->implicit_step(system.V_mV.data(), since_coupling, kCouplingSolveTolerance_mV);
       since_coupling = 0;
       system.scatter_voltage();
       system.seconds[CellSystem::kCoupling] +=
