@@ -21,6 +21,10 @@ class Coupler {
   // Advances C dV/dt = I_gap(V) alone over dt by backward Euler, in place,
   // to within tolerance_mV of the exact backward-Euler potentials (max norm).
   virtual void implicit_step(double* V_mV, double dt_ms, double tolerance_mV) = 0;
+  // The next implicit_step starts afresh, from its input alone: called where
+  // an integrator starts (a run resumed from a checkpoint starts there too,
+  // so it must not depend on solves before it).
+  virtual void restart_implicit() {}
   // How the implicit steps went ("" if there is nothing to say).
   virtual std::string describe_solves() const { return {}; }
   // Gershgorin bound on the fastest coupling rate |lambda| [1/ms]: forward

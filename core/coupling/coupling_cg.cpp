@@ -67,7 +67,7 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
       }
       for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
     }
-  for (auto* v : {&x_, &v_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
+  for (auto* v : {&x_, &v_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
     v->assign(static_cast<std::size_t>(padded_), 0.0);
   const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
   chunk_dot_.assign(chunks, 0.0);
@@ -153,11 +153,15 @@ double CouplingCg::direction(double beta) {
 }
 
 int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
-  std::copy(x_io, x_io + n_, x_.begin());
-  std::copy(x_io, x_io + n_, v_.begin());
-  double* x = x_.data();
+  // The start: v plus the last solve's correction x - v, scaled to this dt.
+  const double scale = last_dt_ms_ > 0 ? dt_ms / last_dt_ms_ : 0.0;
   double v_max = 0;
-  for (long i = 0; i < n_; ++i) v_max = std::max(v_max, std::abs(v_[i]));
+  for (long i = 0; i < n_; ++i) {
+    v_[i] = x_io[i];
+    x_[i] = x_io[i] + scale * correction_[i];
+    v_max = std::max(v_max, std::abs(v_[i]));
+  }
+  double* x = x_.data();
   const double drift_per_iteration = kDriftPerIteration * kEpsilon * (1 + 2 * dt_ms * max_rate_per_ms_) * v_max;
   Sums s = residual(x, dt_ms);
   double rz = s.dot, bound = dt_ms * s.largest;
@@ -196,7 +200,13 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
     since_restart = 0;
     if (bound <= tolerance_mV) break;
   }
-  if (std::isfinite(rz)) std::copy(x_.begin(), x_.begin() + n_, x_io);
+  if (std::isfinite(rz)) {
+    for (long i = 0; i < n_; ++i) {
+      correction_[i] = x_[i] - v_[i];
+      x_io[i] = x_[i];
+    }
+    last_dt_ms_ = dt_ms;
+  }
   ++statistics_.solves;
   statistics_.iterations += iterations;
   statistics_.most_iterations = std::max(statistics_.most_iterations, iterations);

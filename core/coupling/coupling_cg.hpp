@@ -4,8 +4,10 @@
 // [nS] (symmetric, non-positive off the diagonal, rows summing to zero): the
 // matrix A is symmetric positive definite, so CG applies.
 //
-// Start: x = v, the potential before the coupling moves it (within one step's
-// change of the answer).
+// Start: x = v + (dt / dt_last) (x_last - v_last), v plus the last solve's
+// correction scaled to this step (the coupling's pull on a wavefront changes
+// little from one step to the next: 2.5 iterations a solve against 6 from v
+// alone on the Fig. 3 scene). After restart(), x = v.
 //
 // Stopping: with r = (C/dt) v - A x the residual, the error is
 //   x - x* = -(I + K)^-1 (dt C^-1 r),  K = dt C^-1 L.
@@ -23,8 +25,8 @@
 // Preconditioner: Jacobi (the diagonal C/dt + L_ii). The condition number of
 // the scaled system is at most 1 + 2 dt max_i(L_ii / C_i) whatever the
 // tissue's size (C/dt dominates the smooth modes that make a Laplacian hard),
-// and the start is close: the Fig. 3 scenes take ~6 iterations a solve at
-// 3k to 200k cells. Incomplete Cholesky (Eigen's IncompleteCholesky, AMD
+// and the start is close: the Fig. 3 scenes take 2-3 iterations a solve at
+// 3k to 200k cells (docs/performance.md#the-coupling-solve). Incomplete Cholesky (Eigen's IncompleteCholesky, AMD
 // order) halves the iterations but its two triangular solves cost more than
 // the product they save and run on one thread: measured slower at 3k and
 // 50k cells (docs/performance.md#the-coupling-solve); a multigrid cannot repay
@@ -68,6 +70,8 @@ class CouplingCg {
   // number of iterations. A v that is not finite is left as it is (its NaN or
   // infinity is the caller's to see). Returns the iterations taken.
   int solve(double* v_mV, double dt_ms, double tolerance_mV);
+  // The next solve starts from v alone, not from the last solve's correction.
+  void restart() { last_dt_ms_ = 0; }
 
   struct Statistics {
     long solves = 0, iterations = 0;
@@ -104,6 +108,9 @@ class CouplingCg {
   // z = M^-1 r, the search direction p, q = A p, A's diagonal and M^-1 for
   // the present dt.
   std::vector<double> x_, v_, r_, z_, p_, q_, a_diagonal_, inverse_diagonal_;
+  // The last solve's x - v and dt (the next solve starts from v plus it).
+  std::vector<double> correction_;
+  double last_dt_ms_ = 0;
   std::vector<double> chunk_dot_, chunk_largest_;
   Statistics statistics_;
 };

@@ -26,6 +26,7 @@ class GapJunctionCoupler final : public Coupler {
   void add_current(const double* V_mV, double* i_ext_pA) const override;
   void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const override;
   void implicit_step(double* V_mV, double dt_ms, double tolerance_mV) override;
+  void restart_implicit() override { cg_.restart(); }
   std::string describe_solves() const override;
   double max_rate_per_ms() const override;
   std::vector<double> total_conductance_nS() const override;

@@ -170,6 +170,7 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
   if (system.coupler && !system.implicit_coupling)
     throw std::logic_error("adaptive: the coupling must not also be an explicit current");
   v_global_.assign(system.cell_count(), 0.0);
+  if (system.coupler) system.coupler->restart_implicit();
   solve_tolerance_mV_ = kInf;
   for (const Buffers& buf : buffers_)
     if (!buf.v_full.empty())
