@@ -22,15 +22,16 @@
 // could matter (above a tenth of the tolerance) the bound is taken again from
 // the true residual before returning.
 //
-// Preconditioner: Jacobi (the diagonal C/dt + L_ii). The condition number of
-// the scaled system is at most 1 + 2 dt max_i(L_ii / C_i) whatever the
-// tissue's size (C/dt dominates the smooth modes that make a Laplacian hard),
-// and the start is close: the Fig. 3 scenes take 2-3 iterations a solve at
-// 3k to 200k cells (docs/performance.md#the-coupling-solve). Incomplete Cholesky (Eigen's IncompleteCholesky, AMD
-// order) halves the iterations but its two triangular solves cost more than
-// the product they save and run on one thread: measured slower at 3k and
-// 50k cells (docs/performance.md#the-coupling-solve); a multigrid cannot repay
-// its set-up per step size at a handful of iterations.
+// Preconditioner: Jacobi (D, the diagonal C/dt + L_ii). The eigenvalues of
+// D^-1 A lie between 1 / (1 + dt max_i(L_ii / C_i)) (as A >= C/dt) and 2
+// (Gershgorin) whatever the tissue's size (C/dt dominates the smooth modes
+// that make a Laplacian hard), and the start is close: the Fig. 3 scenes
+// take 2-3 iterations a solve at 3k to 200k cells. Incomplete Cholesky
+// (Eigen's IncompleteCholesky, AMD order) halves the iterations, but its two
+// triangular solves cost more than the products they save and run on one
+// thread: 1.5-1.9x Jacobi's solve time at 3k and 52k cells
+// (docs/performance.md#the-coupling-solve). A multigrid cannot repay its
+// set-up per step size at a handful of iterations.
 //
 // Cost: one pass over the matrix and one over the vectors an iteration (the
 // search direction's product is updated by the recurrence q = A z + beta q,
