@@ -176,6 +176,7 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     if (!buf.v_full.empty())
       solve_tolerance_mV_ = std::min(solve_tolerance_mV_, kSolveToleranceFraction * atol_ *
                                                               buf.scale[static_cast<std::size_t>(buf.pop->voltage_state)]);
+  solve_tolerance_mV_ = std::max(solve_tolerance_mV_, kSmallestSolveTolerance_mV);
   history_ = false;
 }
 

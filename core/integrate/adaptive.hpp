@@ -65,8 +65,11 @@ class AdaptiveIntegrator final : public Integrator {
   // (such as 0.5 ms or 100.25 ms); only a step to an off-grid stop is not.
   static constexpr double kStepQuantum_ms = 1.0 / 1024;
   // The coupling solve's tolerance on V [mV]: this fraction of the smallest
-  // absolute tolerance of a coupled potential (atol x its scale).
+  // absolute tolerance of a coupled potential (atol x its scale), but not
+  // below kSmallestSolveTolerance_mV, near what rounding lets CG resolve on
+  // potentials of ~100 mV (an atol below ~1e-8 would otherwise ask for less).
   static constexpr double kSolveToleranceFraction = 1e-3;
+  static constexpr double kSmallestSolveTolerance_mV = 1e-9;
 
  private:
   // Per population: the states at the step's start, the first-order full
