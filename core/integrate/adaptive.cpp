@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -169,6 +170,13 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
   if (system.coupler && !system.implicit_coupling)
     throw std::logic_error("adaptive: the coupling must not also be an explicit current");
   v_global_.assign(system.cell_count(), 0.0);
+  if (system.coupler) system.coupler->restart_implicit();
+  solve_tolerance_mV_ = kInf;
+  for (const Buffers& buf : buffers_)
+    if (!buf.v_full.empty())
+      solve_tolerance_mV_ = std::min(solve_tolerance_mV_, kSolveToleranceFraction * atol_ *
+                                                              buf.scale[static_cast<std::size_t>(buf.pop->voltage_state)]);
+  solve_tolerance_mV_ = std::max(solve_tolerance_mV_, kSmallestSolveTolerance_mV);
   history_ = false;
 }
 
@@ -311,7 +319,10 @@ void AdaptiveIntegrator::solve(CellSystem& system, double theta, std::vector<dou
   for (const Buffers& buf : buffers_)
     if (!(buf.*rhs).empty())
       for (std::size_t c = 0; c < buf.pop->size(); ++c) v_global_[buf.pop->cells[c]] = (buf.*rhs)[c];
-  system.coupler->implicit_step(v_global_.data(), theta);
+  const auto start = std::chrono::steady_clock::now();
+  system.coupler->implicit_step(v_global_.data(), theta, solve_tolerance_mV_);
+  system.seconds[CellSystem::kCoupling] +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // V1 from (I + theta K) V1 = v_full, into the populations; the largest of
@@ -402,6 +413,11 @@ void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_en
     while (observer.next_sample_ms() <= t_new + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
     t = t_new;
   }
+  if (system.coupler) coupling_report_ = system.coupler->describe_solves();
+}
+
+std::string AdaptiveIntegrator::report() const {
+  return coupling_report_.empty() ? histogram_.describe() : histogram_.describe() + "; " + coupling_report_;
 }
 
 // A step at the smallest size still failed: take it once more to name the

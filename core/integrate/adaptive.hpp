@@ -19,9 +19,9 @@
 //   (I + theta K) V1 = (I - theta K) V0 + h F_mid
 // (Crank-Nicolson on the coupling, CNAB2 with F_mid extrapolated; with F_mid
 // evaluated, V_half from (I + theta K) V_half = V0 + theta F0). So the
-// coupling never caps the step. Its matrix C + theta L is factorised (sparse
-// LDLT) once per step size: steps are 1 or 1.5 times a power of two times
-// kStepQuantum_ms, so a run needs a couple of dozen.
+// coupling never caps the step. The coupler solves it by conjugate gradients
+// to within kSolveToleranceFraction of V's absolute tolerance (max norm), so
+// that the solve's error is a thousandth of what the step control allows.
 //
 // Error: the step with the start's own linear forms (a_n, b_n; F0) is first
 // order, and its difference to the second-order step estimates the local
@@ -56,7 +56,7 @@ class AdaptiveIntegrator final : public Integrator {
   explicit AdaptiveIntegrator(const SolverSpec& solver);
   void advance(CellSystem& system, double t_start_ms, double t_end_ms, StepObserver& observer) override;
   std::string describe() const override;
-  std::string report() const override { return histogram_.describe(); }
+  std::string report() const override;
 
   static constexpr double kFirstStep_ms = 0.01;  // at the start and after each stimulus edge
   static constexpr double kMinStep_ms = 1e-7;     // below it, a step that still fails stops the run
@@ -64,6 +64,12 @@ class AdaptiveIntegrator final : public Integrator {
   // the stretch to every stimulus edge and sample time on the quantum's grid
   // (such as 0.5 ms or 100.25 ms); only a step to an off-grid stop is not.
   static constexpr double kStepQuantum_ms = 1.0 / 1024;
+  // The coupling solve's tolerance on V [mV]: this fraction of the smallest
+  // absolute tolerance of a coupled potential (atol x its scale), but not
+  // below kSmallestSolveTolerance_mV, near what rounding lets CG resolve on
+  // potentials of ~100 mV (an atol below ~1e-8 would otherwise ask for less).
+  static constexpr double kSolveToleranceFraction = 1e-3;
+  static constexpr double kSmallestSolveTolerance_mV = 1e-9;
 
  private:
   // Per population: the states at the step's start, the first-order full
@@ -104,6 +110,8 @@ class AdaptiveIntegrator final : public Integrator {
   std::vector<Buffers> buffers_;
   // Coupled V, per global cell: the right-hand side of a solve, then its solution.
   std::vector<double> v_global_;
+  double solve_tolerance_mV_ = 0;
+  std::string coupling_report_;  // the coupler's, at the end of the last advance
   bool history_ = false;  // the last step's linear forms are valid to extrapolate from
   double h_prev_ = 0;
 };

@@ -169,6 +169,7 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
   while (observer.next_sample_ms() <= t + kTimeEpsilon_ms) observer.on_sample(observer.next_sample_ms());
   const int every = std::max(1, system.coupling_every);
   double since_coupling = 0;  // time the implicit coupling still owes
+  if (system.coupler) system.coupler->restart_implicit();
   for (long long n = 0; n < steps; ++n) {
     const double t_next = (n + 1 == steps) ? t_end : t_start + static_cast<double>(n + 1) * dt_ms_;
     const double h = t_next - t;
@@ -180,7 +181,7 @@ void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_e
     if (split_coupling) {
       const auto start = std::chrono::steady_clock::now();
       system.gather_voltage();
-      system.coupler->implicit_step(system.V_mV.data(), since_coupling);
+      system.coupler->implicit_step(system.V_mV.data(), since_coupling, kCouplingSolveTolerance_mV);
       since_coupling = 0;
       system.scatter_voltage();
       system.seconds[CellSystem::kCoupling] +=

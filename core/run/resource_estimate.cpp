@@ -74,12 +74,27 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   }
   if (system.coupler) {
     const double edges = static_cast<double>(system.coupled_pairs.size());
-    // Laplacian, and with an implicit solve its LDLT factors (~15 entries a
-    // cell in a 2D tissue; the adaptive method keeps one per step size).
-    const double factors = solver.method == "adaptive" ? 24 : system.implicit_coupling ? 1 : 0;
-    e.memory.push_back({fmt::format("coupling: {:.0f} edges, {:g} factorisation(s)", edges, factors),
-                        12 * (4 * edges + cells) + factors * 12 * 15 * cells, "a smaller tissue"});
+    // The Laplacian (2 entries an edge and a diagonal, 12 bytes each, in
+    // compressed rows); with an implicit solve the conjugate gradients' work:
+    // 8 vectors of one double a cell (coupling/coupling_cg.hpp).
+    const bool implicit = system.implicit_coupling || solver.method == "adaptive";
+    e.memory.push_back({fmt::format("coupling: {:.0f} edges{}", edges, implicit ? ", CG vectors" : ""),
+                        12 * (2 * edges + cells) + 4 * cells + (implicit ? 64 : 8) * cells, "a smaller tissue"});
   }
+  // The rest, measured (peak RSS of the Fig. 3 in-series EP scene, adaptive,
+  // 200 ms, at 3k, 52k and 208k cells: this estimate within 20 % of each):
+  // the program, its libraries and plugins; the tissue and the run's
+  // bookkeeping (biomarkers, inputs, tiles), by particle; and the pictures,
+  // maps and report drawn from it.
+  const double particles = static_cast<double>(tissue.particles.size());
+  e.memory.push_back({"program and libraries", 25e6, ""});
+  e.memory.push_back({fmt::format("tissue and run bookkeeping: {:.0f} particles", particles), 235 * particles,
+                      "a smaller tissue"});
+  const auto& out = scene.output;
+  const bool drawn = samples(scene.duration_ms, out.snapshots.from_ms, out.snapshots.every_ms) > 0;
+  if (out.tissue_picture || out.maps || out.report || (drawn && out.snapshots.png))
+    e.memory.push_back({"pictures, maps and report", 745 * particles,
+                        "output.tissue_picture, output.maps, output.report false; output.snapshots.png false"});
   const auto& tr = scene.output.traces;
   const double trace_samples = samples(scene.duration_ms, tr.from_ms, tr.every_ms);
   double columns = mechanics ? 3 : 0;
@@ -104,7 +119,6 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         "output.traces: fewer cells or variables, or a larger every_ms"});
     const auto& snap = scene.output.snapshots;
     const double frames = samples(scene.duration_ms, snap.from_ms, snap.every_ms);
-    const double particles = static_cast<double>(tissue.particles.size());
     // A PNG frame: ~60 bytes a particle (measured: 170 kB for 22k particles);
     // VTK: ~120 bytes a particle.
     e.output.push_back({fmt::format("{:.0f} snapshots", frames),

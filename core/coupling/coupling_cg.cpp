@@ -1,0 +1,232 @@
+#include "coupling/coupling_cg.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "model/work_split.hpp"
+
+namespace fibrodem {
+
+namespace {
+
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+// Rounding's drift of the recurrence's residual from the true one, in units
+// of eps |dt C^-1 A|_inf max|v| per iteration (Greenbaum's constant is a few
+// units: twice that).
+constexpr double kDriftPerIteration = 8;
+
+}  // namespace
+
+CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitance_pF, int max_iterations)
+    : n_(laplacian.rows()), max_iterations_(max_iterations) {
+  if (static_cast<long>(capacitance_pF.size()) != n_)
+    throw std::invalid_argument(fmt::format("coupling CG: {} capacitances for {} cells", capacitance_pF.size(), n_));
+  const long slices = (n_ + kSlice - 1) / kSlice;
+  padded_ = slices * kSlice;
+  // Rows past n_ (padding) hold zeros throughout: their 1/C, M^-1 and
+  // entries are 0, so they add nothing to any sum.
+  diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
+  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), 0.0);
+  const int* outer = laplacian.outerIndexPtr();
+  const int* column = laplacian.innerIndexPtr();
+  const double* value = laplacian.valuePtr();
+  for (long i = 0; i < n_; ++i) {
+    if (!(capacitance_pF[i] > 0))
+      throw std::invalid_argument(fmt::format("coupling CG: cell {} has capacitance {} pF, expected > 0", i,
+                                              capacitance_pF[i]));
+    inverse_capacitance_[i] = 1.0 / capacitance_pF[i];
+    for (int k = outer[i]; k < outer[i + 1]; ++k)
+      if (column[k] == i) diagonal_nS_[i] = value[k];
+    max_rate_per_ms_ = std::max(max_rate_per_ms_, diagonal_nS_[i] * inverse_capacitance_[i]);
+  }
+  // The off-diagonal entries in slices of kSlice rows, entry k of a slice's
+  // rows side by side, each row's entries in L's order.
+  start_.assign(static_cast<std::size_t>(slices) + 1, 0);
+  width_.assign(static_cast<std::size_t>(slices), 0);
+  const auto off_diagonal = [&](long i) { return i < n_ ? outer[i + 1] - outer[i] - (diagonal_nS_[i] != 0) : 0; };
+  for (long s = 0; s < slices; ++s) {
+    for (long lane = 0; lane < kSlice; ++lane)
+      width_[s] = std::max<int>(width_[s], static_cast<int>(off_diagonal(s * kSlice + lane)));
+    start_[s + 1] = start_[s] + width_[s] * kSlice;
+  }
+  column_.resize(static_cast<std::size_t>(start_[slices]));
+  weight_nS_.assign(static_cast<std::size_t>(start_[slices]), 0.0);
+  for (long s = 0; s < slices; ++s)
+    for (long lane = 0; lane < kSlice; ++lane) {
+      const long i = s * kSlice + lane;
+      long k = 0;
+      for (int e = i < n_ ? outer[i] : 0; i < n_ && e < outer[i + 1]; ++e) {
+        if (column[e] == i) continue;
+        column_[start_[s] + k * kSlice + lane] = column[e];
+        weight_nS_[start_[s] + k * kSlice + lane] = value[e];
+        ++k;
+      }
+      for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
+    }
+  for (auto* v : {&x_, &v_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
+    v->assign(static_cast<std::size_t>(padded_), 0.0);
+  const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
+  chunk_dot_.assign(chunks, 0.0);
+  chunk_largest_.assign(chunks, 0.0);
+}
+
+// f(first_row, end_row) -> Sums for each chunk of kRowsPerChunk rows (whole
+// slices), on the OpenMP threads from kParallelCells rows on (below, a
+// parallel region costs more than the pass); the chunks' sums added in chunk
+// order, so that they do not depend on the threads.
+template <class F>
+CouplingCg::Sums CouplingCg::over_chunks(F&& f) {
+  const long chunks = static_cast<long>(chunk_dot_.size());
+  const auto run = [&](long c) {
+    const Sums s = f(c * kRowsPerChunk, std::min(padded_, (c + 1) * kRowsPerChunk));
+    chunk_dot_[c] = s.dot;
+    chunk_largest_[c] = s.largest;
+  };
+  if (n_ <= kParallelCells) {
+    for (long c = 0; c < chunks; ++c) run(c);
+  } else {
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunks; ++c) run(c);
+  }
+  Sums total;
+  for (long c = 0; c < chunks; ++c) {
+    total.dot += chunk_dot_[c];
+    total.largest = std::max(total.largest, chunk_largest_[c]);
+  }
+  return total;
+}
+
+inline void CouplingCg::slice_product(long s, const double* y, double* sum) const {
+  std::fill(sum, sum + kSlice, 0.0);
+  for (long k = 0; k < width_[s]; ++k) {
+    const int* column = column_.data() + start_[s] + k * kSlice;
+    const double* weight = weight_nS_.data() + start_[s] + k * kSlice;
+    for (long lane = 0; lane < kSlice; ++lane) sum[lane] += weight[lane] * y[column[lane]];
+  }
+}
+
+CouplingCg::Sums CouplingCg::residual(const double* x, double dt_ms) {
+  const double inverse_dt = 1.0 / dt_ms;
+  return over_chunks([&](long first, long end) {
+    Sums s;
+    for (long slice = first / kSlice; slice < end / kSlice; ++slice) {
+      double sum[kSlice];
+      slice_product(slice, x, sum);
+      for (long lane = 0; lane < kSlice; ++lane) {
+        const long i = slice * kSlice + lane;
+        const double C_over_dt = inverse_capacitance_[i] > 0 ? inverse_dt / inverse_capacitance_[i] : 0.0;
+        a_diagonal_[i] = C_over_dt + diagonal_nS_[i];
+        inverse_diagonal_[i] = a_diagonal_[i] > 0 ? 1.0 / a_diagonal_[i] : 0.0;
+        const double r = C_over_dt * (v_[i] - x[i]) - (sum[lane] + diagonal_nS_[i] * x[i]);
+        r_[i] = r;
+        z_[i] = inverse_diagonal_[i] * r;
+        p_[i] = q_[i] = 0;
+        s.dot += r * z_[i];
+        s.largest = std::max(s.largest, std::abs(r) * inverse_capacitance_[i]);
+      }
+    }
+    return s;
+  });
+}
+
+double CouplingCg::direction(double beta) {
+  return over_chunks([&](long first, long end) {
+           Sums s;
+           for (long slice = first / kSlice; slice < end / kSlice; ++slice) {
+             double sum[kSlice];
+             slice_product(slice, z_.data(), sum);
+             for (long lane = 0; lane < kSlice; ++lane) {
+               const long i = slice * kSlice + lane;
+               const double Az = a_diagonal_[i] * z_[i] + sum[lane];
+               p_[i] = z_[i] + beta * p_[i];
+               q_[i] = Az + beta * q_[i];
+               s.dot += p_[i] * q_[i];
+             }
+           }
+           return s;
+         })
+      .dot;
+}
+
+int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
+  // The start: v plus the last solve's correction x - v, scaled to this dt.
+  const double scale = last_dt_ms_ > 0 ? dt_ms / last_dt_ms_ : 0.0;
+  double v_max = 0;
+  for (long i = 0; i < n_; ++i) {
+    v_[i] = x_io[i];
+    x_[i] = x_io[i] + scale * correction_[i];
+    v_max = std::max(v_max, std::abs(v_[i]));
+  }
+  double* x = x_.data();
+  const double drift_per_iteration = kDriftPerIteration * kEpsilon * (1 + 2 * dt_ms * max_rate_per_ms_) * v_max;
+  Sums s = residual(x, dt_ms);
+  double rz = s.dot, bound = dt_ms * s.largest;
+  int iterations = 0, since_restart = 0;
+  while (std::isfinite(rz) && std::isfinite(v_max)) {  // else a NaN or infinite v: the caller's to see
+    double beta = 0;
+    while (bound + since_restart * drift_per_iteration > tolerance_mV) {
+      if (iterations >= max_iterations_) fail(dt_ms, tolerance_mV, bound, iterations);
+      ++iterations;
+      ++since_restart;
+      const double alpha = rz / direction(beta);
+      s = over_chunks([&](long first, long end) {
+        Sums chunk;
+        for (long i = first; i < end; ++i) {
+          x[i] += alpha * p_[i];
+          r_[i] -= alpha * q_[i];
+          z_[i] = inverse_diagonal_[i] * r_[i];
+          chunk.dot += r_[i] * z_[i];
+          chunk.largest = std::max(chunk.largest, std::abs(r_[i]) * inverse_capacitance_[i]);
+        }
+        return chunk;
+      });
+      bound = dt_ms * s.largest;
+      if (!std::isfinite(s.dot)) fail(dt_ms, tolerance_mV, bound, iterations);
+      if (s.dot == 0) break;  // (an exact zero residual: no direction left; the check below decides)
+      beta = s.dot / rz;
+      rz = s.dot;
+    }
+    // Where rounding may have moved the recurrence's residual by a tenth of
+    // the tolerance, the bound from the true residual; CG restarts from it if
+    // that is still above the tolerance.
+    if (since_restart * drift_per_iteration <= 0.1 * tolerance_mV) break;
+    s = residual(x, dt_ms);
+    rz = s.dot;
+    bound = dt_ms * s.largest;
+    since_restart = 0;
+    if (bound <= tolerance_mV) break;
+  }
+  if (std::isfinite(rz)) {
+    for (long i = 0; i < n_; ++i) {
+      correction_[i] = x_[i] - v_[i];
+      x_io[i] = x_[i];
+    }
+    last_dt_ms_ = dt_ms;
+  }
+  ++statistics_.solves;
+  statistics_.iterations += iterations;
+  statistics_.most_iterations = std::max(statistics_.most_iterations, iterations);
+  return iterations;
+}
+
+void CouplingCg::fail(double dt_ms, double tolerance_mV, double bound_mV, int iterations) const {
+  throw std::runtime_error(fmt::format(
+      "gap-junction coupling: conjugate gradients did not reach the tolerance of {:.3g} mV on the potential in {} "
+      "iterations (dt {:.6g} ms, {} cells; the error bound is still {:.3g} mV): the tolerance is below what "
+      "rounding allows (solver.atol too small?), or C/dt + L is too badly conditioned for the Jacobi "
+      "preconditioner",
+      tolerance_mV, iterations, dt_ms, n_, bound_mV));
+}
+
+std::string CouplingCg::describe_statistics() const {
+  if (statistics_.solves == 0) return "no coupling solves";
+  return fmt::format("{} coupling solves, {:.2f} CG iterations each (at most {})", statistics_.solves,
+                     static_cast<double>(statistics_.iterations) / static_cast<double>(statistics_.solves),
+                     statistics_.most_iterations);
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,119 @@
+// Preconditioned conjugate gradients for the implicit gap-junction step
+//   (C/dt + L) x = (C/dt) v,
+// C the cells' capacitances [pF] (diagonal), L the junctions' graph Laplacian
+// [nS] (symmetric, non-positive off the diagonal, rows summing to zero): the
+// matrix A is symmetric positive definite, so CG applies.
+//
+// Start: x = v + (dt / dt_last) (x_last - v_last), v plus the last solve's
+// correction scaled to this step (the coupling's pull on a wavefront changes
+// little from one step to the next: 2.5 iterations a solve against 6 from v
+// alone on the Fig. 3 scene). After restart(), x = v.
+//
+// Stopping: with r = (C/dt) v - A x the residual, the error is
+//   x - x* = -(I + K)^-1 (dt C^-1 r),  K = dt C^-1 L.
+// I + K has non-positive entries off the diagonal and rows summing to one, so
+// it is an M-matrix whose inverse is non-negative with rows summing to one:
+// its max norm is 1, and
+//   |x - x*|_inf <= dt max_i |r_i| / C_i.
+// CG stops once this bound on its recurrence's residual, plus what rounding
+// can have moved that residual from the true b - A x (`drift`, after
+// Greenbaum 1997, SIAM J. Matrix Anal. Appl. 18:535, Theorem 2: a few eps
+// |A| |x| per iteration), is below the caller's tolerance [mV]. Where the drift
+// could matter (above a tenth of the tolerance) the bound is taken again from
+// the true residual before returning.
+//
+// Preconditioner: Jacobi (D, the diagonal C/dt + L_ii). The eigenvalues of
+// D^-1 A lie between 1 / (1 + dt max_i(L_ii / C_i)) (as A >= C/dt) and 2
+// (Gershgorin) whatever the tissue's size (C/dt dominates the smooth modes
+// that make a Laplacian hard), and the start is close: the Fig. 3 scenes
+// take 2-3 iterations a solve at 3k to 200k cells. Incomplete Cholesky
+// (Eigen's IncompleteCholesky, AMD order) halves the iterations, but its two
+// triangular solves cost more than the products they save and run on one
+// thread: 1.5-1.9x Jacobi's solve time at 3k and 52k cells
+// (docs/performance.md#the-coupling-solve). A multigrid cannot repay its
+// set-up per step size at a handful of iterations.
+//
+// Cost: one pass over the matrix and one over the vectors an iteration (the
+// search direction's product is updated by the recurrence q = A z + beta q,
+// so that p and q are formed in the product's pass). The matrix is kept in
+// slices of kSlice rows padded to the slice's longest row, column by column
+// (sliced ELLPACK, Kreutzer et al. 2014, SIAM J. Sci. Comput. 36:C401): the
+// product over a slice is kSlice independent sums of a fixed length, which
+// vectorise, where compressed rows of 4 to 13 entries mispredict a branch a
+// row.
+//
+// Deterministic whatever the thread count: each row sums its entries in a
+// fixed order; dot products are summed per fixed chunk of kRowsPerChunk rows
+// and the chunks' sums added in chunk order.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace fibrodem {
+
+class CouplingCg {
+ public:
+  using Laplacian = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  // Iterations after which a solve that has not reached its tolerance fails
+  // (the Fig. 3 scenes need at most ~20).
+  static constexpr int kMaxIterations = 1000;
+  static constexpr long kSlice = 8;            // rows a slice: an AVX-512 register of doubles
+  static constexpr long kRowsPerChunk = 4096;  // a multiple of kSlice
+
+  CouplingCg(const Laplacian& laplacian_nS, std::vector<double> capacitance_pF,
+             int max_iterations = kMaxIterations);
+
+  // Replaces v [mV] by x, with |x - x*|_inf <= tolerance_mV (the bound
+  // above). Throws std::runtime_error if that takes more than the maximum
+  // number of iterations. A v that is not finite is left as it is (its NaN or
+  // infinity is the caller's to see). Returns the iterations taken.
+  int solve(double* v_mV, double dt_ms, double tolerance_mV);
+  // The next solve starts from v alone, not from the last solve's correction.
+  void restart() { last_dt_ms_ = 0; }
+
+  struct Statistics {
+    long solves = 0, iterations = 0;
+    int most_iterations = 0;
+  };
+  const Statistics& statistics() const { return statistics_; }
+  std::string describe_statistics() const;  // "1234 coupling solves, 2.10 CG iterations each (at most 9)"
+
+ private:
+  struct Sums {
+    double dot = 0, largest = 0;
+  };
+  template <class F>
+  Sums over_chunks(F&& f);
+  // From x: r = b - A x, z = M^-1 r (setting A's diagonal and M^-1 for dt),
+  // p = q = 0. Returns r.z and max |r_i| / C_i.
+  Sums residual(const double* x, double dt_ms);
+  // q = A z + beta q, p = z + beta p; returns p.q.
+  double direction(double beta);
+  // sum[lane] = sum_j L_ij y_j over the off-diagonal entries of slice s's rows.
+  void slice_product(long s, const double* y, double* sum) const;
+  [[noreturn]] void fail(double dt_ms, double tolerance_mV, double bound_mV, int iterations) const;
+
+  long n_ = 0, padded_ = 0;  // rows, and rows rounded up to whole slices
+  double max_rate_per_ms_ = 0;  // max_i L_ii / C_i
+  int max_iterations_;
+  // L's off-diagonal entries, sliced: slice s holds width_[s] columns of
+  // kSlice entries from start_[s] (padding: the row itself, weight 0).
+  std::vector<long> start_;
+  std::vector<int> width_, column_;
+  std::vector<double> weight_nS_;
+  std::vector<double> diagonal_nS_, inverse_capacitance_;  // L_ii, 1/C_i
+  // Work vectors of padded_ rows, sized once: the iterate x, v, r,
+  // z = M^-1 r, the search direction p, q = A p, A's diagonal and M^-1 for
+  // the present dt.
+  std::vector<double> x_, v_, r_, z_, p_, q_, a_diagonal_, inverse_diagonal_;
+  // The last solve's x - v and dt (the next solve starts from v plus it).
+  std::vector<double> correction_;
+  double last_dt_ms_ = 0;
+  std::vector<double> chunk_dot_, chunk_largest_;
+  Statistics statistics_;
+};
+
+}  // namespace fibrodem

@@ -1,0 +1,181 @@
+// The implicit gap-junction step by conjugate gradients (coupling/coupling_cg.hpp)
+// against a direct dense solve of the same system, its failure when it cannot
+// converge, and its independence of the thread count.
+#include <doctest/doctest.h>
+#include <omp.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "coupling/gap_junction.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+// 90 cells of both types on an irregular graph: a chain with random chords
+// (degrees 1 to ~6) and one cell with no junction at all.
+Tissue irregular_tissue() {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0, 1);
+  Tissue tissue;
+  const int n = 90;
+  for (int i = 0; i < n; ++i)
+    tissue.type.push_back(unit(random) < 0.7 ? CellType::myocyte : CellType::fibroblast);
+  std::set<std::pair<int, int>> edges;
+  for (int i = 0; i + 2 < n; ++i) edges.insert({i, i + 1});  // cell n - 1 stays alone
+  std::uniform_int_distribution<int> cell(0, n - 2);
+  for (int k = 0; k < 80; ++k) {
+    const int a = cell(random), b = cell(random);
+    if (a != b) edges.insert({std::min(a, b), std::max(a, b)});
+  }
+  tissue.cell_edges.assign(edges.begin(), edges.end());
+  return tissue;
+}
+
+// Capacitances of both kinds of cell (fibroblasts ~6 pF, myocytes ~100 pF).
+std::vector<double> capacitances(const Tissue& tissue) {
+  std::vector<double> C;
+  for (std::size_t i = 0; i < tissue.cell_count(); ++i)
+    C.push_back(tissue.type[i] == CellType::myocyte ? 80.0 + 0.5 * static_cast<double>(i % 40)
+                                                    : 5.0 + 0.1 * static_cast<double>(i % 10));
+  return C;
+}
+
+// Potentials of a wavefront: depolarised cells beside resting ones.
+std::vector<double> potentials(std::size_t n) {
+  std::vector<double> V;
+  for (std::size_t i = 0; i < n; ++i) V.push_back(i % 7 < 3 ? 20.0 - static_cast<double>(i % 5) : -84.0 + 0.3 * static_cast<double>(i % 11));
+  return V;
+}
+
+// x = (C/dt + L)^-1 (C/dt) V by a dense LDLT (Eigen), the reference.
+std::vector<double> direct_solve(const GapJunctionCoupler& coupler, const std::vector<double>& C,
+                                 const std::vector<double>& V, double dt_ms) {
+  const auto n = static_cast<Eigen::Index>(V.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd(coupler.laplacian_nS());
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    A(i, i) += C[static_cast<std::size_t>(i)] / dt_ms;
+    b(i) = C[static_cast<std::size_t>(i)] / dt_ms * V[static_cast<std::size_t>(i)];
+  }
+  const Eigen::VectorXd x = A.ldlt().solve(b);
+  return {x.data(), x.data() + n};
+}
+
+double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double most = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) most = std::max(most, std::abs(a[i] - b[i]));
+  return most;
+}
+
+}  // namespace
+
+TEST_CASE("coupling CG: within its tolerance of a direct solve on an irregular tissue, at steps 0.001 to 10 ms") {
+  const Tissue tissue = irregular_tissue();
+  const auto C = capacitances(tissue);
+  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);  // the seed paper's D_m, D_f [nS]
+  const auto V = potentials(tissue.cell_count());
+  for (double dt_ms : {0.001, 0.01, 0.1, 1.0, 10.0}) {
+    for (double tolerance_mV : {1e-2, 1e-6}) {
+      CAPTURE(dt_ms);
+      CAPTURE(tolerance_mV);
+      const auto reference = direct_solve(coupler, C, V, dt_ms);
+      // The solve has work to do: the start (V itself) is far from the answer.
+      REQUIRE(max_difference(V, reference) > 100 * tolerance_mV);
+      std::vector<double> x = V;
+      coupler.implicit_step(x.data(), dt_ms, tolerance_mV);
+      // CG's guarantee is |x - x*|_inf <= tolerance; the dense solve's own
+      // rounding is ~ cond(A) eps |x| < 1e4 x 2e-16 x 85 mV ~ 2e-10 mV, hence
+      // the 1e-9 mV allowed beside it.
+      CHECK(max_difference(x, reference) <= tolerance_mV + 1e-9);
+      // The isolated last cell keeps its potential.
+      CHECK(x.back() == doctest::Approx(V.back()).epsilon(1e-12));
+    }
+  }
+  // Ten solves, each of which had to iterate.
+  CHECK(coupler.describe_solves().find("10 coupling solves") == 0);
+}
+
+TEST_CASE("coupling CG: a solve that cannot converge stops with a clear error") {
+  const Tissue tissue = irregular_tissue();
+  const auto C = capacitances(tissue);
+  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+  const auto V = potentials(tissue.cell_count());
+  SUBCASE("too few iterations for the tolerance") {
+    CouplingCg cg(coupler.laplacian_nS(), C, 2);
+    std::vector<double> x = V;
+    CHECK_THROWS_WITH_AS(cg.solve(x.data(), 10.0, 1e-6),
+                         doctest::Contains("did not reach the tolerance of 1e-06 mV on the potential in 2 iterations"),
+                         std::runtime_error);
+  }
+  SUBCASE("a tolerance below rounding") {
+    std::vector<double> x = V;
+    CHECK_THROWS_WITH_AS(coupler.implicit_step(x.data(), 1.0, 1e-300),
+                         doctest::Contains("did not reach the tolerance of 1e-300 mV"), std::runtime_error);
+  }
+}
+
+TEST_CASE("coupling CG: a potential that is not finite is left for the caller to see") {
+  const Tissue tissue = irregular_tissue();
+  const auto C = capacitances(tissue);
+  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+  auto x = potentials(tissue.cell_count());
+  x[5] = std::numeric_limits<double>::quiet_NaN();
+  CHECK_NOTHROW(coupler.implicit_step(x.data(), 0.1, 1e-3));
+  CHECK(std::any_of(x.begin(), x.end(), [](double v) { return std::isnan(v); }));
+}
+
+TEST_CASE("coupling CG: the same bits on one thread and on two") {
+  // 200 x 200 cells (a 4-neighbour lattice of myocytes with a fibroblast
+  // column): above kParallelCells, so the passes run on the threads.
+  Tissue tissue;
+  const int side = 200;
+  for (int i = 0; i < side * side; ++i)
+    tissue.type.push_back(i % side == 57 ? CellType::fibroblast : CellType::myocyte);
+  for (int row = 0; row < side; ++row)
+    for (int col = 0; col < side; ++col) {
+      const int i = row * side + col;
+      if (col + 1 < side) tissue.cell_edges.emplace_back(i, i + 1);
+      if (row + 1 < side) tissue.cell_edges.emplace_back(i, i + side);
+    }
+  const auto C = capacitances(tissue);
+  const auto V = potentials(tissue.cell_count());
+  const int threads_before = omp_get_max_threads();
+  std::vector<std::vector<double>> results;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+    std::vector<double> x = V;
+    coupler.implicit_step(x.data(), 0.5, 1e-6);
+    results.push_back(x);
+  }
+  omp_set_num_threads(threads_before);
+  CHECK(max_difference(results[0], V) > 1.0);  // it moved
+  CHECK(results[0] == results[1]);              // bit for bit
+}
+
+TEST_CASE("coupling CG: after restart_implicit a solve gives the bits of a fresh coupler's") {
+  // A solve starts from the last solve's correction; a resumed run restarts
+  // its integrator and so the coupler, and must give the same numbers as a
+  // run never stopped, which restarts it at the same time.
+  const Tissue tissue = irregular_tissue();
+  const auto C = capacitances(tissue);
+  const auto V = potentials(tissue.cell_count());
+  GapJunctionCoupler used(tissue, 1000.0, 0.3, C), fresh(tissue, 1000.0, 0.3, C);
+  std::vector<double> before = V;
+  used.implicit_step(before.data(), 0.2, 1e-4);
+  std::reverse(before.begin(), before.end());  // another potential for the next solve
+  std::vector<double> a = before, b = before;
+  used.restart_implicit();
+  used.implicit_step(a.data(), 0.1, 1e-4);
+  fresh.implicit_step(b.data(), 0.1, 1e-4);
+  CHECK(a == b);
+}
