@@ -179,6 +179,19 @@ TEST_CASE("on a small strand, the bisection finds the boundary a 1 ms scan finds
   CHECK(j.contains("note"));
 }
 
+TEST_CASE("a search whose runs end before S2 is refused, naming duration_ms") {
+  json m = json::parse(R"({"fibrodem": 1, "name": "short", "duration_ms": 100,
+    "tissue": {"builder": "fibrotic_sheet", "width_mm": 0.05, "length_mm": 0.5},
+    "cells": {"myocyte": {"model": "colman", "variant": "colman2013_caf"}},
+    "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000},
+                 {"target": "myocyte", "start_ms": 200, "duration_ms": 2, "amplitude_pA": 4000}]})");
+  VulnerableWindowOptions options;
+  options.out = testing::scratch_dir("vulnerable_window_short");
+  CHECK_THROWS_WITH_AS(run_vulnerable_window(m, options),
+                       "manifest: duration_ms: the run must last past S2 (stimulus[1].start_ms 200 ms), got 100 ms",
+                       ManifestError);
+}
+
 TEST_CASE("the command refuses a manifest without S2, naming it") {
   const auto dir = testing::scratch_dir("vulnerable_window_cli");
   json m = testing::passive_cell_manifest();

@@ -384,6 +384,10 @@ VulnerableWindowResult run_vulnerable_window(json manifest, VulnerableWindowOpti
   runs.s1_onset_ms = last_s1_onset_ms(manifest);
   runs.s2_onset_ms = number_at(manifest["stimulus"][1], "start_ms", 0, "stimulus[1]");
   runs.duration_ms = number_at(manifest, "duration_ms", 0, "");
+  if (!(runs.duration_ms > runs.s2_onset_ms))
+    throw ManifestError("duration_ms", "the run must last past S2 (stimulus[1].start_ms " +
+                                           interval_text(runs.s2_onset_ms) + " ms), got " +
+                                           interval_text(runs.duration_ms) + " ms");
   if (options.scan.step_ms <= 0) {
     const double resolution = options.scan.resolution_ms;
     options.scan = default_scan(manifest);
