@@ -122,7 +122,7 @@ WindowSearch search_vulnerable_window(const WindowScan& scan, const std::vector<
   std::map<long long, std::map<double, bool>> known;  // seed -> interval -> induced
   auto take = [&](std::vector<S2Probe> probes, bool refinement) {
     std::vector<S2Result> results = classify(probes);
-    if (results.size() != probes.size()) throw std::logic_error("the classifier returned a result per probe");
+    if (results.size() != probes.size()) throw std::logic_error("the classifier must return one result per probe");
     for (auto& r : results) {
       r.refinement = refinement;
       known[r.probe.seed][r.probe.interval_ms] = induced(r.outcome);
