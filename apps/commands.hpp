@@ -56,6 +56,19 @@ struct SweepArgs {
   unsigned jobs = 0;  // 0: one per core
 };
 
+// `fibrodem vulnerable-window`: the S2 coupling intervals that induce re-entry.
+struct VulnerableWindowArgs {
+  std::string manifest;
+  std::string out;
+  std::vector<std::string> overrides;
+  double from_ms = 0, to_ms = 0, step_ms = 0;  // 0: the manifest's interval +- 100 ms by 10 ms
+  double resolution_ms = 1;
+  double capture_fraction = 0.5;
+  int seeds = 0;       // > 0: this many tissue seeds
+  unsigned jobs = 0;   // 0: one per core
+  bool overwrite = false;
+};
+
 // `fibrodem bench accuracy`: ladders of steps and tolerances against a reference.
 struct BenchAccuracyArgs {
   std::string manifest;
@@ -85,6 +98,7 @@ int resume_command(const ResumeArgs& args);
 int report_command(const ReportArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
+int vulnerable_window_command(const VulnerableWindowArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
 // `fibrodem plot SPEC.json --out FILE.png` (apps/plot_command.cpp).

@@ -78,6 +78,20 @@ int main(int argc, char** argv) {
   sweep->add_flag("--overwrite", sweep_args.overwrite, "run every point again, even those completed before with the same manifest");
   sweep->add_flag("--no-report", sweep_args.no_report, "write no report.html (neither the sweep's nor its runs')");
 
+  fibrodem::cli::VulnerableWindowArgs window_args;
+  auto* window = app.add_subcommand("vulnerable-window", "Scan the S1-S2 coupling interval (stimulus[1] after stimulus[0]) and find the window that induces re-entry, boundaries refined by bisection");
+  window->add_option("manifest", window_args.manifest, "manifest with S1 (stimulus[0]) and S2 (stimulus[1])")->required();
+  window->add_option("--out", window_args.out, "output directory (default out/vulnerable_window_NAME)");
+  window->add_option("--from", window_args.from_ms, "first coupling interval of the scan [ms] (with --to and --step; default: the manifest's interval - 100)")->check(CLI::PositiveNumber);
+  window->add_option("--to", window_args.to_ms, "last coupling interval of the scan [ms]")->check(CLI::PositiveNumber);
+  window->add_option("--step", window_args.step_ms, "the scan's step [ms] (default 10)")->check(CLI::PositiveNumber);
+  window->add_option("--resolution", window_args.resolution_ms, "bisection stops when a boundary is bracketed this closely [ms] (default 1)")->check(CLI::PositiveNumber);
+  window->add_option("--capture-fraction", window_args.capture_fraction, "S2 counts as captured when its beat reaches at least this fraction of the myocytes (default 0.5)")->check(CLI::Range(0.0, 1.0));
+  window->add_option("--seeds", window_args.seeds, "search on K tissue seeds (the manifest's and the next K - 1)")->check(CLI::Range(1, 10000));
+  window->add_option("--jobs", window_args.jobs, "runs at once (default: one per core)");
+  window->add_option("--set", window_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
+  window->add_flag("--overwrite", window_args.overwrite, "run every interval again, even those run before with the same manifest");
+
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
@@ -120,6 +134,7 @@ int main(int argc, char** argv) {
   if (*validate) return fibrodem::cli::validate_command(validate_args);
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
+  if (*window) return fibrodem::cli::vulnerable_window_command(window_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
   if (*schema) return fibrodem::cli::schema_command(schema_args);

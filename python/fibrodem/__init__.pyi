@@ -103,6 +103,10 @@ def sweep_executable() -> Optional[str]: ...
 def sweep(sweep: Union[PathLike, Mapping[str, Any]], out: Optional[PathLike] = ..., jobs: int = ...,
           set: Overrides = ..., overwrite: bool = ..., report: bool = ...,
           runner: Optional[str] = ...) -> SweepResult: ...   # runner: None, "process", "in_process"
+def vulnerable_window(manifest: ManifestSource, out: Optional[PathLike] = ..., from_ms: Optional[float] = ...,
+                      to_ms: Optional[float] = ..., step_ms: Optional[float] = ..., resolution_ms: float = ...,
+                      seeds: int = ..., jobs: int = ..., capture_fraction: float = ..., set: Overrides = ...,
+                      overwrite: bool = ..., runner: Optional[str] = ...) -> Mapping[str, Any]: ...
 def compare(a: ManifestSource, b: Optional[ManifestSource] = ..., out: Optional[PathLike] = ...,
             set: Overrides = ..., a_set: Overrides = ..., b_set: Overrides = ..., seeds: int = ...,
             overwrite: bool = ..., report: bool = ..., quiet: bool = ...) -> Comparison: ...

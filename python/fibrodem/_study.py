@@ -337,3 +337,51 @@ def compare(a, b=None, out=None, set=None, a_set=None, b_set=None, seeds=0, over
     if raw["status"] == "failed":
         raise RunError(raw["message"])
     return Comparison(raw)
+
+
+def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None, resolution_ms=1.0, seeds=0,
+                      jobs=0, capture_fraction=0.5, set=None, overwrite=False, runner=None):
+    """Finds the S1-S2 coupling intervals that induce re-entry, as
+    ``fibrodem vulnerable-window`` does (docs/arrhythmia.md), and returns a dict.
+
+    Args:
+        manifest: a manifest file path, a dict or a fibrodem.Scene with S1
+            (stimulus[0]) and S2 (stimulus[1]); output.reentry is added if missing.
+        out: the search's folder (``--out``; None: out/vulnerable_window_<name>).
+        from_ms, to_ms, step_ms: the scan (all three, or none: the manifest's
+            interval +- 100 ms by 10 ms).
+        resolution_ms: the bisection's resolution (``--resolution``).
+        seeds: > 0: search on this many tissue seeds (``--seeds``).
+        jobs: runs at a time (0: one per core).
+        capture_fraction: ``--capture-fraction``.
+        set: overrides of the manifest (a dict path -> value or 'PATH=VALUE' strings).
+        overwrite: run every interval again.
+        runner: as sweep(): None, "process" or "in_process".
+
+    Returns a dict: ``per_seed`` (seed, windows), ``overall`` (the union over
+    the seeds), each window a dict lower_ms, upper_ms, open_below, open_above;
+    ``runs`` (interval_ms, seed, outcome, duration_ms, ps_max, stage, run,
+    error, reused: the rows of vulnerable_window.csv); ``out_dir``,
+    ``reentry_output_added``, ``reused``.
+    """
+    scan = (from_ms, to_ms, step_ms)
+    if any(x is not None for x in scan) and any(x is None for x in scan):
+        raise ValueError("vulnerable_window(): give from_ms, to_ms and step_ms together, or none of them")
+    for name, x in zip(("from_ms", "to_ms", "step_ms"), scan):
+        if x is not None and (isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0):
+            raise ValueError("vulnerable_window(): %s must be a number > 0, not %r" % (name, x))
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise TypeError("vulnerable_window(): out must be None or a folder path, not %s" % _type_name(out))
+    if not isinstance(seeds, int) or isinstance(seeds, bool) or seeds < 0:
+        raise TypeError("vulnerable_window(): seeds must be an int >= 0, not %r" % (seeds,))
+    if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 0:
+        raise TypeError("vulnerable_window(): jobs must be an int >= 0 (0: one per core), not %r" % (jobs,))
+    if not 0 <= capture_fraction <= 1:
+        raise ValueError("vulnerable_window(): capture_fraction must be in [0, 1], not %r" % (capture_fraction,))
+    if not resolution_ms > 0:
+        raise ValueError("vulnerable_window(): resolution_ms must be > 0, not %r" % (resolution_ms,))
+    return _core.vulnerable_window(_manifest_source(manifest, "vulnerable_window(): manifest"),
+                                   _assignments(set, "vulnerable_window(): set"),
+                                   "" if out is None else os.fspath(out),
+                                   float(from_ms or 0), float(to_ms or 0), float(step_ms or 0), float(resolution_ms),
+                                   seeds, jobs, float(capture_fraction), overwrite, _executable(runner))

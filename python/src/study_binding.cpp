@@ -1,6 +1,7 @@
-// fibrodem._core.sweep and fibrodem._core.compare: the study layer's sweep
-// and A/B comparison (the engines of `fibrodem sweep` and `fibrodem
-// compare`), run with the GIL released. The package (fibrodem/_study.py)
+// fibrodem._core.sweep, fibrodem._core.compare and
+// fibrodem._core.vulnerable_window: the study layer's sweep, A/B comparison
+// and vulnerable-window search (the engines of `fibrodem sweep`, `fibrodem
+// compare` and `fibrodem vulnerable-window`), run with the GIL released. The package (fibrodem/_study.py)
 // turns their dicts into SweepResult and Comparison.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -16,6 +17,7 @@
 #include "scene/scene.hpp"
 #include "study/compare_variants.hpp"
 #include "study/sweep.hpp"
+#include "study/vulnerable_window.hpp"
 
 namespace py = pybind11;
 
@@ -209,9 +211,71 @@ py::dict compare(py::handle a_source, py::handle b_source, const py::list& overr
   return d;
 }
 
+py::list windows_list(const std::vector<InducedWindow>& windows) {
+  py::list out;
+  for (const auto& w : windows) {
+    py::dict d;
+    d["lower_ms"] = w.lower_ms, d["upper_ms"] = w.upper_ms, d["open_below"] = w.open_below, d["open_above"] = w.open_above;
+    out.append(d);
+  }
+  return out;
+}
+
+// As `fibrodem vulnerable-window`; from/to/step 0: the manifest's interval
+// +- 100 ms by 10 ms. The runs run with the GIL released.
+py::dict vulnerable_window(py::handle source, const py::list& overrides, const std::string& out, double from_ms,
+                           double to_ms, double step_ms, double resolution_ms, int seeds, unsigned jobs,
+                           double capture_fraction, bool overwrite, const std::string& executable) {
+  json manifest = manifest_of(source, "vulnerable_window(): manifest");
+  for (const auto& s : assignments(overrides, "vulnerable_window(): set")) apply_override(manifest, s);
+  VulnerableWindowOptions options;
+  options.out = out.empty() ? std::filesystem::path("out/vulnerable_window_" + manifest.value("name", std::string("scene")))
+                            : std::filesystem::path(out);
+  options.scan = {from_ms, to_ms, step_ms, resolution_ms};
+  options.seeds = seeds;
+  options.jobs = jobs;
+  options.capture_fraction = capture_fraction;
+  options.overwrite = overwrite;
+  if (executable.empty())
+    options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR)};
+  else
+    options.runner = ChildProcessRunner{executable};
+  VulnerableWindowResult result;
+  {
+    py::gil_scoped_release release;
+    result = run_vulnerable_window(manifest, options);
+  }
+  py::list runs, per_seed;
+  for (const auto& r : result.search.results) {
+    py::dict d;
+    d["interval_ms"] = r.probe.interval_ms, d["seed"] = r.probe.seed, d["outcome"] = outcome_name(r.outcome);
+    d["duration_ms"] = r.duration_ms ? py::object(py::float_(*r.duration_ms)) : py::object(py::none());
+    d["ps_max"] = r.ps_max ? py::object(py::int_(*r.ps_max)) : py::object(py::none());
+    d["stage"] = r.refinement ? "bisection" : "scan", d["run"] = (options.out / r.run).string();
+    d["error"] = r.error, d["reused"] = r.reused;
+    runs.append(d);
+  }
+  for (const auto& s : result.search.per_seed) {
+    py::dict d;
+    d["seed"] = s.seed, d["windows"] = windows_list(s.windows);
+    per_seed.append(d);
+  }
+  py::dict d;
+  d["out_dir"] = options.out.string();
+  d["runs"] = runs;
+  d["per_seed"] = per_seed;
+  d["overall"] = windows_list(result.search.overall);
+  d["reentry_output_added"] = result.reentry_output_added;
+  d["reused"] = result.reused;
+  return d;
+}
+
 }  // namespace
 
 void bind_study(py::module_& m) {
+  m.def("vulnerable_window", &vulnerable_window, py::arg("manifest"), py::arg("overrides"), py::arg("out"),
+        py::arg("from_ms"), py::arg("to_ms"), py::arg("step_ms"), py::arg("resolution_ms"), py::arg("seeds"),
+        py::arg("jobs"), py::arg("capture_fraction"), py::arg("overwrite"), py::arg("executable"));
   m.def("sweep", &sweep, py::arg("source"), py::arg("manifest"), py::arg("base_dir"), py::arg("overrides"),
         py::arg("out"), py::arg("jobs"), py::arg("overwrite"), py::arg("report"), py::arg("executable"),
         py::arg("catch_sigint"));
