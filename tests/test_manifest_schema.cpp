@@ -203,10 +203,11 @@ TEST_CASE("every example manifest and sweep file validates against its schema an
       ++manifests;
     }
   }
-  // examples/ holds 17 manifests and 7 sweep files, examples/paper/ 6 sweep files,
-  // examples/arrhythmia/ 1 manifest.
-  CHECK(manifests == 18);
-  CHECK(sweeps == 13);
+  // Floors, to notice a walk that finds little or nothing: examples/ holds 17
+  // manifests and 7 sweep files, examples/paper/ 6 sweep files,
+  // examples/arrhythmia/ 2 manifests, and examples are only ever added.
+  CHECK(manifests >= 19);
+  CHECK(sweeps >= 13);
 }
 
 TEST_CASE("the manifest reader reads exactly the keys the manifest schema lists") {
