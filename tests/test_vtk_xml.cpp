@@ -297,3 +297,32 @@ TEST_CASE("output.vtk_format xml: a run writes .vtp files and snapshots.pvd list
     CHECK(vtp.array<float>("PointData/V_mV").size() == 4);
   }
 }
+
+TEST_CASE("a run killed and resumed keeps one snapshots.pvd listing every snapshot once") {
+  // `fibrodem run` killed (SIGKILL, FIBRODEM_TEST_KILL) at step 450 of 600
+  // (t = 4.5 ms), then `fibrodem resume` from its last checkpoint (4 ms).
+  json m = testing::passive_cell_manifest();
+  m["duration_ms"] = 6;
+  m["tissue"] = {{"builder", "strand"}, {"type", "fibroblast"}, {"cells", 4}};
+  m["output"]["vtk_format"] = "xml";
+  m["output"]["report"] = false;
+  m["output"]["snapshots"] = {{"every_ms", 2}, {"png", false}};
+  m["output"]["checkpoint"] = {{"every_ms", 1}};
+  const auto dir = testing::scratch_dir("vtk_format_xml_resumed");
+  const auto out = dir / "run";
+  std::ofstream(dir / "m.json") << m.dump();
+  const std::string exe = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem";
+  REQUIRE(std::system(("FIBRODEM_TEST_KILL=step:450 " + exe + " run --quiet " + (dir / "m.json").string() +
+                       " --out " + out.string() + " > /dev/null 2>&1").c_str()) != 0);
+  REQUIRE(std::system((exe + " resume --quiet " + out.string() + " > /dev/null 2>&1").c_str()) == 0);
+  const json summary = json::parse(testing::read_file(out / "summary.json"));
+  CHECK(summary["resumed_from"]["time_ms"].get<double>() == 4.0);
+  const auto entries = read_pvd(out / "snapshots.pvd");
+  REQUIRE(entries.size() == 4);
+  const double expected_ms[] = {0.01, 2, 4, 6};
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    CAPTURE(entries[k].second);
+    CHECK(entries[k].first == doctest::Approx(expected_ms[k]).epsilon(1e-9));
+    CHECK(std::filesystem::exists(out / entries[k].second));
+  }
+}
