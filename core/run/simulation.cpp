@@ -92,7 +92,7 @@ void Simulation::Impl::run() {
       measure_reentry();
     }
     ScopeTimer timer(output_seconds);
-    if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats);
+    if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats, scene.output.vtk_format);
     writer.finish();
     if (status == "running") status = "completed";
   } catch (const std::exception& e) {

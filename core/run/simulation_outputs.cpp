@@ -31,12 +31,13 @@ void Simulation::Impl::open_outputs() {
   log->sinks().push_back(file_sink);
   if (!resume_point) {
     clear_checkpoints(out);  // an earlier run's, in a folder given --overwrite
+    fs::remove(out / kSnapshotCollection);  // likewise: this run lists its own snapshots
     traces.open_csv(out / "traces.csv");
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
                                 "dvdt_max_mV_per_ms"});
     // (The tissue stays as built: the writer may draw it while the run starts.)
-    if (scene.output.tissue_picture) write_file([this] { write_tissue_overview(out, scene.name, tissue); });
+    if (scene.output.tissue_picture) write_file([this] { write_tissue_overview(out, scene.name, tissue, scene.output.vtk_format); });
   }
   write_summary(out, summary());
 }
@@ -106,7 +107,7 @@ void Simulation::Impl::snapshot_if_due(double t) {
     // finishes before the simulation, and so the tissue, goes.)
     const std::shared_ptr<const Tissue> built(std::shared_ptr<void>(), &tissue);
     auto frame = std::make_shared<SnapshotFrame>(take_snapshot(t, snap, built, mechanics_solver(), system.V_mV));
-    write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.name, *frame); });
+    write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.output.vtk_format, scene.name, *frame); });
     ++snapshots_taken;
   }
 }

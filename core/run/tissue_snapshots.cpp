@@ -7,16 +7,34 @@
 #include <limits>
 
 #include "io/tissue_picture.hpp"
+#include "io/pvd_collection.hpp"
 #include "io/vtk_writer.hpp"
+#include "io/vtk_xml_writer.hpp"
 
 namespace fibrodem {
 
-void write_tissue_overview(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue) {
+namespace {
+
+// dir/stem.vtk or dir/stem.vtp, as vtk_format asks; returns the file's name.
+std::string write_vtk_file(const std::string& vtk_format, const Tissue& tissue, const std::filesystem::path& dir,
+                           const std::string& stem, const CellFields& fields, bool with_bonds,
+                           const std::vector<std::array<double, 2>>* displacement_um = nullptr) {
+  const bool xml = vtk_format == "xml";
+  const std::string name = stem + (xml ? ".vtp" : ".vtk");
+  if (xml) write_tissue_vtp(tissue, dir / name, fields, with_bonds, displacement_um);
+  else write_tissue_vtk(tissue, dir / name, fields, with_bonds, displacement_um);
+  return name;
+}
+
+}  // namespace
+
+void write_tissue_overview(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
+                           const std::string& vtk_format) {
   PictureOptions picture;
   picture.title = scene_name + ": " + std::to_string(tissue.count(CellType::myocyte)) + " myocytes, " +
                   std::to_string(tissue.count(CellType::fibroblast)) + " fibroblasts";
   write_tissue_png(tissue, dir / "tissue.png", nullptr, picture);
-  write_tissue_vtk(tissue, dir / "tissue.vtk");
+  write_vtk_file(vtk_format, tissue, dir, "tissue", {}, true);
 }
 
 Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
@@ -46,8 +64,8 @@ SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const std::share
   return frame;
 }
 
-void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& scene_name,
-                    const SnapshotFrame& frame) {
+void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& vtk_format,
+                    const std::string& scene_name, const SnapshotFrame& frame) {
   char stem[64];
   std::snprintf(stem, sizeof stem, "snapshot_%09.3f_ms", frame.t_ms);
   if (spec.png) {
@@ -60,13 +78,16 @@ void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, 
     picture.antialias = false;  // one picture per frame: the cheap kind
     write_tissue_png(*frame.now, dir / (std::string(stem) + ".png"), &frame.V_mV, picture);
   }
-  if (spec.vtk)
-    write_tissue_vtk(*frame.now, dir / (std::string(stem) + ".vtk"), {{"V_mV", frame.V_mV}}, false,
-                     frame.displacement.empty() ? nullptr : &frame.displacement);
+  if (spec.vtk) {
+    const std::string name = write_vtk_file(vtk_format, *frame.now, dir, stem, {{"V_mV", frame.V_mV}}, false,
+                                            frame.displacement.empty() ? nullptr : &frame.displacement);
+    // Listed once written: the collection names only whole files.
+    if (vtk_format == "xml") add_to_pvd(dir / kSnapshotCollection, frame.t_ms, name);
+  }
 }
 
 void write_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
-                const std::vector<BeatBiomarkers>& beats) {
+                const std::vector<BeatBiomarkers>& beats, const std::string& vtk_format) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> activation(tissue.cell_count(), nan), apd90 = activation, rmp = activation, apo = activation;
   for (const auto& b : beats) {
@@ -79,8 +100,8 @@ void write_maps(const std::filesystem::path& dir, const std::string& scene_name,
   picture.value_label = "activation (ms)";
   picture.title = scene_name + ": activation map, last beat";
   write_tissue_png(tissue, dir / "activation_map.png", &activation, picture);
-  write_tissue_vtk(tissue, dir / "maps.vtk",
-                   {{"activation_ms", activation}, {"apd90_ms", apd90}, {"rmp_mV", rmp}, {"apo_mV", apo}}, false);
+  write_vtk_file(vtk_format, tissue, dir, "maps",
+                 {{"activation_ms", activation}, {"apd90_ms", apd90}, {"rmp_mV", rmp}, {"apo_mV", apo}}, false);
 }
 
 }  // namespace fibrodem

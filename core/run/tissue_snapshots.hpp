@@ -1,7 +1,9 @@
 // Pictures (PNG) and ParaView files (VTK) of the tissue: by cell type at the
 // start (output.tissue_picture), coloured by V during the run
 // (output.snapshots) and as per-cell maps of the last beat at the end
-// (output.maps).
+// (output.maps). The ParaView files are legacy ASCII (.vtk) or, with
+// vtk_format "xml", binary compressed VTK XML (.vtp) with the snapshots
+// listed in the time collection snapshots.pvd (output.vtk_format).
 #pragma once
 
 #include <array>
@@ -17,8 +19,12 @@
 
 namespace fibrodem {
 
-// tissue.png (by cell type) and tissue.vtk in dir.
-void write_tissue_overview(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue);
+// The snapshots' time collection, in the run's folder.
+inline constexpr const char* kSnapshotCollection = "snapshots.pvd";
+
+// tissue.png (by cell type) and tissue.vtk (.vtp) in dir.
+void write_tissue_overview(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
+                           const std::string& vtk_format);
 
 // The tissue as it is now: deformed particles when mechanics runs (null: none),
 // and, if asked, each particle's displacement from the undeformed tissue.
@@ -38,12 +44,13 @@ SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const std::share
                             const MechanicsSolver* mechanics, const std::vector<double>& V_mV);
 
 // The tissue coloured by membrane potential at the frame's time (the step's
-// end): snapshot_<t>_ms.png and/or .vtk in dir, as spec asks.
-void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& scene_name,
-                    const SnapshotFrame& frame);
+// end): snapshot_<t>_ms.png and/or .vtk (.vtp, then added to
+// snapshots.pvd) in dir, as spec asks.
+void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& vtk_format,
+                    const std::string& scene_name, const SnapshotFrame& frame);
 
-// Per-cell maps of the last recorded beat: activation_map.png and maps.vtk in dir.
+// Per-cell maps of the last recorded beat: activation_map.png and maps.vtk (.vtp) in dir.
 void write_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
-                const std::vector<BeatBiomarkers>& beats);
+                const std::vector<BeatBiomarkers>& beats, const std::string& vtk_format);
 
 }  // namespace fibrodem

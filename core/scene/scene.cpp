@@ -84,6 +84,7 @@ OutputSpec read_output(JsonReader r) {
   if (r.has("traces")) o.traces = read_traces(r.raw("traces"), r.path_of("traces"));
   o.tissue_picture = r.boolean("tissue_picture", false);
   o.maps = r.boolean("maps", false);
+  o.vtk_format = r.text("vtk_format", o.vtk_format, {"legacy", "xml"});
   o.report = r.boolean("report", true);
   if (r.has("snapshots")) {
     JsonReader sn = r.object("snapshots");

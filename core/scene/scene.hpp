@@ -76,6 +76,9 @@ struct OutputSpec {
   TraceSpec traces;
   bool tissue_picture = false;  // tissue.png (by cell type) and tissue.vtk at the start
   bool maps = false;            // activation_map.png and maps.vtk (last beat) at the end
+  // The ParaView files' format: "legacy" (ASCII .vtk) or "xml" (binary,
+  // compressed .vtp, the snapshots listed in snapshots.pvd).
+  std::string vtk_format = "legacy";
   bool report = true;           // report.html at the end (off: output.report false, --no-report)
   SnapshotSpec snapshots;
   double biomarkers_from_ms = 0;

@@ -1,0 +1,29 @@
+// A tissue as a VTK XML PolyData file (.vtp; ParaView opens it): the same
+// points, vertices, lines and arrays as the legacy file (io/vtk_writer.hpp),
+// in binary, zlib-compressed appended data (the VTK XML file format:
+// header_type UInt64, compressor vtkZLibDataCompressor, raw encoding).
+//
+// Types: point coordinates, radius_um, the per-cell fields and the
+// displacement are Float32 (7 significant digits: a 50 mm sheet's
+// coordinates to ~4 nm, V to ~1e-5 mV; the exact values stay in the CSV
+// files); `cell` and the vertex/line indices Int32; `cell_type` UInt8.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <vector>
+
+#include "io/vtk_writer.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+// Throws std::runtime_error if the file cannot be written, a field does not
+// hold one value per cell, or the tissue has more particles than Int32
+// indexes. Field names have spaces replaced by '_'. The first field, if any,
+// is the points' active scalars (ParaView colours by it), else cell_type.
+void write_tissue_vtp(const Tissue& tissue, const std::filesystem::path& file,
+                      const CellFields& cell_fields = {}, bool with_bonds = true,
+                      const std::vector<std::array<double, 2>>* displacement_um = nullptr);
+
+}  // namespace fibrodem
