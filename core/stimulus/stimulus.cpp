@@ -1,6 +1,7 @@
 #include "stimulus/stimulus.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -11,13 +12,13 @@ namespace fibrodem {
 
 namespace {
 // Whether cell c's centre lies in the target's region (edges included, with
-// a 1e-9 um tolerance: a cell exactly on an edge given in mm is in).
-bool region_contains(const StimulusTarget& target, const Tissue& tissue, int c) {
+// a 1e-9 um tolerance: a cell exactly on an edge given in mm is in); box is
+// the tissue's bounds_um(), taken once for all cells.
+bool region_contains(const StimulusTarget& target, const Tissue& tissue, const std::array<double, 4>& box, int c) {
   constexpr double kEdge_um = 1e-9;
   const double x = tissue.x_um[c], y = tissue.y_um[c];
   switch (target.shape) {
     case StimulusTarget::Shape::fractions: {
-      const auto box = tissue.bounds_um();
       const double w = box[1] - box[0], h = box[3] - box[2];
       const double fx = w > 0 ? (x - box[0]) / w : 0.5;
       const double fy = h > 0 ? (y - box[2]) / h : 0.5;
@@ -57,13 +58,13 @@ std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tiss
       }
       break;
     case StimulusTarget::Kind::region: {
+      const auto box = tissue.bounds_um();
       for (int c = 0; c < n; ++c) {
-        if (!region_contains(target, tissue, c)) continue;
+        if (!region_contains(target, tissue, box, c)) continue;
         if (target.region_type && tissue.type[c] != *target.region_type) continue;
         cells.push_back(c);
       }
       if (cells.empty()) {
-        const auto box = tissue.bounds_um();
         throw ManifestError(path + ".target",
                             fmt::format("this region contains no cell{} (the tissue spans x {:g}..{:g} mm, "
                                         "y {:g}..{:g} mm)",
