@@ -119,7 +119,9 @@ TEST_CASE("fibrotic_sheet: each pattern reaches its density") {
   // 8268 bounds the error, tolerance 0.014.
   const std::map<std::string, double> tolerance = {
       {"diffuse", 0.02}, {"patchy", 1.0 / slots}, {"interstitial", 1.0 / slots}, {"compact", 0.014}};
-  for (const auto& [pattern, tol] : tolerance) {
+  for (const auto& entry : tolerance) {
+    const std::string& pattern = entry.first;  // (not a structured binding: clang's CAPTURE cannot take one)
+    const double tol = entry.second;
     CAPTURE(pattern);
     const Tissue f = build(sheet(5, 5, {{"density", density}, {"pattern", pattern}, {"as", "fibroblasts"}}), 4);
     CHECK(f.cell_count() == 212 * 39);
