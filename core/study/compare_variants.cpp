@@ -53,22 +53,6 @@ void validate_variants(const std::vector<std::pair<std::string, const json*>>& v
   }
 }
 
-// The rows of paired.csv, from the statistics write_paired_comparison uses.
-std::vector<PairedRow> paired_rows(const std::vector<json>& a, const std::vector<json>& b) {
-  std::vector<PairedRow> rows;
-  for (const auto& metric : summary_metrics()) {
-    std::vector<double> va, vb;
-    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) {
-      va.push_back(metric.of(a[k]));
-      vb.push_back(metric.of(b[k]));
-    }
-    const PairedTest test = paired_t_test(va, vb);
-    if (test.difference.n == 0) continue;  // the scene does not measure it
-    rows.push_back({metric.name, summarize(va).mean, summarize(vb).mean, test.difference, test.t, test.p});
-  }
-  return rows;
-}
-
 // A and B on each of K tissues (A's seed and the K - 1 after it), then the
 // paired statistics; the first pair's comparison and traces as without seeds.
 void compare_over_seeds(const json& a, const json& b, const CompareOptions& options, CompareResult& result) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "compare/ab_comparison.hpp"
+#include "compare/paired_comparison.hpp"
 #include "measure/sample_statistics.hpp"
 #include "util/json_reader.hpp"
 
@@ -30,14 +31,6 @@ struct CompareOptions {
 
 // Where a comparison goes without --out: out/compare_<A's name>.
 std::filesystem::path default_compare_dir(const json& a);
-
-// One metric of summary_metrics() over the pairs (paired.csv's row).
-struct PairedRow {
-  std::string metric;
-  double a_mean, b_mean;     // over the tissues
-  SampleSummary difference;  // of B - A (its n: the pairs)
-  double t, p;               // paired t-test, two-sided; NaN when undefined
-};
 
 struct CompareResult {
   std::filesystem::path dir;

@@ -92,6 +92,13 @@ py::dict sweep_dict(const SweepResult& result, const SweepFile& sweep) {
   return d;
 }
 
+// The runs of a sweep or a search: child processes of `executable`, or, when
+// it is empty, threads of this process with the plugins beside the build.
+PointRunner point_runner(const std::string& executable) {
+  if (executable.empty()) return InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR)};
+  return ChildProcessRunner{executable};
+}
+
 // source: the sweep file's path (str) or its JSON (dict), whose manifest
 // path is relative to `base_dir`, unless `manifest` (a dict) is given.
 py::dict sweep(py::handle source, py::object manifest, const std::string& base_dir, const py::list& overrides,
@@ -115,10 +122,7 @@ py::dict sweep(py::handle source, py::object manifest, const std::string& base_d
   options.jobs = jobs;
   options.overwrite = overwrite;
   options.report = report;
-  if (executable.empty())
-    options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR)};
-  else
-    options.runner = ChildProcessRunner{executable};
+  options.runner = point_runner(executable);
   options.stop_requested = [] { return interrupt_signal() != 0; };
   SweepResult result;
   int stopped_by = 0;
@@ -236,10 +240,7 @@ py::dict vulnerable_window(py::handle source, const py::list& overrides, const s
   options.jobs = jobs;
   options.capture_fraction = capture_fraction;
   options.overwrite = overwrite;
-  if (executable.empty())
-    options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR)};
-  else
-    options.runner = ChildProcessRunner{executable};
+  options.runner = point_runner(executable);
   VulnerableWindowResult result;
   {
     py::gil_scoped_release release;
