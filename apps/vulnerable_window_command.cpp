@@ -38,8 +38,7 @@ int vulnerable_window_command(const VulnerableWindowArgs& args) {
     json manifest = read_manifest_file(args.manifest);
     for (const auto& o : args.overrides) apply_override(manifest, o);
     VulnerableWindowOptions options;
-    options.out = args.out.empty() ? std::filesystem::path("out/vulnerable_window_" + manifest.value("name", std::string("scene")))
-                                   : std::filesystem::path(args.out);
+    options.out = args.out.empty() ? default_vulnerable_window_dir(manifest) : std::filesystem::path(args.out);
     options.runner = ChildProcessRunner{boost::dll::program_location().string()};
     options.jobs = args.jobs;
     options.seeds = args.seeds;

@@ -216,6 +216,10 @@ WindowScan default_scan(const json& manifest) {
   return scan;
 }
 
+std::filesystem::path default_vulnerable_window_dir(const json& manifest) {
+  return "out/vulnerable_window_" + manifest.value("name", std::string("scene"));
+}
+
 bool ensure_reentry_output(json& manifest) {
   if (!manifest.contains("output") || manifest["output"].is_null()) manifest["output"] = json::object();
   if (manifest["output"].contains("reentry")) return false;

@@ -116,6 +116,9 @@ double coupling_interval_ms(const json& manifest);
 // least 10 ms).
 WindowScan default_scan(const json& manifest);
 
+// Where a search goes without --out: out/vulnerable_window_<the manifest's name>.
+std::filesystem::path default_vulnerable_window_dir(const json& manifest);
+
 // Adds output.reentry (defaults) if the manifest has none; returns whether
 // it did.
 bool ensure_reentry_output(json& manifest);

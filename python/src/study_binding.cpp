@@ -233,8 +233,7 @@ py::dict vulnerable_window(py::handle source, const py::list& overrides, const s
   json manifest = manifest_of(source, "vulnerable_window(): manifest");
   for (const auto& s : assignments(overrides, "vulnerable_window(): set")) apply_override(manifest, s);
   VulnerableWindowOptions options;
-  options.out = out.empty() ? std::filesystem::path("out/vulnerable_window_" + manifest.value("name", std::string("scene")))
-                            : std::filesystem::path(out);
+  options.out = out.empty() ? default_vulnerable_window_dir(manifest) : std::filesystem::path(out);
   options.scan = {from_ms, to_ms, step_ms, resolution_ms};
   options.seeds = seeds;
   options.jobs = jobs;
