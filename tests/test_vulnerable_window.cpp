@@ -93,13 +93,13 @@ TEST_CASE("a bad scan is refused") {
 TEST_CASE("the coupling interval counts from S1's last onset, and a manifest without S2 is named") {
   json m = json::parse(R"({"stimulus": [{"start_ms": 10, "period_ms": 300, "count": 4},
                                          {"start_ms": 1150}]})");
-  CHECK(coupling_interval_ms(m) == 1150 - (10 + 3 * 300));
+  CHECK(coupling_interval_ms(m, "the vulnerable-window search") == 1150 - (10 + 3 * 300));
   m["stimulus"][0].erase("count");
-  CHECK_THROWS_WITH_AS(coupling_interval_ms(m),
-                       "manifest: stimulus[0].count: the vulnerable-window search needs a finite train: give count",
+  CHECK_THROWS_WITH_AS(coupling_interval_ms(m, "the vulnerable-window search"),
+                       "manifest: stimulus[0].count: an S1-S2 protocol needs a finite train: give count",
                        ManifestError);
   m["stimulus"].erase(1);
-  CHECK_THROWS_AS(coupling_interval_ms(m), ManifestError);
+  CHECK_THROWS_AS(coupling_interval_ms(m, "the vulnerable-window search"), ManifestError);
   json none = json::object();
   CHECK(ensure_reentry_output(none));
   CHECK(none["output"]["reentry"]["every_ms"] == 2);

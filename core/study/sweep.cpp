@@ -1,12 +1,10 @@
 #include "study/sweep.hpp"
 
 #include <algorithm>
-#include <atomic>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "scene/scene.hpp"
+#include "study/worker_pool.hpp"
 
 namespace fibrodem {
 
@@ -34,13 +32,9 @@ void run_sweep_points(const SweepFile& sweep, std::vector<SweepRun>& runs, const
   if (options.out.empty()) throw std::invalid_argument("run_sweep_points: no output folder");
   if (const auto* child = std::get_if<ChildProcessRunner>(&options.runner); child && child->executable.empty())
     throw std::invalid_argument("run_sweep_points: a child-process runner without a fibrodem executable");
-  const unsigned jobs = options.jobs > 0 ? options.jobs : std::max(1u, std::thread::hardware_concurrency());
-  std::atomic<std::size_t> next{0};
-  std::mutex report_lock;
-  std::vector<std::thread> workers;
-  for (unsigned w = 0; w < std::min<std::size_t>(jobs, std::max<std::size_t>(1, which.size())); ++w)
-    workers.emplace_back([&] {
-      for (std::size_t i; (i = next++) < which.size();) {
+  for_each_in_parallel(
+      which.size(), options.jobs,
+      [&](std::size_t i) {
         const std::size_t k = which[i];
         if (options.stop_requested && options.stop_requested()) {
           runs[k].status = "interrupted";
@@ -49,13 +43,10 @@ void run_sweep_points(const SweepFile& sweep, std::vector<SweepRun>& runs, const
           run_sweep_point(sweep, runs[k], options.out / ("run_" + std::to_string(k)), options.runner,
                           options.overwrite, options.report);
         }
-        if (options.on_point_done) {
-          std::lock_guard<std::mutex> lock(report_lock);
-          options.on_point_done(k, runs[k]);
-        }
-      }
-    });
-  for (auto& t : workers) t.join();
+      },
+      [&](std::size_t i) {
+        if (options.on_point_done) options.on_point_done(which[i], runs[which[i]]);
+      });
 }
 
 bool SweepResult::all_completed() const {

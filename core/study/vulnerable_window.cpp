@@ -1,19 +1,18 @@
 #include "study/vulnerable_window.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <map>
-#include <mutex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 
 #include "io/plot_png.hpp"
 #include "scene/scene.hpp"
+#include "study/s1s2_protocol.hpp"
+#include "study/worker_pool.hpp"
 #include "util/manifest_error.hpp"
 
 namespace fibrodem {
@@ -153,62 +152,11 @@ WindowSearch search_vulnerable_window(const WindowScan& scan, const std::vector<
 // ---- Running fibrodem ----
 
 namespace {
-
-double number_at(const json& object, const char* key, double otherwise, const std::string& path) {
-  if (!object.contains(key)) return otherwise;
-  if (!object[key].is_number()) throw ManifestError(path + "." + key, "expected a number");
-  return object[key].get<double>();
-}
-
-// The onsets of stimulus[i]'s train.
-std::vector<double> train_onsets(const json& stimulus, std::size_t i) {
-  const std::string path = "stimulus[" + std::to_string(i) + "]";
-  const json& s = stimulus.at(i);
-  if (!s.is_object()) throw ManifestError(path, "expected an object");
-  const double start = number_at(s, "start_ms", 0, path), period = number_at(s, "period_ms", 0, path);
-  if (period > 0 && !s.contains("count"))
-    throw ManifestError(path + ".count", "the vulnerable-window search needs a finite train: give count");
-  const double count = period > 0 ? number_at(s, "count", 1, path) : 1;
-  std::vector<double> onsets;
-  for (int k = 0; k < static_cast<int>(count); ++k) onsets.push_back(start + k * period);
-  return onsets;
-}
-
-double last_s1_onset_ms(const json& manifest) {
-  if (!manifest.contains("stimulus") || !manifest["stimulus"].is_array() || manifest["stimulus"].size() < 2)
-    throw ManifestError("stimulus", "the vulnerable-window search needs S1 (stimulus[0]) and S2 (stimulus[1])");
-  return train_onsets(manifest["stimulus"], 0).back();
-}
-
-// The S2 beat's index among the distinct onsets of every train (as beats
-// are numbered: docs/arrhythmia.md).
-std::optional<std::size_t> beat_of_onset(const json& manifest, double onset_ms) {
-  std::set<double> onsets;
-  for (std::size_t i = 0; i < manifest["stimulus"].size(); ++i)
-    for (double t : train_onsets(manifest["stimulus"], i)) onsets.insert(t);
-  std::size_t beat = 0;
-  for (double t : onsets) {
-    if (std::abs(t - onset_ms) < 1e-9) return beat;
-    ++beat;
-  }
-  return std::nullopt;
-}
-
-std::string interval_text(double ms) {
-  std::ostringstream s;
-  s << std::setprecision(10) << ms;
-  return s.str();
-}
-
-}  // namespace
-
-double coupling_interval_ms(const json& manifest) {
-  const double s1 = last_s1_onset_ms(manifest);
-  return number_at(manifest["stimulus"][1], "start_ms", 0, "stimulus[1]") - s1;
+const char* const kStudy = "the vulnerable-window search";
 }
 
 WindowScan default_scan(const json& manifest) {
-  const double interval = coupling_interval_ms(manifest);
+  const double interval = coupling_interval_ms(manifest, kStudy);
   WindowScan scan;
   scan.step_ms = 10;
   scan.from_ms = std::max(10.0, interval - 100);
@@ -284,22 +232,11 @@ S2Result run_probe(const SearchRuns& search, const S2Probe& probe) {
 // A batch on a pool of workers, results in the probes' order.
 std::vector<S2Result> run_batch(const SearchRuns& search, const std::vector<S2Probe>& probes) {
   std::vector<S2Result> results(probes.size());
-  const unsigned jobs =
-      search.options.jobs > 0 ? search.options.jobs : std::max(1u, std::thread::hardware_concurrency());
-  std::atomic<std::size_t> next{0};
-  std::mutex report_lock;
-  std::vector<std::thread> workers;
-  for (unsigned w = 0; w < std::min<std::size_t>(jobs, probes.size()); ++w)
-    workers.emplace_back([&] {
-      for (std::size_t i; (i = next++) < probes.size();) {
-        results[i] = run_probe(search, probes[i]);
-        if (search.options.on_run_done) {
-          std::lock_guard<std::mutex> lock(report_lock);
-          search.options.on_run_done(results[i]);
-        }
-      }
-    });
-  for (auto& t : workers) t.join();
+  for_each_in_parallel(
+      probes.size(), search.options.jobs, [&](std::size_t i) { results[i] = run_probe(search, probes[i]); },
+      [&](std::size_t i) {
+        if (search.options.on_run_done) search.options.on_run_done(results[i]);
+      });
   return results;
 }
 
@@ -385,7 +322,7 @@ VulnerableWindowResult run_vulnerable_window(json manifest, VulnerableWindowOpti
   result.reentry_output_added = ensure_reentry_output(manifest);
   parse_scene(manifest);  // a bad manifest is named before any run
   SearchRuns runs;
-  runs.s1_onset_ms = last_s1_onset_ms(manifest);
+  runs.s1_onset_ms = last_s1_onset_ms(manifest, kStudy);
   runs.s2_onset_ms = number_at(manifest["stimulus"][1], "start_ms", 0, "stimulus[1]");
   runs.duration_ms = number_at(manifest, "duration_ms", 0, "");
   if (!(runs.duration_ms > runs.s2_onset_ms))

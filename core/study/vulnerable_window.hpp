@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "study/s1s2_protocol.hpp"
 #include "study/sweep_point.hpp"
 
 namespace fibrodem {
@@ -107,13 +108,8 @@ struct VulnerableWindowOptions {
   std::function<void(const S2Result&)> on_run_done;  // from a worker, one call at a time
 };
 
-// The manifest's S2 coupling interval: stimulus[1].start_ms minus the last
-// onset of stimulus[0] (start_ms + (count - 1) period_ms). ManifestError
-// naming the path when the manifest has fewer than two stimuli.
-double coupling_interval_ms(const json& manifest);
-
-// Without a scan given: the manifest's interval +- 100 ms by 10 ms (from at
-// least 10 ms).
+// Without a scan given: the manifest's S2 coupling interval
+// (study/s1s2_protocol.hpp) +- 100 ms by 10 ms (from at least 10 ms).
 WindowScan default_scan(const json& manifest);
 
 // Where a search goes without --out: out/vulnerable_window_<the manifest's name>.
