@@ -61,7 +61,7 @@ TEST_CASE("the output directory holds what docs/reference/outputs.md names, with
   CHECK(summary["mean_biomarkers"]["fibroblast"]["beats_measured"] == 4 * 2);
   CHECK(testing::read_file(dir / "traces.csv").rfind("t_ms,V_0,I_ion_0,V_3,I_ion_3\n", 0) == 0);
   CHECK(testing::read_file(dir / "biomarkers.csv")
-            .rfind("cell,type,beat,activation_ms,rmp_mV,apo_mV,apd90_ms,dvdt_max_mV_per_ms\n", 0) == 0);
+            .rfind("cell,type,beat,activation_ms,rmp_mV,apo_mV,apd90_ms,dvdt_max_mV_per_ms,apd50_ms\n", 0) == 0);
   const std::string log = testing::read_file(dir / "run.log");
   CHECK(log.find("process built: coupling") != std::string::npos);
 }

@@ -35,7 +35,7 @@ void Simulation::Impl::open_outputs() {
     traces.open_csv(out / "traces.csv");
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
-                                "dvdt_max_mV_per_ms"});
+                                "dvdt_max_mV_per_ms", "apd50_ms"});
     // (The tissue stays as built: the writer may draw it while the run starts.)
     if (scene.output.tissue_picture) write_file([this] { write_tissue_overview(out, scene.name, tissue, scene.output.vtk_format); });
   }
@@ -91,7 +91,8 @@ void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
       .cell(b.rmp_mV)
       .cell(b.apo_mV)
       .cell(b.apd90_ms)
-      .cell(b.dvdt_max_mV_per_ms);
+      .cell(b.dvdt_max_mV_per_ms)
+      .cell(b.apd50_ms);
   biomarkers_csv.end_row();
   biomarkers_csv.flush();
 }

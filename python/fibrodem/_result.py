@@ -9,10 +9,10 @@ import numpy as np
 
 from . import _core
 
-# biomarkers.csv's columns (core/run/simulation.cpp record_beat) and their types.
+# biomarkers.csv's columns (core/run/simulation_outputs.cpp record_beat) and their types.
 BIOMARKER_DTYPE = np.dtype([("cell", "i8"), ("type", "U10"), ("beat", "i8"), ("activation_ms", "f8"),
                             ("rmp_mV", "f8"), ("apo_mV", "f8"), ("apd90_ms", "f8"),
-                            ("dvdt_max_mV_per_ms", "f8")])
+                            ("dvdt_max_mV_per_ms", "f8"), ("apd50_ms", "f8")])
 MAP_FIELDS = ("activation_ms", "apd90_ms", "rmp_mV", "apo_mV")
 
 
@@ -58,8 +58,8 @@ class Result:
             in the variable's unit (``fibrodem.plugins()`` lists them).
         biomarkers: one row per cell and beat (biomarkers.csv): cell, type, beat,
             activation_ms [ms], rmp_mV [mV], apo_mV [mV], apd90_ms [ms],
-            dvdt_max_mV_per_ms [mV/ms]; a pandas DataFrame when pandas is
-            installed, else a numpy structured array.
+            dvdt_max_mV_per_ms [mV/ms], apd50_ms [ms]; a pandas DataFrame when
+            pandas is installed, else a numpy structured array.
         summary: summary.json as a dict (status, simulated_ms, mean_biomarkers, ...).
         maps: dict activation_ms [ms], apd90_ms [ms], rmp_mV [mV], apo_mV [mV]
             -> array over all cells (index = cell), the last beat of each cell as
@@ -157,7 +157,8 @@ def _read_biomarkers(path):
         with open(path, newline="") as f:
             for row in csv.DictReader(f):
                 for name in BIOMARKER_DTYPE.names:
-                    columns[name].append(row[name])
+                    # (apd50_ms is absent from folders written before it was a column.)
+                    columns[name].append(row.get(name) or "nan")
     return biomarker_array(columns)
 
 

@@ -20,7 +20,7 @@ py::dict biomarker_columns(const std::vector<BeatBiomarkers>& beats) {
   py::array_t<long long> cell(n), beat(n);
   py::list type;
   std::vector<double> activation(beats.size()), rmp(beats.size()), apo(beats.size()), apd90(beats.size()),
-      dvdt(beats.size());
+      dvdt(beats.size()), apd50(beats.size());
   auto c = cell.mutable_unchecked<1>();
   auto b = beat.mutable_unchecked<1>();
   for (std::size_t i = 0; i < beats.size(); ++i) {
@@ -28,7 +28,7 @@ py::dict biomarker_columns(const std::vector<BeatBiomarkers>& beats) {
     b(static_cast<py::ssize_t>(i)) = beats[i].beat;
     type.append(cell_type_name(beats[i].type));
     activation[i] = beats[i].activation_ms, rmp[i] = beats[i].rmp_mV, apo[i] = beats[i].apo_mV;
-    apd90[i] = beats[i].apd90_ms, dvdt[i] = beats[i].dvdt_max_mV_per_ms;
+    apd90[i] = beats[i].apd90_ms, dvdt[i] = beats[i].dvdt_max_mV_per_ms, apd50[i] = beats[i].apd50_ms;
   }
   py::dict d;
   d["cell"] = cell;
@@ -39,6 +39,7 @@ py::dict biomarker_columns(const std::vector<BeatBiomarkers>& beats) {
   d["apo_mV"] = to_array(apo);
   d["apd90_ms"] = to_array(apd90);
   d["dvdt_max_mV_per_ms"] = to_array(dvdt);
+  d["apd50_ms"] = to_array(apd50);
   return d;
 }
 
