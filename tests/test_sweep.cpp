@@ -31,7 +31,7 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-    REQUIRE(cells.size() == 16);  // run, 2 grid values, F-M, 2 x 4 means, CV, 2 peak strains, status
+    REQUIRE(cells.size() == 18);  // run, 2 grid values, F-M, 2 x 4 means, CV, 2 peak strains, 2 re-entry, status
     CHECK(cells.back() == "completed");
     apo.push_back(std::stod(cells[9]) - std::stod(cells[8]));  // fibroblast APO - RMP
   }

@@ -12,6 +12,7 @@ double number_at(const json& summary, std::initializer_list<const char*> path) {
     if (!node->is_object() || !node->contains(key)) return std::numeric_limits<double>::quiet_NaN();
     node = &(*node)[key];
   }
+  if (node->is_boolean()) return node->get<bool>() ? 1.0 : 0.0;
   return node->is_number() ? node->get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
 }  // namespace
@@ -26,6 +27,10 @@ const std::vector<SummaryMetric>& summary_metrics() {
     l.push_back({"cv_cm_per_s", [](const json& s) { return number_at(s, {"cv_cm_per_s"}); }});
     l.push_back({"peak_eps_xx", [](const json& s) { return number_at(s, {"peak_strain", "xx"}); }});
     l.push_back({"peak_eps_yy", [](const json& s) { return number_at(s, {"peak_strain", "yy"}); }});
+    // 1 or 0, so that its mean over a sweep's seeds is the probability of
+    // inducing re-entry.
+    l.push_back({"reentry_detected", [](const json& s) { return number_at(s, {"reentry", "detected"}); }});
+    l.push_back({"reentry_duration_ms", [](const json& s) { return number_at(s, {"reentry", "duration_ms"}); }});
     return l;
   }();
   return list;

@@ -106,7 +106,8 @@ class SweepResult:
         table: sweep.csv's rows: run, the grid values, each summary metric
             (fm_ratio, <type>_rmp_mV [mV], _apo_mV [mV], _apd90_ms [ms],
             _dvdt_max_mV_per_ms [mV/ms], cv_cm_per_s [cm/s], peak_eps_xx,
-            peak_eps_yy; NaN where a run has none) and status; a pandas
+            peak_eps_yy, reentry_detected (1 or 0), reentry_duration_ms; NaN
+            where a run has none) and status; a pandas
             DataFrame when pandas is installed, else a numpy structured array
             (as fibrodem.read_sweep reads it).
         stats: with tissue seeds, sweep_stats.csv's rows (per grid point:
