@@ -69,6 +69,19 @@ struct VulnerableWindowArgs {
   bool overwrite = false;
 };
 
+// `fibrodem restitution`: S1-S2 APD restitution and the ERP (study/restitution.hpp).
+struct RestitutionArgs {
+  std::string manifest;
+  std::string out;
+  std::vector<std::string> overrides;
+  std::vector<double> intervals_ms;  // empty: from the S1 period down to 100 ms
+  std::vector<int> cells;            // empty: every myocyte
+  double resolution_ms = 1;
+  double capture_fraction = 0.5;
+  unsigned jobs = 0;  // 0: one per core
+  bool overwrite = false;
+};
+
 // `fibrodem bench accuracy`: ladders of steps and tolerances against a reference.
 struct BenchAccuracyArgs {
   std::string manifest;
@@ -99,6 +112,7 @@ int report_command(const ReportArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int vulnerable_window_command(const VulnerableWindowArgs& args);
+int restitution_command(const RestitutionArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
 // `fibrodem plot SPEC.json --out FILE.png` (apps/plot_command.cpp).

@@ -92,6 +92,18 @@ int main(int argc, char** argv) {
   window->add_option("--set", window_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
   window->add_flag("--overwrite", window_args.overwrite, "run every interval again, even those run before with the same manifest");
 
+  fibrodem::cli::RestitutionArgs restitution_args;
+  auto* restitution = app.add_subcommand("restitution", "S1-S2 action-potential restitution: APD90 and APD50 of S2 (stimulus[1]) against the diastolic interval, and the effective refractory period");
+  restitution->add_option("manifest", restitution_args.manifest, "manifest with S1 (stimulus[0], a train with count) and S2 (stimulus[1])")->required();
+  restitution->add_option("--out", restitution_args.out, "output directory (default out/restitution_NAME)");
+  restitution->add_option("--intervals", restitution_args.intervals_ms, "S1-S2 coupling intervals [ms], comma-separated (default: the S1 period, then 800 ... 100)")->delimiter(',')->check(CLI::PositiveNumber);
+  restitution->add_option("--cells", restitution_args.cells, "cells to measure, comma-separated indices (default: every myocyte; medians over them)")->delimiter(',')->check(CLI::NonNegativeNumber);
+  restitution->add_option("--resolution", restitution_args.resolution_ms, "the ERP's bisection stops at this bracket [ms] (default 1; 0: no bisection)")->check(CLI::NonNegativeNumber);
+  restitution->add_option("--capture-fraction", restitution_args.capture_fraction, "S2 counts as captured when at least this fraction of the measured cells fire (default 0.5)")->check(CLI::Range(0.0, 1.0));
+  restitution->add_option("--jobs", restitution_args.jobs, "runs at once (default: one per core)");
+  restitution->add_option("--set", restitution_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
+  restitution->add_flag("--overwrite", restitution_args.overwrite, "run every interval again, even those run before with the same manifest");
+
   bool plugins_json = false;
   auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
   plugins->add_flag("--json", plugins_json, "print JSON instead of text");
@@ -135,6 +147,7 @@ int main(int argc, char** argv) {
   if (*compare) return fibrodem::cli::compare_command(compare_args);
   if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
   if (*window) return fibrodem::cli::vulnerable_window_command(window_args);
+  if (*restitution) return fibrodem::cli::restitution_command(restitution_args);
   if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
   if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
   if (*schema) return fibrodem::cli::schema_command(schema_args);
