@@ -19,8 +19,7 @@ int restitution_command(const RestitutionArgs& args) {
     json manifest = read_manifest_file(args.manifest);
     for (const auto& o : args.overrides) apply_override(manifest, o);
     RestitutionOptions options;
-    options.out = args.out.empty() ? std::filesystem::path("out/restitution_" + manifest.value("name", std::string("scene")))
-                                   : std::filesystem::path(args.out);
+    options.out = args.out.empty() ? default_restitution_dir(manifest) : std::filesystem::path(args.out);
     options.runner = ChildProcessRunner{boost::dll::program_location().string()};
     options.jobs = args.jobs;
     options.intervals_ms = args.intervals_ms;

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "io/csv_writer.hpp"
 #include "io/plot_png.hpp"
 #include "scene/scene.hpp"
 #include "study/s1s2_protocol.hpp"
@@ -45,6 +46,10 @@ std::vector<double> default_restitution_intervals(const json& manifest) {
   for (double ci : list)
     if (ci < longest) intervals.push_back(ci);
   return intervals;
+}
+
+std::filesystem::path default_restitution_dir(const json& manifest) {
+  return "out/restitution_" + manifest.value("name", std::string("scene"));
 }
 
 RestitutionPoint restitution_point(const CsvTable& biomarkers, std::size_t s1_beat, std::size_t s2_beat,
@@ -185,7 +190,8 @@ void refine_erp(const Protocol& protocol, std::vector<RestitutionPoint>& points,
   }
 }
 
-std::string number_text(double x) { return std::isfinite(x) ? interval_text(x) : ""; }
+// Shortest round-trip text (as every CSV the project writes), empty for NaN.
+std::string number_text(double x) { return std::isfinite(x) ? format_number(x) : ""; }
 
 void write_table(const std::vector<RestitutionPoint>& points, const fs::path& file) {
   std::ofstream out(file);

@@ -68,6 +68,9 @@ struct RestitutionResult {
 // not on the list (intervals above it are dropped).
 std::vector<double> default_restitution_intervals(const json& manifest);
 
+// Where the runs go without --out: out/restitution_<the manifest's name>.
+std::filesystem::path default_restitution_dir(const json& manifest);
+
 // One run's point from its biomarkers.csv: S1's last beat and S2's beat
 // numbers as biomarkers.csv counts beats. Where S2 came before the last S1
 // beat repolarised (its APD90 unmeasured), the S1 beat before it stands in

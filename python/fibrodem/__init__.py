@@ -25,12 +25,12 @@ from . import _core
 from ._errors import ManifestError, PluginError, RunError
 from ._progress import TextBar
 from ._result import Result, biomarker_array, read, read_sweep
-from ._study import Comparison, SweepResult, compare, sweep, sweep_executable, vulnerable_window
+from ._study import Comparison, SweepResult, compare, restitution, sweep, sweep_executable, vulnerable_window
 
 __version__ = _core.version
 __all__ = ["Scene", "load_scene", "run", "read", "read_sweep", "plugins", "simulate_cell", "pacing", "Result",
            "CellLog", "ManifestError", "PluginError", "RunError", "sweep", "SweepResult", "sweep_executable", "compare",
-           "Comparison", "vulnerable_window"]
+           "Comparison", "vulnerable_window", "restitution"]
 
 
 def _type_name(value):

@@ -107,6 +107,10 @@ def vulnerable_window(manifest: ManifestSource, out: Optional[PathLike] = ..., f
                       to_ms: Optional[float] = ..., step_ms: Optional[float] = ..., resolution_ms: float = ...,
                       seeds: int = ..., jobs: int = ..., capture_fraction: float = ..., set: Overrides = ...,
                       overwrite: bool = ..., runner: Optional[str] = ...) -> Mapping[str, Any]: ...
+def restitution(manifest: ManifestSource, out: Optional[PathLike] = ..., intervals_ms: Optional[Sequence[float]] = ...,
+                cells: Optional[Sequence[int]] = ..., resolution_ms: float = ..., jobs: int = ...,
+                capture_fraction: float = ..., set: Overrides = ..., overwrite: bool = ...,
+                runner: Optional[str] = ...) -> Mapping[str, Any]: ...
 def compare(a: ManifestSource, b: Optional[ManifestSource] = ..., out: Optional[PathLike] = ...,
             set: Overrides = ..., a_set: Overrides = ..., b_set: Overrides = ..., seeds: int = ...,
             overwrite: bool = ..., report: bool = ..., quiet: bool = ...) -> Comparison: ...

@@ -386,3 +386,51 @@ def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None
                                    "" if out is None else os.fspath(out),
                                    float(from_ms or 0), float(to_ms or 0), float(step_ms or 0), float(resolution_ms),
                                    seeds, jobs, float(capture_fraction), overwrite, _executable(runner))
+
+
+def restitution(manifest, out=None, intervals_ms=None, cells=None, resolution_ms=1.0, jobs=0, capture_fraction=0.5,
+                set=None, overwrite=False, runner=None):
+    """S1-S2 action-potential restitution and the effective refractory period,
+    as ``fibrodem restitution`` computes them (docs/arrhythmia.md#restitution),
+    returned as a dict.
+
+    Args:
+        manifest: a manifest file path, a dict or a fibrodem.Scene with S1
+            (stimulus[0], a train with count) and S2 (stimulus[1]).
+        out: the runs' folder (``--out``; None: out/restitution_<name>).
+        intervals_ms: the S1-S2 coupling intervals (None: S1's period, then
+            800 ... 100 ms).
+        cells: the measured cells' indices (None: every myocyte).
+        resolution_ms: the ERP's bisection resolution (0: no bisection).
+        jobs: runs at a time (0: one per core).
+        capture_fraction: ``--capture-fraction``.
+        set: overrides of the manifest (a dict path -> value or 'PATH=VALUE' strings).
+        overwrite: run every interval again.
+        runner: as sweep(): None, "process" or "in_process".
+
+    Returns a dict: ``points`` (the rows of restitution.csv, by interval,
+    decreasing: interval_ms, captured, cells_measured, cells_captured,
+    s1_apd90_ms, s2_apd90_ms, s2_apd50_ms, di_ms [ms, NaN where not
+    captured], stage, run, error, reused), ``erp_ms`` (None when not
+    bracketed) and ``out_dir``.
+    """
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise TypeError("restitution(): out must be None or a folder path, not %s" % _type_name(out))
+    intervals = [] if intervals_ms is None else list(intervals_ms)
+    for x in intervals:
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0:
+            raise ValueError("restitution(): intervals_ms must be numbers > 0, not %r" % (x,))
+    chosen = [] if cells is None else list(cells)
+    for c in chosen:
+        if isinstance(c, bool) or not isinstance(c, int) or c < 0:
+            raise ValueError("restitution(): cells must be cell indices (ints >= 0), not %r" % (c,))
+    if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 0:
+        raise TypeError("restitution(): jobs must be an int >= 0 (0: one per core), not %r" % (jobs,))
+    if not 0 < capture_fraction <= 1:
+        raise ValueError("restitution(): capture_fraction must be in (0, 1], not %r" % (capture_fraction,))
+    if not resolution_ms >= 0:
+        raise ValueError("restitution(): resolution_ms must be >= 0, not %r" % (resolution_ms,))
+    return _core.restitution(_manifest_source(manifest, "restitution(): manifest"),
+                             _assignments(set, "restitution(): set"), "" if out is None else os.fspath(out),
+                             [float(x) for x in intervals], chosen, float(resolution_ms), jobs,
+                             float(capture_fraction), overwrite, _executable(runner))

@@ -1,8 +1,9 @@
-// fibrodem._core.sweep, fibrodem._core.compare and
-// fibrodem._core.vulnerable_window: the study layer's sweep, A/B comparison
-// and vulnerable-window search (the engines of `fibrodem sweep`, `fibrodem
-// compare` and `fibrodem vulnerable-window`), run with the GIL released. The package (fibrodem/_study.py)
-// turns their dicts into SweepResult and Comparison.
+// fibrodem._core.sweep, compare, vulnerable_window and restitution: the
+// study layer's sweep, A/B comparison, vulnerable-window search and S1-S2
+// restitution (the engines of `fibrodem sweep`, `compare`,
+// `vulnerable-window` and `restitution`), run with the GIL released. The
+// package (fibrodem/_study.py) turns their dicts into SweepResult and
+// Comparison.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -16,6 +17,7 @@
 #include "run/interrupt.hpp"
 #include "scene/scene.hpp"
 #include "study/compare_variants.hpp"
+#include "study/restitution.hpp"
 #include "study/sweep.hpp"
 #include "study/vulnerable_window.hpp"
 
@@ -270,9 +272,48 @@ py::dict vulnerable_window(py::handle source, const py::list& overrides, const s
   return d;
 }
 
+// As `fibrodem restitution`; empty intervals: the default scan.
+py::dict restitution(py::handle source, const py::list& overrides, const std::string& out,
+                     const std::vector<double>& intervals_ms, const std::vector<int>& cells, double resolution_ms,
+                     unsigned jobs, double capture_fraction, bool overwrite, const std::string& executable) {
+  json manifest = manifest_of(source, "restitution(): manifest");
+  for (const auto& s : assignments(overrides, "restitution(): set")) apply_override(manifest, s);
+  RestitutionOptions options;
+  options.out = out.empty() ? default_restitution_dir(manifest) : std::filesystem::path(out);
+  options.intervals_ms = intervals_ms;
+  options.cells = cells;
+  options.erp_resolution_ms = resolution_ms;
+  options.jobs = jobs;
+  options.capture_fraction = capture_fraction;
+  options.overwrite = overwrite;
+  options.runner = point_runner(executable);
+  RestitutionResult result;
+  {
+    py::gil_scoped_release release;
+    result = run_restitution(manifest, options);
+  }
+  py::list points;
+  for (const auto& p : result.points) {
+    py::dict d;
+    d["interval_ms"] = p.interval_ms, d["captured"] = p.captured, d["cells_measured"] = p.cells_measured;
+    d["cells_captured"] = p.cells_captured, d["s1_apd90_ms"] = p.s1_apd90_ms, d["s2_apd90_ms"] = p.s2_apd90_ms;
+    d["s2_apd50_ms"] = p.s2_apd50_ms, d["di_ms"] = p.di_ms, d["stage"] = p.refinement ? "bisection" : "scan";
+    d["run"] = (options.out / p.run).string(), d["error"] = p.error, d["reused"] = p.reused;
+    points.append(d);
+  }
+  py::dict d;
+  d["out_dir"] = options.out.string();
+  d["points"] = points;
+  d["erp_ms"] = result.erp_ms ? py::object(py::float_(*result.erp_ms)) : py::object(py::none());
+  return d;
+}
+
 }  // namespace
 
 void bind_study(py::module_& m) {
+  m.def("restitution", &restitution, py::arg("manifest"), py::arg("overrides"), py::arg("out"),
+        py::arg("intervals_ms"), py::arg("cells"), py::arg("resolution_ms"), py::arg("jobs"),
+        py::arg("capture_fraction"), py::arg("overwrite"), py::arg("executable"));
   m.def("vulnerable_window", &vulnerable_window, py::arg("manifest"), py::arg("overrides"), py::arg("out"),
         py::arg("from_ms"), py::arg("to_ms"), py::arg("step_ms"), py::arg("resolution_ms"), py::arg("seeds"),
         py::arg("jobs"), py::arg("capture_fraction"), py::arg("overwrite"), py::arg("executable"));
