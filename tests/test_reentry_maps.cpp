@@ -1,0 +1,111 @@
+// Activation per beat, block per beat and cycle length on sampled V whose
+// activations are set by construction.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "measure/beat_activations.hpp"
+#include "measure/reentry.hpp"
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+// V of `cells` cells sampled every 1 ms from 0 to end_ms: at rest (-80 mV)
+// except +20 mV from each of its activation times for 100 ms (a square
+// action potential), so each activation is one upward crossing of -50 mV,
+// found by interpolation 0.3 ms after the sample before it.
+VoltageFrames square_waves(const std::vector<std::vector<double>>& activations, double end_ms) {
+  VoltageFrames frames(activations.size());
+  for (double t = 0; t <= end_ms; t += 1) {
+    std::vector<double> V(activations.size(), -80.0);
+    for (std::size_t c = 0; c < activations.size(); ++c)
+      for (double a : activations[c])
+        if (t >= a && t < a + 100) V[c] = 20.0;
+    frames.add(t, V);
+  }
+  return frames;
+}
+
+// The crossing the interpolation finds for an activation at a (not on a
+// sample): the sample before it + (-50 - -80) / (20 - -80) ms.
+double interpolated(double a) { return std::ceil(a) - 1 + 0.3; }
+
+// A row of 20 cells, a planar wave from cell 0 at each onset, 0.35 ms per
+// cell (offsets not on the 1 ms samples).
+constexpr std::size_t kRow = 20;
+double arrival(double onset_ms, std::size_t cell) { return onset_ms + 0.5 + 0.35 * cell; }
+
+}  // namespace
+
+TEST_CASE("a planar wave paced twice: two beats, none blocked, cycle length the pacing interval") {
+  const std::vector<double> onsets = {10, 310};
+  std::vector<std::vector<double>> set(kRow);
+  for (std::size_t c = 0; c < kRow; ++c)
+    for (double onset : onsets) set[c].push_back(arrival(onset, c));
+  const VoltageFrames frames = square_waves(set, 600);
+  const auto found = activation_times(frames, -50);
+  for (std::size_t c = 0; c < kRow; ++c) {
+    REQUIRE(found[c].size() == 2);
+    for (int k = 0; k < 2; ++k) CHECK(found[c][k] == doctest::Approx(interpolated(set[c][k])).epsilon(1e-12));
+  }
+  const BeatActivations beats = assign_beats(found, onsets, std::vector<bool>(kRow, true));
+  REQUIRE(beats.beats.size() == 2);
+  for (int b = 0; b < 2; ++b) {
+    const BeatMap& beat = beats.beats[b];
+    CHECK(beat.beat == b);
+    CHECK(beat.wave == 0);
+    CHECK(*beat.onset_ms == onsets[b]);
+    CHECK(beat.unreached_fraction() == 0.0);
+    // Each cell's time in the map is its constructed arrival, to within one 1 ms sample.
+    for (std::size_t c = 0; c < kRow; ++c) CHECK(std::abs(beat.activation_ms[c] - arrival(onsets[b], c)) < 1.0);
+  }
+  // The onsets are 300 ms apart, a whole number of samples: each cell's two
+  // crossings lie at the same offset from their samples, 300 ms apart.
+  const json s = beats_summary(beats);
+  CHECK(s["activation_cycle_length_ms"].get<double>() == doctest::Approx(300).epsilon(1e-12));
+  CHECK(s["cells_with_cycle_length"] == kRow);
+  CHECK(s["beats"][1]["first_activation_ms"].get<double>() == doctest::Approx(interpolated(arrival(310, 0))));
+  CHECK(s["beats"][1]["last_activation_ms"].get<double>() == doctest::Approx(interpolated(arrival(310, kRow - 1))));
+}
+
+TEST_CASE("a beat blocked beyond a line leaves the cells past it unreached, fibroblasts not counted") {
+  // The second wave stops before cell 15: 5 of the 20 myocytes (0.25) are
+  // not reached. Four fibroblasts (never activated) are not counted.
+  const std::vector<double> onsets = {10, 310};
+  std::vector<std::vector<double>> set(kRow + 4);
+  std::vector<bool> myocyte(kRow + 4, false);
+  for (std::size_t c = 0; c < kRow; ++c) {
+    myocyte[c] = true;
+    set[c].push_back(arrival(10, c));
+    if (c < 15) set[c].push_back(arrival(310, c));
+  }
+  const BeatActivations beats = assign_beats(activation_times(square_waves(set, 600), -50), onsets, myocyte);
+  REQUIRE(beats.beats.size() == 2);
+  CHECK(beats.beats[0].unreached_fraction() == 0.0);
+  CHECK(beats.beats[1].counted == kRow);
+  CHECK(beats.beats[1].reached == 15);
+  CHECK(beats.beats[1].unreached_fraction() == 0.25);
+  CHECK(std::isnan(beats.beats[1].activation_ms[17]));
+  const json s = beats_summary(beats);
+  CHECK(s["cells_with_cycle_length"] == 15);  // one activation only: no interval
+}
+
+TEST_CASE("activations after the last stimulus without one are later waves of its beat") {
+  // One stimulus at 10 ms; cells 0-9 are re-excited 200 ms after their first
+  // activation (a re-entrant wave), cells 10-19 are not: beat 1 is the
+  // window's wave 1, reaching half of the cells; those cells' cycle length
+  // is 200 ms.
+  std::vector<std::vector<double>> set(kRow);
+  for (std::size_t c = 0; c < kRow; ++c) {
+    set[c].push_back(arrival(10, c));
+    if (c < 10) set[c].push_back(arrival(210, c));
+  }
+  const BeatActivations beats = assign_beats(activation_times(square_waves(set, 600), -50), {10}, std::vector<bool>(kRow, true));
+  REQUIRE(beats.beats.size() == 2);
+  CHECK(beats.beats[1].wave == 1);
+  CHECK(*beats.beats[1].onset_ms == 10);
+  CHECK(beats.beats[1].unreached_fraction() == 0.5);
+  CHECK(beats_summary(beats)["activation_cycle_length_ms"].get<double>() == doctest::Approx(200).epsilon(1e-12));
+}
