@@ -1,16 +1,28 @@
 // Activation per beat, block per beat and cycle length on sampled V whose
-// activations are set by construction.
+// activations are set by construction; the frames of report.html's snapshot
+// animation.
 #include <doctest/doctest.h>
 
+#include <cairo.h>
+
 #include <cmath>
+#include <fstream>
 
 #include "measure/beat_activations.hpp"
 #include "measure/reentry.hpp"
+#include "report/run_report.hpp"
+#include "report/snapshot_frames.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
 
 namespace {
+
+std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
 
 // V of `cells` cells sampled every 1 ms from 0 to end_ms: at rest (-80 mV)
 // except +20 mV from each of its activation times for 100 ms (a square
@@ -108,4 +120,44 @@ TEST_CASE("activations after the last stimulus without one are later waves of it
   CHECK(*beats.beats[1].onset_ms == 10);
   CHECK(beats.beats[1].unreached_fraction() == 0.5);
   CHECK(beats_summary(beats)["activation_cycle_length_ms"].get<double>() == doctest::Approx(200).epsilon(1e-12));
+}
+
+TEST_CASE("the animation's frames: at most 60, spread evenly with both ends, scaled to the page's width") {
+  const auto picked = evenly_spread(101, 60);
+  REQUIRE(picked.size() == 60);
+  CHECK(picked.front() == 0);
+  CHECK(picked.back() == 100);
+  for (std::size_t k = 1; k < picked.size(); ++k) CHECK(picked[k] > picked[k - 1]);
+  CHECK(evenly_spread(5, 60).size() == 5);
+
+  // A folder of 101 snapshots 1600 x 1000 px (plain grey), as a run leaves them.
+  const auto dir = testing::scratch_dir("reentry_maps_animation");
+  cairo_surface_t* image = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1600, 1000);
+  cairo_t* cr = cairo_create(image);
+  cairo_set_source_rgb(cr, 0.5, 0.5, 0.5);
+  cairo_paint(cr);
+  cairo_destroy(cr);
+  for (int t = 0; t <= 100; ++t) {
+    char name[64];
+    std::snprintf(name, sizeof name, "snapshot_%09.3f_ms.png", static_cast<double>(t));
+    REQUIRE(cairo_surface_write_to_png(image, (dir / name).c_str()) == CAIRO_STATUS_SUCCESS);
+  }
+  cairo_surface_destroy(image);
+  // Width and height from the PNG's IHDR chunk (bytes 16-23, big-endian).
+  const std::string small = png_at_most_wide(dir / "snapshot_00000.000_ms.png", kAnimationWidthPx);
+  REQUIRE(small.size() > 24);
+  auto be32 = [&](std::size_t at) {
+    return (unsigned(static_cast<unsigned char>(small[at])) << 24) | (unsigned(static_cast<unsigned char>(small[at + 1])) << 16) |
+           (unsigned(static_cast<unsigned char>(small[at + 2])) << 8) | unsigned(static_cast<unsigned char>(small[at + 3]));
+  };
+  CHECK(be32(16) == 720u);
+  CHECK(be32(20) == 450u);  // 1000 x 720 / 1600
+
+  const std::string page = testing::read_file(write_run_report(dir));
+  CHECK(occurrences(page, "<img alt=\"t = ") == 60);
+  CHECK(page.find("Membrane potential (60 of 101 snapshots)") != std::string::npos);
+  CHECK(page.find("<img alt=\"t = 0.000 ms\"") != std::string::npos);
+  CHECK(page.find("<img alt=\"t = 100.000 ms\"") != std::string::npos);
+  CHECK(occurrences(page, "onclick=\"fibrodemPlay(") == 1);
+  CHECK(page.find("function fibrodemPlay(") != std::string::npos);
 }

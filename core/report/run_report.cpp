@@ -14,6 +14,7 @@
 #include "report/singularity_panel.hpp"
 #include "report/biomarker_spread.hpp"
 #include "report/html_document.hpp"
+#include "report/snapshot_frames.hpp"
 #include "report/trace_panels.hpp"
 #include "util/json_reader.hpp"
 
@@ -306,7 +307,15 @@ void pictures_section(HtmlDocument& page, const fs::path& dir) {
   if (tissue) page.png_figure("Tissue by cell type", dir / "tissue.png");
   if (activation) page.png_figure("Activation map (last beat)", dir / "activation_map.png");
   page.end_row();
-  if (!snapshots.empty()) page.png_slider("Membrane potential", snapshots);
+  // At most kMostAnimationFrames of them, scaled down: the page stays small at any tissue size.
+  if (!snapshots.empty()) {
+    const auto frames = animation_frames(snapshots);
+    page.png_animation("Membrane potential" + (frames.size() < snapshots.size()
+                                                   ? " (" + std::to_string(frames.size()) + " of " +
+                                                         std::to_string(snapshots.size()) + " snapshots)"
+                                                   : std::string()),
+                       frames);
+  }
 }
 
 }  // namespace
