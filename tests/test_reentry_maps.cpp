@@ -1,6 +1,6 @@
 // Activation per beat, block per beat and cycle length on sampled V whose
 // activations are set by construction; the frames of report.html's snapshot
-// animation.
+// animation; the vulnerable-window search's report page.
 #include <doctest/doctest.h>
 
 #include <cairo.h>
@@ -12,6 +12,7 @@
 #include "measure/reentry.hpp"
 #include "report/run_report.hpp"
 #include "report/snapshot_frames.hpp"
+#include "report/vulnerable_window_report.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -160,4 +161,31 @@ TEST_CASE("the animation's frames: at most 60, spread evenly with both ends, sca
   CHECK(page.find("<img alt=\"t = 100.000 ms\"") != std::string::npos);
   CHECK(occurrences(page, "onclick=\"fibrodemPlay(") == 1);
   CHECK(page.find("function fibrodemPlay(") != std::string::npos);
+}
+
+TEST_CASE("the vulnerable-window report shows the bisected window and every interval, induced or not") {
+  // A folder as run_vulnerable_window leaves it: four scanned intervals, two
+  // of the bisection, one window [164, 219] ms.
+  const auto dir = testing::scratch_dir("reentry_maps_window_report");
+  std::ofstream(dir / "vulnerable_window.json") << R"({"scan": {"from_ms": 140, "to_ms": 240, "step_ms": 40,
+    "resolution_ms": 1}, "s1_last_onset_ms": 10, "capture_fraction": 0.5, "runs": 5, "failed": 0,
+    "overall": [{"lower_ms": 164, "upper_ms": 219, "open_below": false, "open_above": false}],
+    "per_seed": [{"seed": 1, "windows": [{"lower_ms": 164, "upper_ms": 219, "open_below": false, "open_above": false}]}]})";
+  std::ofstream(dir / "vulnerable_window.csv") << "interval_ms,seed,outcome,duration_ms,ps_max,stage,run\n"
+                                                  "140,1,no_capture,0,0,scan,runs/ci_140ms_seed_1\n"
+                                                  "163,1,no_capture,0,0,bisection,runs/ci_163ms_seed_1\n"
+                                                  "164,1,reentry,300,4,bisection,runs/ci_164ms_seed_1\n"
+                                                  "180,1,reentry,300,5,scan,runs/ci_180ms_seed_1\n"
+                                                  "220,1,no_reentry,190,0,scan,runs/ci_220ms_seed_1\n";
+  CHECK(is_vulnerable_window_folder(dir));
+  const std::string page = testing::read_file(write_vulnerable_window_report(dir));
+  CHECK(page.find("<li>[164, 219] ms</li>") != std::string::npos);
+  CHECK(page.find("<th>induced</th>") != std::string::npos);
+  // One "yes" per re-entry row, one "no" per other row (the table's cells).
+  CHECK(occurrences(page, "<td>yes</td>") == 2);
+  CHECK(occurrences(page, "<td>no</td>") == 3);
+  CHECK(occurrences(page, "/report.html\">runs/ci_") == 5);
+  CHECK(!is_vulnerable_window_folder(dir / "nowhere"));
+  CHECK_THROWS_WITH_AS(write_vulnerable_window_report(dir / "nowhere"),
+                       doctest::Contains("vulnerable_window.json"), std::runtime_error);
 }

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "io/plot_png.hpp"
+#include "report/vulnerable_window_report.hpp"
 #include "scene/scene.hpp"
 #include "util/manifest_error.hpp"
 
@@ -410,6 +411,7 @@ VulnerableWindowResult run_vulnerable_window(json manifest, VulnerableWindowOpti
   write_table(result.search, options.out / "vulnerable_window.csv");
   std::ofstream(options.out / "vulnerable_window.json") << search_json(runs, result).dump(2) << "\n";
   write_plot(result.search, options.out / "vulnerable_window.png");
+  write_vulnerable_window_report(options.out);
   return result;
 }
 
