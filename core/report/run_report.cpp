@@ -258,7 +258,8 @@ void beats_section(HtmlDocument& page, const fs::path& dir, const json& reentry)
   }
   page.begin_row();
   page.png_figure("Dominant frequency per cell (Hz)", dir / "dominant_frequency_map.png");
-  if (!maps.empty()) page.png_slider("Activation map per beat", maps);
+  // Narrower than the snapshots: full-colour maps, up to kMostBeatMaps of them.
+  if (!maps.empty()) page.png_animation("Activation map per beat", animation_frames(maps, kMostAnimationFrames, 480));
   page.end_row();
 }
 

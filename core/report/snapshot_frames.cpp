@@ -7,6 +7,8 @@
 #include <memory>
 #include <sstream>
 
+#include "io/png_file.hpp"
+
 namespace fibrodem {
 
 std::vector<std::size_t> evenly_spread(std::size_t n, std::size_t most) {
@@ -32,10 +34,6 @@ std::string file_bytes(const std::filesystem::path& file) {
   return in ? bytes.str() : std::string();
 }
 
-cairo_status_t append_to_string(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
 }  // namespace
 
 std::string png_at_most_wide(const std::filesystem::path& png, int max_width_px) {
@@ -45,16 +43,20 @@ std::string png_at_most_wide(const std::filesystem::path& png, int max_width_px)
   if (width <= max_width_px) return file_bytes(png);
   const double scale = static_cast<double>(max_width_px) / width;
   const int small_height = std::max(1, static_cast<int>(std::lround(height * scale)));
-  Surface small(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, max_width_px, small_height), cairo_surface_destroy);
+  Surface small(cairo_image_surface_create(CAIRO_FORMAT_RGB24, max_width_px, small_height), cairo_surface_destroy);
   cairo_t* cr = cairo_create(small.get());
   cairo_scale(cr, scale, scale);
   cairo_set_source_surface(cr, image.get(), 0, 0);
-  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_GOOD);
+  // Nearest pixel: no blended colours, so every colour is still one of the
+  // colour bar's and a snapshot keeps its palette (a small PNG).
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
   cairo_paint(cr);
   cairo_destroy(cr);
-  std::string bytes;
-  if (cairo_surface_write_to_png_stream(small.get(), append_to_string, &bytes) != CAIRO_STATUS_SUCCESS) return {};
-  return bytes;
+  try {
+    return png_bytes(small.get());
+  } catch (const std::exception&) {
+    return {};
+  }
 }
 
 std::vector<std::pair<std::string, std::string>> animation_frames(

@@ -19,7 +19,7 @@ inline constexpr int kAnimationWidthPx = 720;
 // of them when n <= most), increasing.
 std::vector<std::size_t> evenly_spread(std::size_t n, std::size_t most);
 
-// The PNG file's bytes, scaled down (Cairo's "good" filter) to at most
+// The PNG file's bytes, scaled down (nearest pixel) to at most
 // `max_width_px` wide if it is wider; empty if it cannot be read.
 std::string png_at_most_wide(const std::filesystem::path& png, int max_width_px);
 

@@ -13,6 +13,16 @@ namespace fibrodem {
 std::string beat_map_name(int beat) { return fmt::format("activation_beat_{:03d}.png", beat); }
 
 namespace {
+// Without antialiasing a map has at most 256 colours and is written as a
+// palette PNG, a fraction of the size (as the snapshots).
+PictureOptions map_picture(const std::string& value_label, const std::string& title) {
+  PictureOptions picture;
+  picture.value_label = value_label;
+  picture.title = title;
+  picture.antialias = false;
+  return picture;
+}
+
 std::string beat_title(const std::string& scene_name, const BeatMap& beat) {
   const std::string onset = beat.onset_ms ? fmt::format("stimulus at {:g} ms", *beat.onset_ms) : "before any stimulus";
   const std::string wave = beat.wave == 0 ? "" : fmt::format(", re-excitation {}", beat.wave);
@@ -25,10 +35,8 @@ std::size_t write_reentry_maps(const std::filesystem::path& dir, const std::stri
                                const ReentryMaps& maps, const std::string& vtk_format) {
   CellFields fields;
   if (maps.dominant_frequency_hz.size() == tissue.cell_count()) {
-    PictureOptions picture;
-    picture.value_label = "dominant frequency (Hz)";
-    picture.title = scene_name + ": dominant frequency per cell";
-    write_tissue_png(tissue, dir / "dominant_frequency_map.png", &maps.dominant_frequency_hz, picture);
+    write_tissue_png(tissue, dir / "dominant_frequency_map.png", &maps.dominant_frequency_hz,
+                     map_picture("dominant frequency (Hz)", scene_name + ": dominant frequency per cell"));
     fields.emplace_back("dominant_frequency_hz", maps.dominant_frequency_hz);
   }
   fields.emplace_back("cycle_length_ms", maps.beats.cycle_length_ms);
@@ -36,10 +44,8 @@ std::size_t write_reentry_maps(const std::filesystem::path& dir, const std::stri
   for (std::size_t k = 0; k < drawn; ++k) {
     const BeatMap& beat = maps.beats.beats[k];
     std::vector<double> activation(beat.activation_ms.begin(), beat.activation_ms.end());
-    PictureOptions picture;
-    picture.value_label = "activation (ms)";
-    picture.title = beat_title(scene_name, beat);
-    write_tissue_png(tissue, dir / beat_map_name(beat.beat), &activation, picture);
+    write_tissue_png(tissue, dir / beat_map_name(beat.beat), &activation,
+                     map_picture("activation (ms)", beat_title(scene_name, beat)));
     fields.emplace_back(fmt::format("activation_beat_{}_ms", beat.beat), std::move(activation));
   }
   if (vtk_format == "xml") write_tissue_vtp(tissue, dir / "reentry_maps.vtp", fields, false);
