@@ -177,6 +177,12 @@ TEST_CASE("the vulnerable-window report shows the bisected window and every inte
                                                   "164,1,reentry,300,4,bisection,runs/ci_164ms_seed_1\n"
                                                   "180,1,reentry,300,5,scan,runs/ci_180ms_seed_1\n"
                                                   "220,1,no_reentry,190,0,scan,runs/ci_220ms_seed_1\n";
+  // Two runs' folders: one with its report, one with its summary only; the
+  // other three are missing (no link).
+  std::filesystem::create_directories(dir / "runs" / "ci_164ms_seed_1");
+  std::filesystem::create_directories(dir / "runs" / "ci_180ms_seed_1");
+  std::ofstream(dir / "runs" / "ci_164ms_seed_1" / "report.html") << "<html></html>";
+  std::ofstream(dir / "runs" / "ci_180ms_seed_1" / "summary.json") << "{}";
   CHECK(is_vulnerable_window_folder(dir));
   const std::string page = testing::read_file(write_vulnerable_window_report(dir));
   CHECK(page.find("<li>[164, 219] ms</li>") != std::string::npos);
@@ -184,7 +190,9 @@ TEST_CASE("the vulnerable-window report shows the bisected window and every inte
   // One "yes" per re-entry row, one "no" per other row (the table's cells).
   CHECK(occurrences(page, "<td>yes</td>") == 2);
   CHECK(occurrences(page, "<td>no</td>") == 3);
-  CHECK(occurrences(page, "/report.html\">runs/ci_") == 5);
+  CHECK(occurrences(page, "<a href=\"runs/ci_") == 2);
+  CHECK(page.find("<a href=\"runs/ci_164ms_seed_1/report.html\">") != std::string::npos);
+  CHECK(page.find("<a href=\"runs/ci_180ms_seed_1/summary.json\">") != std::string::npos);
   CHECK(!is_vulnerable_window_folder(dir / "nowhere"));
   CHECK_THROWS_WITH_AS(write_vulnerable_window_report(dir / "nowhere"),
                        doctest::Contains("vulnerable_window.json"), std::runtime_error);

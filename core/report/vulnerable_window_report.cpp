@@ -60,7 +60,8 @@ void windows_section(HtmlDocument& page, const json& search) {
   page.table({"seed", "lower (ms)", "upper (ms)", "remark"}, rows);
 }
 
-// Every run, in interval order per seed (vulnerable_window.csv), with whether S2 induced re-entry.
+// Every run, in interval order per seed (vulnerable_window.csv), with
+// whether S2 induced re-entry, and links to the runs' folders.
 void runs_section(HtmlDocument& page, const fs::path& dir) {
   page.heading(2, "S2 at each coupling interval", "runs");
   const auto table = read_csv_table(dir / "vulnerable_window.csv");
@@ -77,12 +78,16 @@ void runs_section(HtmlDocument& page, const fs::path& dir) {
   for (const auto& row : table->rows) {
     rows.push_back(row);
     rows.back().insert(rows.back().begin() + static_cast<long>(*outcome) + 1, row[*outcome] == "reentry" ? "yes" : "no");
-    if (!row[*run].empty())
-      links += (links.empty() ? "" : ", ") + std::string("<a href=\"") + html_escape(row[*run]) + "/report.html\">" +
-               html_escape(row[*run]) + "</a>";
+    // Its report.html where the run wrote one (the search's runs write none by default), else its summary.json.
+    for (const char* file : {"report.html", "summary.json"}) {
+      if (row[*run].empty() || !fs::exists(dir / row[*run] / file)) continue;
+      links += (links.empty() ? "" : ", ") + std::string("<a href=\"") + html_escape(row[*run]) + "/" + file +
+               "\">" + html_escape(row[*run]) + "</a>";
+      break;
+    }
   }
   page.table(header, rows);
-  if (!links.empty()) page.raw("<p>Each run's own report: " + links + "</p>\n");
+  if (!links.empty()) page.raw("<p>Each run: " + links + "</p>\n");
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // report.html of a vulnerable-window search's folder (`fibrodem
 // vulnerable-window`, docs/arrhythmia.md): the windows found (bisected
 // bounds per seed and over the seeds), the outcome of S2 at every interval
-// run (induced or not), the search's plot and links to each run's report.
+// run (induced or not), the search's plot and links to each run (its report.html, else its
+// summary.json).
 // Written from the folder's files alone (vulnerable_window.json, .csv, .png),
 // as a run's report is from its own.
 #pragma once
