@@ -1,6 +1,7 @@
 // Activation per beat, block per beat and cycle length on sampled V whose
 // activations are set by construction; the frames of report.html's snapshot
-// animation; the vulnerable-window search's report page.
+// animation; the vulnerable-window search's report page; the bound on the
+// maps a long run writes.
 #include <doctest/doctest.h>
 
 #include <cairo.h>
@@ -13,6 +14,7 @@
 #include "report/run_report.hpp"
 #include "report/snapshot_frames.hpp"
 #include "report/vulnerable_window_report.hpp"
+#include "run/reentry_maps.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -196,4 +198,37 @@ TEST_CASE("the vulnerable-window report shows the bisected window and every inte
   CHECK(!is_vulnerable_window_folder(dir / "nowhere"));
   CHECK_THROWS_WITH_AS(write_vulnerable_window_report(dir / "nowhere"),
                        doctest::Contains("vulnerable_window.json"), std::runtime_error);
+}
+
+TEST_CASE("a long run's maps stay bounded: the first 24 beats drawn, every beat in the VTK file's fields drawn") {
+  // 30 beats on 2 x 2 cells: 24 pictures (kMostBeatMaps), the 25th not;
+  // the VTK file holds the dominant frequency, the cycle length and the 24
+  // beats' activation times (26 fields).
+  Tissue tissue;
+  for (int c = 0; c < 4; ++c) tissue.add_cell(CellType::myocyte, 100.0 * (c % 2), 100.0 * (c / 2));
+  tissue.finalise();
+  ReentryMaps maps;
+  maps.dominant_frequency_hz = {5, 5, 6, 6};
+  maps.beats.cycle_length_ms = {200, 200, 200, 200};
+  for (int b = 0; b < 30; ++b) {
+    BeatMap beat;
+    beat.beat = b;
+    beat.onset_ms = 10.0;
+    beat.wave = b;
+    beat.activation_ms = {float(200 * b), float(200 * b + 1), float(200 * b + 2), float(200 * b + 3)};
+    beat.counted = beat.reached = 4;
+    maps.beats.beats.push_back(beat);
+  }
+  const auto dir = testing::scratch_dir("reentry_maps_bounded");
+  CHECK(write_reentry_maps(dir, "row", tissue, maps, "legacy") == kMostBeatMaps);
+  CHECK(kMostBeatMaps == 24);
+  CHECK(std::filesystem::exists(dir / "dominant_frequency_map.png"));
+  CHECK(std::filesystem::exists(dir / beat_map_name(23)));
+  CHECK(!std::filesystem::exists(dir / beat_map_name(24)));
+  CHECK(beat_map_name(7) == "activation_beat_007.png");
+  const std::string vtk = testing::read_file(dir / "reentry_maps.vtk");
+  CHECK(occurrences(vtk, "activation_beat_") == 24);
+  CHECK(vtk.find("activation_beat_23_ms") != std::string::npos);
+  CHECK(vtk.find("dominant_frequency_hz") != std::string::npos);
+  CHECK(vtk.find("cycle_length_ms") != std::string::npos);
 }
