@@ -11,6 +11,7 @@
 
 #include "apps/commands.hpp"
 #include "report/run_report.hpp"
+#include "report/vulnerable_window_report.hpp"
 #include "run/interrupt.hpp"
 #include "run/simulation.hpp"
 
@@ -109,6 +110,10 @@ int report_command(const ReportArgs& args) {
                                          "same command again: completed runs are kept, not run again)");
     if (std::filesystem::exists(dir / "comparison.csv"))
       throw ManifestError("", args.dir + " is a comparison's folder: `fibrodem compare` writes its report.html");
+    if (is_vulnerable_window_folder(dir)) {
+      std::cout << "report: " << write_vulnerable_window_report(dir).string() << "\n";
+      return 0;
+    }
     if (!std::filesystem::exists(dir / "summary.json") && !std::filesystem::exists(dir / "run.log"))
       throw ManifestError("", args.dir + " holds no run (neither summary.json nor run.log)");
     std::cout << "report: " << write_run_report(dir).string() << "\n";

@@ -70,7 +70,7 @@ int vulnerable_window_command(const VulnerableWindowArgs& args) {
     if (result.search.per_seed.size() > 1) print_windows("any seed", result.search.overall);
     std::cout << result.search.results.size() << " runs (" << result.reused << " kept from before)\n"
               << "outputs: " << options.out.string()
-              << "/{vulnerable_window.csv,vulnerable_window.json,vulnerable_window.png,runs/}\n";
+              << "/{report.html,vulnerable_window.csv,vulnerable_window.json,vulnerable_window.png,runs/}\n";
     const bool failed = std::any_of(result.search.results.begin(), result.search.results.end(),
                                     [](const S2Result& r) { return r.outcome == S2Outcome::failed; });
     return failed ? 4 : 0;

@@ -258,10 +258,69 @@ TEST_CASE("a run with output.reentry: a planar wave has no phase singularity and
   REQUIRE(r["unreached_fraction_per_beat"].size() == 2);
   for (const auto& beat : r["unreached_fraction_per_beat"]) CHECK(beat["fraction"] == 0.0);
   CHECK(r["cells_in_spectrum"] == s["cells"]["myocyte"]);
-  // report.html shows the section, and says that there is nothing to draw.
+  // Activation per beat: two beats (the two stimuli), each reaching every
+  // myocyte; each cell's cycle length is the pacing interval, 400 ms, to
+  // within one 1 ms sample (the second wave crosses the 1 mm sheet as fast
+  // as the first within far less than that, both under 10 ms).
+  REQUIRE(r["beats"].size() == 2);
+  for (int b = 0; b < 2; ++b) {
+    CHECK(r["beats"][b]["wave"] == 0);
+    CHECK(r["beats"][b]["onset_ms"] == 10.0 + 400 * b);
+    CHECK(r["beats"][b]["unreached_fraction"] == 0.0);
+    CHECK(r["beats"][b]["counted"] == s["cells"]["myocyte"]);
+  }
+  CHECK(std::abs(r["activation_cycle_length_ms"].get<double>() - 400) <= 1.0);
+  CHECK(r["cells_with_cycle_length"] == s["cells"]["myocyte"]);
+  CHECK(r["beat_maps_drawn"] == 2);
+  for (const char* file : {"activation_beat_000.png", "activation_beat_001.png", "dominant_frequency_map.png",
+                           "reentry_maps.vtk"})
+    CHECK(std::filesystem::exists(dir / file));
+  // report.html shows the section, the maps, and says that there is no PS to draw.
   const std::string page = testing::read_file(write_run_report(dir));
   CHECK(page.find("Re-entry") != std::string::npos);
   CHECK(page.find("No phase singularity in phase_singularities.csv.") != std::string::npos);
+  CHECK(page.find("<figcaption>Dominant frequency per cell (Hz)</figcaption><img") != std::string::npos);
+  CHECK(page.find("Activation map per beat") != std::string::npos);
+  CHECK(page.find("<img alt=\"beat 1, 0 not reached\"") != std::string::npos);
+}
+
+TEST_CASE("a run with output.reentry: a beat given to a region of uncoupled cells reaches that region alone") {
+  // Without gap junctions (D_m_nS 0) a wave cannot spread: the first pulse,
+  // over the whole sheet, excites every myocyte; the second, 400 ms later
+  // (recovered), only those whose centre lies at y <= 0.2 mm. The expected
+  // unreached fraction of beat 1 is counted from the tissue's own cell
+  // coordinates, independently of the measure.
+  const auto dir = testing::scratch_dir("reentry_uncoupled_region");
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "uncoupled", "seed": 1, "duration_ms": 500,
+    "tissue": {"builder": "in_series", "width_mm": 0.3, "height_mm": 1.0, "fm_ratio": 0},
+    "cells": {"myocyte": {"model": "colman"}},
+    "coupling": {"D_m_nS": 0},
+    "stimulus": [{"target": "myocyte", "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000},
+                 {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2},
+                  "start_ms": 410, "duration_ms": 2, "amplitude_pA": 4000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.02},
+    "output": {"reentry": {"every_ms": 1, "tau_ms": 10}, "report": false}
+  })");
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  sim.run();
+  const Tissue& tissue = sim.tissue();
+  std::size_t myocytes = 0, in_region = 0;
+  for (std::size_t c = 0; c < tissue.cell_count(); ++c) {
+    if (tissue.type[c] != CellType::myocyte) continue;
+    ++myocytes;
+    in_region += tissue.y_um[c] <= 200.0;
+  }
+  REQUIRE(in_region > 0);
+  REQUIRE(in_region < myocytes);
+  const json r = sim.summary()["reentry"];
+  CAPTURE(r["beats"].dump());
+  REQUIRE(r["beats"].size() == 2);
+  CHECK(r["beats"][0]["unreached_fraction"] == 0.0);
+  CHECK(r["beats"][1]["reached"] == in_region);
+  CHECK(r["beats"][1]["unreached_fraction"].get<double>() ==
+        doctest::Approx(1.0 - static_cast<double>(in_region) / myocytes).epsilon(1e-12));
 }
 
 TEST_CASE("a run with output.reentry: a beat inside the refractory period is blocked") {

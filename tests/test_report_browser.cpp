@@ -22,6 +22,7 @@
 #include <set>
 
 #include "support/scenes.hpp"
+#include "report/snapshot_frames.hpp"
 
 using namespace fibrodem;
 
@@ -192,6 +193,15 @@ std::size_t pictures_in(const std::filesystem::path& dir) {
   return n;
 }
 
+// The pictures the report embeds: every PNG of the folder, but at most
+// kMostAnimationFrames of the snapshots (the animation's frames).
+std::size_t pictures_shown(const std::filesystem::path& dir) {
+  std::size_t snapshots = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    snapshots += entry.path().extension() == ".png" && entry.path().filename().string().rfind("snapshot_", 0) == 0;
+  return pictures_in(dir) - snapshots + std::min(snapshots, kMostAnimationFrames);
+}
+
 int run(const std::string& command) { return WEXITSTATUS(std::system((command + " > /dev/null 2>&1").c_str())); }
 
 }  // namespace
@@ -238,14 +248,14 @@ TEST_CASE("report.html of an interrupted run, and of a folder without summary.js
   const std::size_t histograms = page.find("<figcaption>Biomarker histograms") != std::string::npos;
   // Every picture written before the signal: tissue, map, the snapshots.
   REQUIRE(pictures_in(out) >= 3);
-  check_drawn(view, histograms + 2, pictures_in(out), {"V", "dt_ms", "Tissue by cell type", "Membrane potential"}, "fibrodem run: report_tissue");
+  check_drawn(view, histograms + 2, pictures_shown(out), {"V", "dt_ms", "Tissue by cell type", "Membrane potential"}, "fibrodem run: report_tissue");
 
   // Killed before summary.json was written: the report says so, and shows
   // what is there.
   std::filesystem::remove(out / "summary.json");
   REQUIRE(run(kFibrodem + " report " + out.string()) == 0);
   CHECK(testing::read_file(out / "report.html").find("no summary.json") != std::string::npos);
-  check_drawn(open_in_browser(browser, out / "report.html"), histograms + 2, pictures_in(out), {"V", "dt_ms"}, "fibrodem run: out");
+  check_drawn(open_in_browser(browser, out / "report.html"), histograms + 2, pictures_shown(out), {"V", "dt_ms"}, "fibrodem run: out");
 }
 
 TEST_CASE("sweep/report.html opens in a browser with the metrics plotted against the grid") {
@@ -282,4 +292,30 @@ TEST_CASE("compare/report.html opens in a browser with A and B side by side") {
   // pictures: tissue and activation map of A and of B.
   check_drawn(open_in_browser(browser, dir / "out" / "report.html"), 4, 4,
               {"V_0", "V_2", "dt_ms", "A", "B"}, "fibrodem compare: A and B");
+}
+
+TEST_CASE("report.html of a run with output.reentry opens in a browser with its maps and the animation") {
+  const std::string browser = chromium();
+  if (browser.empty()) {
+    std::puts(kSkipMessage);
+    return;
+  }
+  const auto dir = testing::scratch_dir("report_browser_reentry");
+  json m = small_tissue_manifest();
+  m["output"]["reentry"] = {{"every_ms", 1}, {"tau_ms", 10}};
+  m["duration_ms"] = 60;  // a beat that spreads: the whole sheet stimulated
+  m["stimulus"][0]["target"] = "myocyte";
+  m["stimulus"][0]["amplitude_pA"] = 6000;
+  std::ofstream(dir / "m.json") << m.dump();
+  REQUIRE(run(kFibrodem + " run --quiet " + (dir / "m.json").string() + " --out " + (dir / "out").string()) == 0);
+  const std::string page = testing::read_file(dir / "out" / "report.html");
+  CHECK(page.find("onclick=\"fibrodemPlay(") != std::string::npos);
+  // Plots: histograms, V, dt_ms, and the PS trajectories if any. Pictures:
+  // every PNG of the folder (tissue, activation map, 6 snapshots, the
+  // dominant-frequency map, one map per beat).
+  const std::size_t ps_plot = page.find("No phase singularity") == std::string::npos;
+  REQUIRE(std::filesystem::exists(dir / "out" / "dominant_frequency_map.png"));
+  check_drawn(open_in_browser(browser, dir / "out" / "report.html"), 3 + ps_plot, pictures_shown(dir / "out"),
+              {"Dominant frequency per cell", "Activation map per beat", "Membrane potential"},
+              "fibrodem run: report_tissue");
 }

@@ -172,7 +172,7 @@ TEST_CASE("on a small strand, the bisection finds the boundary a 1 ms scan finds
   for (const auto& r : found.search.results) outcome[r.probe.interval_ms] = r.outcome;
   CHECK(outcome.at(120) == S2Outcome::no_capture);
   CHECK(outcome.at(200) == S2Outcome::no_reentry);
-  for (const char* file : {"vulnerable_window.csv", "vulnerable_window.json", "vulnerable_window.png"})
+  for (const char* file : {"vulnerable_window.csv", "vulnerable_window.json", "vulnerable_window.png", "report.html"})
     CHECK(std::filesystem::exists(options.out / file));
   const json j = json::parse(testing::read_file(options.out / "vulnerable_window.json"));
   CHECK(j["per_seed"][0]["windows"][0]["upper_ms"] == upper);

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace fibrodem {
@@ -50,7 +51,14 @@ bool palette_of(const unsigned char* data, int width, int height, int stride,
 
 }  // namespace
 
-void write_png_file(cairo_surface_t* image, const std::filesystem::path& file) {
+namespace {
+void append_bytes(png_structp png, png_bytep data, png_size_t length) {
+  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), length);
+}
+void flush_nothing(png_structp) {}
+
+// Into `out` if given, else appended to `bytes`; `file` names it in errors.
+void encode_png(cairo_surface_t* image, const std::filesystem::path& file, FILE* out_file, std::string* bytes) {
   cairo_surface_flush(image);
   const int width = cairo_image_surface_get_width(image), height = cairo_image_surface_get_height(image);
   const int stride = cairo_image_surface_get_stride(image);
@@ -58,8 +66,6 @@ void write_png_file(cairo_surface_t* image, const std::filesystem::path& file) {
   if (data == nullptr || cairo_image_surface_get_format(image) != CAIRO_FORMAT_RGB24)
     throw std::runtime_error("write_png_file: expected an RGB24 image surface for " + file.string());
 
-  std::unique_ptr<FILE, decltype(&std::fclose)> out(std::fopen(file.c_str(), "wb"), &std::fclose);
-  if (!out) throw std::runtime_error("cannot write " + file.string());
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (info == nullptr) {
@@ -82,7 +88,8 @@ void write_png_file(cairo_surface_t* image, const std::filesystem::path& file) {
     throw std::runtime_error("cannot write " + file.string());
   }
   {
-    png_init_io(png, out.get());
+    if (out_file) png_init_io(png, out_file);
+    else png_set_write_fn(png, bytes, append_bytes, flush_nothing);
     // Flat colours: the "sub" filter turns runs into zeros, which run-length
     // coding packs at memory speed.
     // (Indices are no quantities: unfiltered, as the PNG spec advises.)
@@ -108,7 +115,20 @@ void write_png_file(cairo_surface_t* image, const std::filesystem::path& file) {
     png_write_end(png, nullptr);
   }
   png_destroy_write_struct(&png, &info);
+}
+}  // namespace
+
+void write_png_file(cairo_surface_t* image, const std::filesystem::path& file) {
+  std::unique_ptr<FILE, decltype(&std::fclose)> out(std::fopen(file.c_str(), "wb"), &std::fclose);
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+  encode_png(image, file, out.get(), nullptr);
   if (std::fflush(out.get()) != 0) throw std::runtime_error("cannot write " + file.string());
+}
+
+std::string png_bytes(cairo_surface_t* image) {
+  std::string bytes;
+  encode_png(image, "a PNG in memory", nullptr, &bytes);
+  return bytes;
 }
 
 }  // namespace fibrodem

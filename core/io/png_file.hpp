@@ -7,10 +7,14 @@
 #include <cairo.h>
 
 #include <filesystem>
+#include <string>
 
 namespace fibrodem {
 
 // Throws std::runtime_error naming the file if it cannot be written.
 void write_png_file(cairo_surface_t* image, const std::filesystem::path& file);
+
+// The same PNG as bytes in memory (a picture embedded in a page).
+std::string png_bytes(cairo_surface_t* image);
 
 }  // namespace fibrodem

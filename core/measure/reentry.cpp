@@ -80,8 +80,7 @@ std::pair<double, int> activations_after(const VoltageFrames& frames, double V_s
   return {last, count.empty() ? 0 : *std::max_element(count.begin(), count.end())};
 }
 
-json dominant_frequency_summary(const VoltageFrames& frames, const ReentrySettings& s) {
-  const auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms, s.f_min_hz, s.f_max_hz);
+json dominant_frequency_summary(const DominantFrequencies& df) {
   std::vector<double> found;
   for (double f : df.per_cell_hz)
     if (std::isfinite(f)) found.push_back(f);
@@ -98,7 +97,7 @@ json dominant_frequency_summary(const VoltageFrames& frames, const ReentrySettin
 
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
                      const std::vector<double>& onsets, const std::vector<BeatBiomarkers>& beats,
-                     const std::filesystem::path& dir) {
+                     const std::filesystem::path& dir, ReentryMaps* maps) {
   const SingularityTracker tracker = track_singularities(tissue, frames, s, dir);
   double longest_ms = 0;
   for (const auto& track : tracker.tracks()) longest_ms = std::max(longest_ms, track.death_ms - track.birth_ms);
@@ -122,8 +121,14 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
               {"every_ms", s.every_ms},
               {"tau_ms", s.tau_ms},
               {"V_star_mV", s.V_star_mV}};
-  out.update(dominant_frequency_summary(frames, s));
+  auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms, s.f_min_hz, s.f_max_hz);
+  out.update(dominant_frequency_summary(df));
   out["unreached_fraction_per_beat"] = unreached_fractions(beats);
+  std::vector<bool> excitable(tissue.cell_count());
+  for (std::size_t c = 0; c < excitable.size(); ++c) excitable[c] = tissue.type[c] == CellType::myocyte;
+  auto per_beat = assign_beats(activation_times(frames, s.V_star_mV), onsets, excitable);
+  out.update(beats_summary(per_beat));
+  if (maps) *maps = ReentryMaps{std::move(per_beat), std::move(df.per_cell_hz)};
   return out;
 }
 

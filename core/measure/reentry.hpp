@@ -13,12 +13,15 @@
 //   unreached fraction per beat: the fraction of myocytes whose action
 //                      potential amplitude (APO - RMP) stays below 20 mV in
 //                      that beat, the criterion of conduction velocity
+//   beats              activation times per beat, block per beat and the
+//                      activation cycle length (measure/beat_activations.hpp)
 #pragma once
 
 #include <array>
 #include <filesystem>
 #include <vector>
 
+#include "measure/beat_activations.hpp"
 #include "measure/biomarkers.hpp"
 #include "util/json_reader.hpp"
 
@@ -45,11 +48,18 @@ struct VoltageFrames {
   void add(double t_ms, const std::vector<double>& V);
 };
 
+// The per-cell fields behind the summary, for maps.
+struct ReentryMaps {
+  BeatActivations beats;
+  std::vector<double> dominant_frequency_hz;  // per cell; NaN where left out of the spectrum
+};
+
 // summary.json's "reentry"; writes phase_singularities.csv (t_ms, id, x_mm,
-// y_mm, chirality: one row per PS per frame) into dir unless dir is empty.
+// y_mm, chirality: one row per PS per frame) into dir unless dir is empty;
+// fills `maps` if given.
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& settings,
                      const std::vector<double>& stimulus_onsets_ms, const std::vector<BeatBiomarkers>& beats,
-                     const std::filesystem::path& dir);
+                     const std::filesystem::path& dir, ReentryMaps* maps = nullptr);
 
 // Per beat, the fraction of the myocytes measured in it that it did not
 // reach ([{beat, fraction, myocytes}]).

@@ -36,12 +36,21 @@ pre{background:#f7f7f7;padding:.6em;overflow:auto;max-height:40em;font-size:.85e
 input[type=range]{width:100%}
 )";
 
-// One function for every snapshot slider: shows frame k of slider `id`.
+// One function for every snapshot slider: shows frame k of slider `id`;
+// another plays the frames in a loop (about 7 per second) or pauses them.
 constexpr const char* kSliderScript = R"(
 function fibrodemShowFrame(id,k){
   var frames=document.querySelectorAll('#'+id+' img');
   for(var i=0;i<frames.length;++i)frames[i].style.display=(i==k)?'':'none';
   document.getElementById(id+'-label').textContent=frames[k].alt;
+  document.getElementById(id+'-range').value=k;
+}
+var fibrodemTimers={};
+function fibrodemPlay(id,button){
+  if(fibrodemTimers[id]){clearInterval(fibrodemTimers[id]);delete fibrodemTimers[id];button.textContent='play';return;}
+  var range=document.getElementById(id+'-range');
+  button.textContent='pause';
+  fibrodemTimers[id]=setInterval(function(){fibrodemShowFrame(id,(+range.value+1)%(+range.max+1));},150);
 }
 )";
 
@@ -148,21 +157,27 @@ bool HtmlDocument::png_figure(const std::string& title, const std::filesystem::p
 
 void HtmlDocument::png_slider(const std::string& title,
                               const std::vector<std::pair<std::string, std::filesystem::path>>& frames) {
-  const std::string id = "fibrodem-slider-" + std::to_string(++slider_count_);
   std::vector<std::pair<std::string, std::string>> read;
   for (const auto& [label, file] : frames) {
     bool ok = false;
     std::string bytes = read_bytes(file, ok);
     if (ok) read.emplace_back(label, std::move(bytes));
   }
-  if (read.empty()) return;
-  body_ << "<figure><figcaption>" << html_escape(title) << ": <span id=\"" << id << "-label\">"
-        << html_escape(read.front().first) << "</span></figcaption>\n<input type=\"range\" min=\"0\" max=\""
-        << read.size() - 1 << "\" value=\"0\" aria-label=\"" << html_escape(title) << "\" oninput=\"fibrodemShowFrame('"
+  png_animation(title, read);
+}
+
+void HtmlDocument::png_animation(const std::string& title,
+                                 const std::vector<std::pair<std::string, std::string>>& frames) {
+  if (frames.empty()) return;
+  const std::string id = "fibrodem-slider-" + std::to_string(++slider_count_);
+  body_ << "<figure class=\"animation\"><figcaption>" << html_escape(title) << ": <span id=\"" << id << "-label\">"
+        << html_escape(frames.front().first) << "</span></figcaption>\n<button type=\"button\" onclick=\"fibrodemPlay('"
+        << id << "',this)\">play</button>\n<input type=\"range\" id=\"" << id << "-range\" min=\"0\" max=\""
+        << frames.size() - 1 << "\" value=\"0\" aria-label=\"" << html_escape(title) << "\" oninput=\"fibrodemShowFrame('"
         << id << "',this.value)\">\n<div id=\"" << id << "\">";
-  for (std::size_t k = 0; k < read.size(); ++k)
-    body_ << "<img alt=\"" << html_escape(read[k].first) << "\"" << (k == 0 ? "" : " style=\"display:none\"")
-          << " src=\"data:image/png;base64," << base64(read[k].second) << "\">";
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    body_ << "<img alt=\"" << html_escape(frames[k].first) << "\"" << (k == 0 ? "" : " style=\"display:none\"")
+          << " src=\"data:image/png;base64," << base64(frames[k].second) << "\">";
   body_ << "</div></figure>\n";
 }
 

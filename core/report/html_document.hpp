@@ -32,9 +32,13 @@ class HtmlDocument {
   // A titled figure showing a PNG file, embedded as a data URI; false (and
   // nothing added) if the file cannot be read.
   bool png_figure(const std::string& title, const std::filesystem::path& png);
-  // Pictures in time order under one slider (snapshots): one <img> whose
-  // source a range input switches, the frames kept as data URIs in the page.
+  // Pictures in time order under one slider (snapshots): one <img> shown at
+  // a time, switched by a range input or played in a loop by a play/pause
+  // button (inline script), the frames kept as data URIs in the page. Files
+  // that cannot be read are left out.
   void png_slider(const std::string& title, const std::vector<std::pair<std::string, std::filesystem::path>>& frames);
+  // The same from PNG bytes already in memory (label, bytes).
+  void png_animation(const std::string& title, const std::vector<std::pair<std::string, std::string>>& frames);
   // Preformatted text folded away (a manifest, a log), open if asked.
   void details(const std::string& summary, const std::string& text, bool open = false);
   // Markup written by the caller (already escaped).

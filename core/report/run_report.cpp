@@ -1,6 +1,7 @@
 #include "report/run_report.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <deque>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "report/singularity_panel.hpp"
 #include "report/biomarker_spread.hpp"
 #include "report/html_document.hpp"
+#include "report/snapshot_frames.hpp"
 #include "report/trace_panels.hpp"
 #include "util/json_reader.hpp"
 
@@ -233,7 +235,36 @@ void traces_section(HtmlDocument& page, const RunFolder& f) {
     page.svg_figure(panels[k].title, plot_of({panels[k]}, 1, 340, "trace" + std::to_string(k) + "-"));
 }
 
-// With output.reentry: summary.json's reentry and the phase singularities' trajectories.
+// The beats of output.reentry (reentry.beats): their table, the
+// dominant-frequency map, and the activation map of each beat drawn
+// (activation_beat_<k>.png) under a slider.
+void beats_section(HtmlDocument& page, const fs::path& dir, const json& reentry) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::pair<std::string, fs::path>> maps;
+  for (const auto& b : member(reentry, "beats")) {
+    rows.push_back({field(b, "beat"), field(b, "onset_ms"), field(b, "wave"), field(b, "first_activation_ms"),
+                    field(b, "last_activation_ms"), field(b, "reached") + " / " + field(b, "counted"),
+                    field(b, "unreached_fraction")});
+    char name[40];  // as run/reentry_maps.hpp names them
+    std::snprintf(name, sizeof name, "activation_beat_%03d.png", b.value("beat", 0));
+    if (fs::exists(dir / name))
+      maps.emplace_back("beat " + field(b, "beat") + ", " + field(b, "unreached_fraction") + " not reached", dir / name);
+  }
+  if (!rows.empty()) {
+    page.heading(3, "Beats");
+    page.table({"beat", "stimulus onset (ms)", "wave", "first activation (ms)", "last activation (ms)",
+                "myocytes reached", "unreached fraction"},
+               rows);
+  }
+  page.begin_row();
+  page.png_figure("Dominant frequency per cell (Hz)", dir / "dominant_frequency_map.png");
+  // Narrower than the snapshots: full-colour maps, up to kMostBeatMaps of them.
+  if (!maps.empty()) page.png_animation("Activation map per beat", animation_frames(maps, kMostAnimationFrames, 480));
+  page.end_row();
+}
+
+// With output.reentry: summary.json's reentry, its beats and maps, and the
+// phase singularities' trajectories.
 void reentry_section(HtmlDocument& page, const fs::path& dir, const json& s) {
   if (!s.is_object() || !s.contains("reentry") || !s["reentry"].is_object()) return;
   page.heading(2, "Re-entry", "reentry");
@@ -241,6 +272,7 @@ void reentry_section(HtmlDocument& page, const fs::path& dir, const json& s) {
   for (const auto& [key, value] : s["reentry"].items())
     if (!value.is_array() && !value.is_object()) rows.push_back({key, text_of(value)});
   page.table({"measure", "value"}, rows);
+  beats_section(page, dir, s["reentry"]);
   std::error_code error;
   const auto bytes = fs::file_size(dir / "phase_singularities.csv", error);
   if (!error && bytes > kMostCsvBytes) {
@@ -276,7 +308,15 @@ void pictures_section(HtmlDocument& page, const fs::path& dir) {
   if (tissue) page.png_figure("Tissue by cell type", dir / "tissue.png");
   if (activation) page.png_figure("Activation map (last beat)", dir / "activation_map.png");
   page.end_row();
-  if (!snapshots.empty()) page.png_slider("Membrane potential", snapshots);
+  // At most kMostAnimationFrames of them, scaled down: the page stays small at any tissue size.
+  if (!snapshots.empty()) {
+    const auto frames = animation_frames(snapshots);
+    page.png_animation("Membrane potential" + (frames.size() < snapshots.size()
+                                                   ? " (" + std::to_string(frames.size()) + " of " +
+                                                         std::to_string(snapshots.size()) + " snapshots)"
+                                                   : std::string()),
+                       frames);
+  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "run/checkpoint_dir.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
+#include "run/reentry_maps.hpp"
 #include "run/tissue_snapshots.hpp"
 
 namespace fibrodem {
@@ -146,14 +147,18 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
   V_previous = system.V_mV;
 }
 
-// summary.json's "reentry" and phase_singularities.csv, from the samples.
+// summary.json's "reentry", phase_singularities.csv and the re-entry maps, from the samples.
 void Simulation::Impl::measure_reentry() {
   if (!scene.output.reentry.on) return;
   const auto& spec = scene.output.reentry;
   const ReentrySettings settings{.every_ms = spec.every_ms, .from_ms = spec.from_ms, .tau_ms = spec.tau_ms,
                                  .V_star_mV = spec.V_star_mV, .link_mm = spec.link_mm, .f_min_hz = spec.f_min_hz,
                                  .f_max_hz = spec.f_max_hz};
-  reentry_measured = analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats, out);
+  ReentryMaps maps;
+  reentry_measured =
+      analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats, out, &maps);
+  if (!out.empty())
+    reentry_measured["beat_maps_drawn"] = write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format);
 }
 
 // A picture or snapshot file, on the writer's thread while the run goes

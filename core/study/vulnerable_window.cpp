@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "io/plot_png.hpp"
+#include "report/vulnerable_window_report.hpp"
 #include "scene/scene.hpp"
 #include "study/s1s2_protocol.hpp"
 #include "study/worker_pool.hpp"
@@ -347,6 +348,7 @@ VulnerableWindowResult run_vulnerable_window(json manifest, VulnerableWindowOpti
   write_table(result.search, options.out / "vulnerable_window.csv");
   std::ofstream(options.out / "vulnerable_window.json") << search_json(runs, result).dump(2) << "\n";
   write_plot(result.search, options.out / "vulnerable_window.png");
+  write_vulnerable_window_report(options.out);
   return result;
 }
 
