@@ -65,6 +65,8 @@ void DemSolver::add_bodies(const Tissue& t) {
     bfixed_.push_back(fixed);
     mass_.push_back(mass);
     inertia_.push_back(inertia);
+    density_mass_.push_back(mass);
+    density_inertia_.push_back(inertia);
     inv_m_.push_back(fixed ? 0.0 : 1 / mass);
     inv_i_.push_back(fixed ? 0.0 : 1 / inertia);
     brest_.push_back(clump_rest(spec_.area_rule, n, r0, s0));
