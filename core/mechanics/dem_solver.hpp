@@ -43,7 +43,8 @@
 //
 // Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
-// the contact list's fits over fixed parts of the bodies (move_bodies); the
+// the contact list's fits over fixed parts of the bodies of about equal work
+// (partition_bodies; move_bodies); the
 // second is the list's check for a rebuild; the third computes each
 // contact's force, block by block, into per-contact arrays, then sums them
 // per particle and body in a fixed order (contact_incidence.hpp) and kicks
@@ -134,6 +135,7 @@ class DemSolver final : public MechanicsSolver {
   static constexpr std::size_t kStepParts = 64;  // fixed by the tissue, not the threads
   void add_bodies(const Tissue& tissue);
   void index_particles();
+  void partition_bodies();
   std::vector<std::pair<int, int>> form_bonds(const Tissue& tissue);
   void kick_body(std::size_t b, double h_s);
   void drift_and_reshape(std::size_t b, double dt_s);
