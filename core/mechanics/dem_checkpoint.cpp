@@ -1,5 +1,6 @@
 // The DEM's checkpoint (MechanicsSolver::save and load): every array that
 // evolves, both contact sets whole, the contact list's state and the clock.
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,6 +60,12 @@ void DemSolver::save(CheckpointFields& fields) const {
   for_each_bond_array(contacts_, "dem.contact.",
                       [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
   if (detector_) detector_->save(fields);
+  // Masses of motion: mass scaling sets them for the contacts listed (without
+  // it they are the density's, and a checkpoint needs none).
+  if (scaling_step_s_ > 0) {
+    fields.put("dem.body.mass", mass_);
+    fields.put("dem.body.inertia", inertia_);
+  }
   fields.put("dem.clock", std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, strain_[0],
                                               strain_[1], strain_[2]});
 }
@@ -88,6 +95,17 @@ void DemSolver::load(const CheckpointFields& fields) {
   steps_ = static_cast<std::size_t>(clock[1]);
   stable_step_ms_ = clock[2];
   strain_ = {clock[3], clock[4], clock[5]};
+  if (fields.has("dem.body.mass")) {
+    fields.read_into("dem.body.mass", mass_);
+    fields.read_into("dem.body.inertia", inertia_);
+  }
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
+    if (bfixed_[b]) continue;
+    if (!(mass_[b] >= density_mass_[b] && inertia_[b] >= density_inertia_[b] && std::isfinite(mass_[b] + inertia_[b])))
+      throw CheckpointError("its DEM body " + std::to_string(b) + " is lighter than its density makes it");
+    inv_m_[b] = 1 / mass_[b];
+    inv_i_[b] = 1 / inertia_[b];
+  }
   index_contacts();
   out_dirty_ = true;
 }

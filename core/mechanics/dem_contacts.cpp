@@ -46,7 +46,7 @@ void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q)
   set.q[k] = q;
   set.kn[k] = spec_.kn_N_per_m * factor;
   set.ks[k] = spec_.ks_N_per_m * factor;
-  const double mp = mass_[bp], mq = mass_[bq];
+  const double mp = density_mass_[bp], mq = density_mass_[bq];
   set.m_eff[k] = bfixed_[bp] && !bfixed_[bq]   ? mq
                  : bfixed_[bq] && !bfixed_[bp] ? mp
                                                : mp * mq / (mp + mq);
@@ -91,6 +91,8 @@ void DemSolver::index_contacts() {
   contact_force_.resize(n);
   contact_kt_.resize(n);
   contact_kr_.resize(2 * n);
+  body_kt_.resize(bx_.size());
+  body_kr_.resize(bx_.size());
   particle_contacts_.build(px_.size(), bonds_, contacts_);
   body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
 }

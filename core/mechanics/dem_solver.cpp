@@ -78,6 +78,10 @@ DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
 std::string DemSolver::report() const {
   std::string r = std::to_string(steps_) + " steps, stable step now " + dem_number(stable_step_ms_) + " ms; " +
                   std::to_string(bonds_.size()) + " bonds (" + std::to_string(broken_bonds()) + " broken)";
+  if (scaled_bodies_ > 0)
+    r += "; mass scaling: " + std::to_string(scaled_bodies_) + " bodies heavier, +" +
+         dem_number(100 * added_mass_fraction_) + " % of the mass, +" + dem_number(100 * added_inertia_fraction_) +
+         " % of the inertia";
   if (detector_)
     r += "; unbonded contacts: " + std::to_string(touching_contacts()) + " touching of " +
          std::to_string(contacts_.size()) + " listed, list built " + std::to_string(detector_->builds()) + " times";

@@ -32,10 +32,19 @@
 // k_t = sum (kn' + ks'), k_r = sum kn' (rho x n)^2 + ks' (rho x t)^2 over the
 // body's bonds, rho from its centroid to the contact point, k' the law's
 // dashpot-corrected stiffness (docs/references.md#dem-timestep), at rest geometry.
+// Mass scaling (spec `mass_scaling` f > 0; PFC's density scaling, Itasca
+// PFC 6, "Timestep Determination"): every body whose critical step is below
+// a target H gets the mass kt H^2 (and inertia kr H^2), with each contact
+// list; H is set once, on the contacts at the start, the longest for which
+// the mass (and the inertia) so added is at most f of the tissue's. The
+// dashpots keep the masses of the bodies' density (they set the tissue's
+// viscous forces). Quasi-static loading only: the added mass slows the
+// tissue's own motion (dem_mass_scaling.cpp; docs/mechanics.md).
 //
 // Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
-// the contact list's fits over fixed parts of the bodies (move_bodies); the
+// the contact list's fits over fixed parts of the bodies of about equal work
+// (partition_bodies; move_bodies); the
 // second is the list's check for a rebuild; the third computes each
 // contact's force, block by block, into per-contact arrays, then sums them
 // per particle and body in a fixed order (contact_incidence.hpp) and kicks
@@ -106,6 +115,11 @@ class DemSolver final : public MechanicsSolver {
   const BondSet& contacts() const { return contacts_; }
   std::size_t touching_contacts() const;
   std::size_t contact_list_builds() const { return detector_ ? detector_->builds() : 0; }
+  // Mass scaling: how many bodies it made heavier, and the fraction of the
+  // tissue's mass and polar inertia it added (0 without).
+  std::size_t scaled_bodies() const { return scaled_bodies_; }
+  double added_mass_fraction() const { return added_mass_fraction_; }
+  double added_inertia_fraction() const { return added_inertia_fraction_; }
   // Energies at the last full step [J] (unit thickness): kinetic (translation +
   // rotation) and elastic (springs of the active contacts, 1/2 F^2 / k).
   double kinetic_energy_J() const;
@@ -121,6 +135,7 @@ class DemSolver final : public MechanicsSolver {
   static constexpr std::size_t kStepParts = 64;  // fixed by the tissue, not the threads
   void add_bodies(const Tissue& tissue);
   void index_particles();
+  void partition_bodies();
   std::vector<std::pair<int, int>> form_bonds(const Tissue& tissue);
   void kick_body(std::size_t b, double h_s);
   void drift_and_reshape(std::size_t b, double dt_s);
@@ -137,6 +152,8 @@ class DemSolver final : public MechanicsSolver {
   void set_contact_constants(BondSet& set, std::size_t k, int p, int q) const;
   void rebuild_contacts();
   void compute_stable_step();
+  void scale_masses();
+  double scaling_target_step_s(double f) const;
   // Each evolving array with its checkpoint field's name, for save and load
   // alike (Self: DemSolver or const DemSolver).
   template <class Self, class F>
@@ -150,7 +167,9 @@ class DemSolver final : public MechanicsSolver {
 
   // Bodies (SoA, SI).
   std::vector<double> bx_, by_, bth_, bvx_, bvy_, bw_, bfx_, bfy_, btq_;
-  std::vector<double> inv_m_, inv_i_, mass_, inertia_;
+  // Masses and inertias of motion (mass scaling may have raised them), and
+  // those of the bodies' density (the dashpots').
+  std::vector<double> inv_m_, inv_i_, mass_, inertia_, density_mass_, density_inertia_;
   std::vector<int> bcell_;
   std::vector<std::uint8_t> bclump_, bfixed_;
   // Clump geometry per body (disks: n 1, s 0).
@@ -179,12 +198,18 @@ class DemSolver final : public MechanicsSolver {
   std::vector<ContactForce> contact_force_;
   ContactIncidence particle_contacts_;
 
+  // The longest DEM step [ms]: cells' lengths change over ms, and at the ~um/ms
+  // speeds of contracting tissue a body moves less than the contact skin in it.
+  static constexpr double kLongestStep_ms = 1.0;
   double stable_step_ms_ = 0;
   double bonded_stable_step_ms_ = 0;  // at the start (a loaded checkpoint's is checked against it)
   // Stable-step scratch: each contact's stiffness on its bodies (kr[2c + end]),
   // and each body's contacts.
-  std::vector<double> contact_kt_, contact_kr_;
+  std::vector<double> contact_kt_, contact_kr_, body_kt_, body_kr_;
   ContactIncidence body_contacts_;
+  double scaling_step_s_ = 0;  // mass scaling's target critical step H (0: none yet)
+  std::size_t scaled_bodies_ = 0;
+  double added_mass_fraction_ = 0, added_inertia_fraction_ = 0;
   double time_s_ = 0;
   std::size_t steps_ = 0;
   std::array<double, 3> strain_{0, 0, 0};

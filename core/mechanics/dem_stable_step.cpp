@@ -8,16 +8,9 @@
 #include "mechanics/dem_solver.hpp"
 
 namespace fibrodem {
-namespace {
-
-// The longest DEM step [ms]: cells' lengths change over ms, and at the ~um/ms
-// speeds of contracting tissue a body moves less than the contact skin in it.
-constexpr double kLongestStep_ms = 1.0;
-
-}  // namespace
-
 // Each contact's stiffness on its two bodies (in parallel), summed per body
-// in contact order (body_contacts_), then the smallest critical step.
+// in contact order (body_contacts_), the bodies' masses scaled for them
+// (dem_mass_scaling.cpp), then the smallest critical step.
 void DemSolver::compute_stable_step() {
   const std::size_t nbonds = bonds_.size(), n = nbonds + contacts_.size();
 #pragma omp parallel for schedule(static)
@@ -42,17 +35,23 @@ void DemSolver::compute_stable_step() {
       contact_kr_[2 * c + end] = kn * rn * rn + ks * rt * rt + set.kb[k];
     }
   }
-  double tmin = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static) reduction(min : tmin)
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
-    if (bfixed_[b]) continue;
     double kt = 0, kr = 0;
     for (const int* e = body_contacts_.begin(b); e != body_contacts_.end(b); ++e) {
       kt += contact_kt_[ContactIncidence::contact(*e)];
       kr += contact_kr_[*e];
     }
-    if (kt > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / kt));
-    if (kr > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / kr));
+    body_kt_[b] = kt;
+    body_kr_[b] = kr;
+  }
+  scale_masses();
+  double tmin = std::numeric_limits<double>::infinity();
+#pragma omp parallel for schedule(static) reduction(min : tmin)
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
+    if (bfixed_[b]) continue;
+    if (body_kt_[b] > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / body_kt_[b]));
+    if (body_kr_[b] > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / body_kr_[b]));
   }
   // Bodies without contacts have no stiffness limit: cap the step (PFC also
   // bounds it kinematically), so that a lone contracting clump still moves and
