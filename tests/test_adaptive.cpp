@@ -158,7 +158,7 @@ TEST_CASE("solver.method auto (the default): CVODE for a cell pair, adaptive for
   sim.run();
   const json summary = sim.summary();
   CHECK(summary["solver_choice"]["method"] == "adaptive");
-  // The rung of 0.1 ms in integrate/method_choice.cpp (5e-3: 0.088 ms on the Fig. 3 strip).
+  // The rung of 0.1 ms in integrate/method_choice.cpp (5e-3: 0.086 ms on the Fig. 3 strip).
   CHECK(summary["solver_choice"]["rtol"].get<double>() == doctest::Approx(5e-3));
   CHECK(summary["integrator"].get<std::string>().find("adaptive") != std::string::npos);
   // A named method: no choice made, none reported.
