@@ -158,7 +158,8 @@ TEST_CASE("solver.method auto (the default): CVODE for a cell pair, adaptive for
   sim.run();
   const json summary = sim.summary();
   CHECK(summary["solver_choice"]["method"] == "adaptive");
-  CHECK(summary["solver_choice"]["rtol"].get<double>() == doctest::Approx(0.1 / 25));
+  // The rung of 0.1 ms in integrate/method_choice.cpp (1e-3: 0.094 ms on the Fig. 3 tissue).
+  CHECK(summary["solver_choice"]["rtol"].get<double>() == doctest::Approx(1e-3));
   CHECK(summary["integrator"].get<std::string>().find("adaptive") != std::string::npos);
   // A named method: no choice made, none reported.
   strand["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};
