@@ -190,20 +190,26 @@ void HtmlDocument::raw(const std::string& html) { body_ << html; }
 void HtmlDocument::begin_row() { body_ << "<div class=\"row\">\n"; }
 void HtmlDocument::end_row() { body_ << "</div>\n"; }
 
-std::string HtmlDocument::str() const {
-  std::ostringstream page;
+// The page around the body, which is written from where it is kept (a page
+// of a large tissue's pictures is megabytes: no copy of it is made).
+void HtmlDocument::write_to(std::ostream& page) const {
   page << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>" << html_escape(title_)
        << "</title>\n<style>" << kStyle << "</style>\n";
   if (slider_count_ > 0) page << "<script>" << kSliderScript << "</script>\n";
-  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n" << body_.str() << "</body></html>\n";
-  return page.str();
+  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n" << body_.view() << "</body></html>\n";
+}
+
+std::string HtmlDocument::str() const {
+  std::ostringstream page;
+  write_to(page);
+  return std::move(page).str();
 }
 
 void HtmlDocument::write(const std::filesystem::path& file) const {
   const std::filesystem::path temporary = file.string() + ".tmp";
   {
     std::ofstream out(temporary, std::ios::binary);
-    out << str();
+    write_to(out);
     if (!out.flush()) throw std::runtime_error("cannot write " + temporary.string());
   }
   std::filesystem::rename(temporary, file);

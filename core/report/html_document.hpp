@@ -47,6 +47,7 @@ class HtmlDocument {
   void end_row();
 
   std::string str() const;
+  void write_to(std::ostream& page) const;
   // Written to a temporary file and renamed: a reader never sees half a page.
   void write(const std::filesystem::path& file) const;
 
