@@ -151,7 +151,9 @@ bool HtmlDocument::png_figure(const std::string& title, const std::filesystem::p
   const std::string bytes = read_bytes(png, ok);
   if (!ok) return false;
   body_ << "<figure><figcaption>" << html_escape(title) << "</figcaption><img alt=\"" << html_escape(title)
-        << "\" src=\"data:image/png;base64," << base64(bytes) << "\"></figure>\n";
+        << "\" src=\"data:image/png;base64,";
+  append_large(base64(bytes));
+  body_ << "\"></figure>\n";
   return true;
 }
 
@@ -175,15 +177,26 @@ void HtmlDocument::png_animation(const std::string& title,
         << id << "',this)\">play</button>\n<input type=\"range\" id=\"" << id << "-range\" min=\"0\" max=\""
         << frames.size() - 1 << "\" value=\"0\" aria-label=\"" << html_escape(title) << "\" oninput=\"fibrodemShowFrame('"
         << id << "',this.value)\">\n<div id=\"" << id << "\">";
-  for (std::size_t k = 0; k < frames.size(); ++k)
+  for (std::size_t k = 0; k < frames.size(); ++k) {
     body_ << "<img alt=\"" << html_escape(frames[k].first) << "\"" << (k == 0 ? "" : " style=\"display:none\"")
-          << " src=\"data:image/png;base64," << base64(frames[k].second) << "\">";
+          << " src=\"data:image/png;base64,";
+    append_large(base64(frames[k].second));
+    body_ << "\">";
+  }
   body_ << "</div></figure>\n";
 }
 
 void HtmlDocument::details(const std::string& summary, const std::string& text, bool open) {
   body_ << "<details" << (open ? " open" : "") << "><summary>" << html_escape(summary) << "</summary><pre>"
         << html_escape(text) << "</pre></details>\n";
+}
+
+// A picture's base64 kept as its own piece: appended to the markup stream it
+// would be copied as the stream grows (twice its size at a time).
+void HtmlDocument::append_large(std::string text) {
+  pieces_.push_back(body_.str());
+  body_.str({});
+  pieces_.push_back(std::move(text));
 }
 
 void HtmlDocument::raw(const std::string& html) { body_ << html; }
@@ -196,7 +209,9 @@ void HtmlDocument::write_to(std::ostream& page) const {
   page << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>" << html_escape(title_)
        << "</title>\n<style>" << kStyle << "</style>\n";
   if (slider_count_ > 0) page << "<script>" << kSliderScript << "</script>\n";
-  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n" << body_.view() << "</body></html>\n";
+  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n";
+  for (const auto& piece : pieces_) page << piece;
+  page << body_.view() << "</body></html>\n";
 }
 
 std::string HtmlDocument::str() const {
