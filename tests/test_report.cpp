@@ -4,6 +4,9 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
 
 #include "io/csv_table.hpp"
 #include "io/plot_svg.hpp"
@@ -111,6 +114,54 @@ TEST_CASE("report pieces: biomarker spread per type, checked against values by h
   for (std::size_t i = 1; i + 1 < panels[0].series[0].y.size(); i += 2) counted += panels[0].series[0].y[i];
   CHECK(counted == 2);
   CHECK(cell_types(table).at(1) == "fibroblast");
+}
+
+TEST_CASE("report pieces: biomarkers.csv read row by row gives the by-hand spread of its whole rows") {
+  const auto dir = testing::scratch_dir("report_biomarkers_stream");
+  // The rows of the test above, then a row cut by a kill (not counted).
+  std::ofstream(dir / "biomarkers.csv") << "cell,type,beat,apd90_ms,rmp_mV\n0,myocyte,0,200,-80\n"
+                                           "0,myocyte,1,220,-78\n1,fibroblast,0,,-50\n2,myocyte,0,9";
+  const auto digest = digest_biomarkers_csv(dir / "biomarkers.csv", {1});
+  REQUIRE(digest);
+  CHECK(digest->rows() == 3);
+  const auto spread = digest->spread();
+  REQUIRE(spread.size() == 4);
+  CHECK(spread[0].type == "myocyte");
+  CHECK(spread[0].n == 2);
+  CHECK(spread[0].mean == doctest::Approx(210));
+  CHECK(spread[0].sd == doctest::Approx(std::sqrt(200.0)));  // (10^2 + 10^2) / (2 - 1)
+  CHECK(spread[0].min == 200);
+  CHECK(spread[0].max == 220);
+  CHECK(spread[1].mean == doctest::Approx(-79));  // rmp: (-80 - 78) / 2
+  CHECK(spread[2].n == 0);
+  CHECK(std::isnan(spread[2].mean));
+  CHECK(spread[3].n == 1);
+  CHECK(spread[3].mean == -50);
+  CHECK(std::isnan(spread[3].sd));  // one value: no SD
+  // Histograms: counts add up to n; one value gets one bin of width 1 around it.
+  const auto panels = digest->histograms();
+  REQUIRE(panels.size() == 3);
+  double counted = 0;
+  for (std::size_t i = 1; i + 1 < panels[0].series[0].y.size(); i += 2) counted += panels[0].series[0].y[i];
+  CHECK(counted == 2);
+  CHECK(panels[2].series[0].x.front() == -50.5);
+  CHECK(panels[2].series[0].x.back() == -49.5);
+  // Only the cells asked for are typed (the traced cells, in the report).
+  CHECK(digest->types() == std::map<int, std::string>{{1, "fibroblast"}});
+  CHECK(!digest_biomarkers_csv(dir / "missing.csv", {}));
+}
+
+TEST_CASE("report pieces: the page written to a file is the page as text") {
+  const auto dir = testing::scratch_dir("report_write");
+  HtmlDocument page("a <title>");
+  page.heading(2, "Scene", "scene");
+  page.table({"a", "b"}, {{"1", "x"}});
+  page.png_animation("frames", {{"t = 0", "PNG"}});  // a slider: the page carries its script
+  page.write(dir / "page.html");
+  CHECK(testing::read_file(dir / "page.html") == page.str());
+  CHECK(page.str().find("<title>a &lt;title&gt;</title>") != std::string::npos);
+  CHECK(page.str().find("function fibrodemShowFrame") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "page.html.tmp"));
 }
 
 TEST_CASE("a run writes report.html with its cost in summary.json, and output.report false writes none") {

@@ -1,32 +1,35 @@
 #include "io/csv_table.hpp"
 
 #include <cstdlib>
-#include <fstream>
 #include <limits>
 
 namespace fibrodem {
 
 namespace {
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t start = 0;
+// `line` split at its commas into `cells`, reusing their storage.
+void split(const std::string& line, std::vector<std::string>& cells) {
+  std::size_t count = 0, start = 0;
+  auto put = [&](std::size_t end) {
+    if (count == cells.size()) cells.emplace_back();
+    cells[count++].assign(line, start, end - start);
+  };
   for (std::size_t comma = line.find(','); comma != std::string::npos; comma = line.find(',', start)) {
-    cells.push_back(line.substr(start, comma - start));
+    put(comma);
     start = comma + 1;
   }
-  cells.push_back(line.substr(start));
-  return cells;
+  put(line.size());
+  cells.resize(count);
 }
 
-double number_of(const std::string& text) {
+}  // namespace
+
+double csv_number(const std::string& text) {
   if (text.empty()) return std::numeric_limits<double>::quiet_NaN();
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   return end != nullptr && *end == '\0' ? v : std::numeric_limits<double>::quiet_NaN();
 }
-
-}  // namespace
 
 std::optional<std::size_t> CsvTable::column(const std::string& name) const {
   for (std::size_t c = 0; c < header.size(); ++c)
@@ -37,30 +40,43 @@ std::optional<std::size_t> CsvTable::column(const std::string& name) const {
 std::vector<double> CsvTable::numbers(std::size_t column) const {
   std::vector<double> out;
   out.reserve(rows.size());
-  for (const auto& row : rows) out.push_back(number_of(row[column]));
+  for (const auto& row : rows) out.push_back(csv_number(row[column]));
   return out;
 }
 
-std::optional<CsvTable> read_csv_table(const std::filesystem::path& file) {
+CsvRowReader::CsvRowReader(const std::filesystem::path& file) {
   // A regular file only: a device in its place (a test's /dev/full) would
   // read forever.
   std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error)) return std::nullopt;
-  std::ifstream in(file);
-  std::string line;
-  if (!in || !std::getline(in, line) || line.empty()) return std::nullopt;
-  CsvTable table;
-  table.header = split(line);
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    auto cells = split(line);
+  if (!std::filesystem::is_regular_file(file, error)) return;
+  in_.open(file);
+  if (!in_ || !std::getline(in_, line_) || line_.empty()) return;
+  split(line_, header_);
+  ok_ = true;
+}
+
+bool CsvRowReader::next(std::vector<std::string>& cells) {
+  if (!ok_) return false;
+  while (std::getline(in_, line_)) {
+    if (line_.empty()) continue;
+    split(line_, cells);
     // A line cut short (a killed run) is not counted, nor is its last cell.
-    if (cells.size() != table.header.size() || in.eof()) {
-      ++table.skipped_rows;
+    if (cells.size() != header_.size() || in_.eof()) {
+      ++skipped_rows_;
       continue;
     }
-    table.rows.push_back(std::move(cells));
+    return true;
   }
+  return false;
+}
+
+std::optional<CsvTable> read_csv_table(const std::filesystem::path& file) {
+  CsvRowReader reader(file);
+  if (!reader.ok()) return std::nullopt;
+  CsvTable table;
+  table.header = reader.header();
+  for (std::vector<std::string> cells; reader.next(cells);) table.rows.push_back(cells);
+  table.skipped_rows = reader.skipped_rows();
   return table;
 }
 

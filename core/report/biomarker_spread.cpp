@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
-
-#include "measure/sample_statistics.hpp"
 
 namespace fibrodem {
 
@@ -12,77 +11,140 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The types in order of first appearance.
-std::vector<std::string> types_of(const CsvTable& table, std::size_t type_column) {
-  std::vector<std::string> types;
-  for (const auto& row : table.rows)
-    if (std::find(types.begin(), types.end(), row[type_column]) == types.end()) types.push_back(row[type_column]);
-  return types;
+std::optional<std::size_t> column_of(const std::vector<std::string>& header, const std::string& name) {
+  for (std::size_t c = 0; c < header.size(); ++c)
+    if (header[c] == name) return c;
+  return std::nullopt;
 }
 
-std::vector<double> finite_values_of(const CsvTable& table, std::size_t type_column, const std::string& type,
-                                     std::size_t column) {
-  std::vector<double> values;
-  const std::vector<double> all = table.numbers(column);
-  for (std::size_t r = 0; r < table.rows.size(); ++r)
-    if (table.rows[r][type_column] == type && std::isfinite(all[r])) values.push_back(all[r]);
-  return values;
+BiomarkerDigest digest_of(const CsvTable& table, std::set<int> typed_cells = {}) {
+  BiomarkerDigest digest(table.header, std::move(typed_cells));
+  for (const auto& row : table.rows) digest.first_pass(row);
+  for (const auto& row : table.rows) digest.second_pass(row);
+  return digest;
 }
 
 }  // namespace
 
-std::vector<BiomarkerSpread> biomarker_spread(const CsvTable& biomarkers) {
+BiomarkerDigest::BiomarkerDigest(const std::vector<std::string>& header, std::set<int> typed_cells)
+    : type_column_(column_of(header, "type")), cell_column_(column_of(header, "cell")),
+      typed_cells_(std::move(typed_cells)) {
+  for (const auto& metric : kBiomarkerColumns)
+    if (const auto column = column_of(header, metric)) columns_.emplace_back(metric, *column);
+}
+
+std::size_t BiomarkerDigest::type_index(const std::string& type) {
+  const auto seen = std::find(types_seen_.begin(), types_seen_.end(), type);
+  if (seen != types_seen_.end()) return static_cast<std::size_t>(seen - types_seen_.begin());
+  types_seen_.push_back(type);
+  tallies_.resize(types_seen_.size() * columns_.size());
+  return types_seen_.size() - 1;
+}
+
+void BiomarkerDigest::first_pass(const std::vector<std::string>& row) {
+  ++rows_;
+  if (!type_column_) return;
+  const std::string& type = row[*type_column_];
+  const std::size_t t = type_index(type);
+  for (std::size_t m = 0; m < columns_.size(); ++m) {
+    const double v = csv_number(row[columns_[m].second]);
+    if (!std::isfinite(v)) continue;
+    Tally& s = tally(t, m);
+    s.lo = s.n == 0 ? v : std::min(s.lo, v);
+    s.hi = s.n == 0 ? v : std::max(s.hi, v);
+    s.sum += v;
+    ++s.n;
+  }
+  if (cell_column_ && !typed_cells_.empty()) {
+    const std::string& text = row[*cell_column_];
+    char* end = nullptr;
+    const long index = std::strtol(text.c_str(), &end, 10);
+    if (end != text.c_str() && typed_cells_.count(static_cast<int>(index)))
+      types_.emplace(static_cast<int>(index), type);
+  }
+}
+
+void BiomarkerDigest::second_pass(const std::vector<std::string>& row) {
+  if (!binned_) {  // the bins on the ranges of the first pass
+    binned_ = true;
+    for (Tally& s : tallies_) {
+      if (s.n == 0) continue;
+      double lo = s.lo, hi = s.hi;
+      if (hi - lo < 1e-9 * std::max(1.0, std::abs(lo))) lo -= 0.5, hi += 0.5;  // one value: one bin around it
+      const std::size_t bins = static_cast<std::size_t>(std::ceil(std::log2(static_cast<double>(s.n)))) + 1;
+      s.count.assign(bins, 0.0);
+      s.bin_lo = lo;
+      s.bin_hi = hi;
+      s.bin_width = (hi - lo) / static_cast<double>(bins);
+    }
+  }
+  if (!type_column_) return;
+  const auto seen = std::find(types_seen_.begin(), types_seen_.end(), row[*type_column_]);
+  if (seen == types_seen_.end()) return;  // not a row of the first pass
+  const auto t = static_cast<std::size_t>(seen - types_seen_.begin());
+  for (std::size_t m = 0; m < columns_.size(); ++m) {
+    const double v = csv_number(row[columns_[m].second]);
+    Tally& s = tally(t, m);
+    if (!std::isfinite(v) || s.count.empty()) continue;
+    const double mean = s.sum / static_cast<double>(s.n);
+    s.squares += (v - mean) * (v - mean);
+    const std::size_t bins = s.count.size();
+    ++s.count[std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, (v - s.bin_lo) / s.bin_width)))];
+  }
+}
+
+std::vector<BiomarkerSpread> BiomarkerDigest::spread() const {
   std::vector<BiomarkerSpread> out;
-  const auto type_column = biomarkers.column("type");
-  if (!type_column) return out;
-  for (const auto& type : types_of(biomarkers, *type_column))
-    for (const auto& metric : kBiomarkerColumns) {
-      const auto column = biomarkers.column(metric);
-      if (!column) continue;
-      const std::vector<double> values = finite_values_of(biomarkers, *type_column, type, *column);
-      const SampleSummary s = summarize(values);
-      BiomarkerSpread spread{type, metric, values.size(), s.mean, s.sd, kNaN, kNaN};
-      if (!values.empty()) {
-        const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-        spread.min = *lo;
-        spread.max = *hi;
-      }
-      out.push_back(spread);
+  for (std::size_t t = 0; t < types_seen_.size(); ++t)
+    for (std::size_t m = 0; m < columns_.size(); ++m) {
+      const Tally& s = tally(t, m);
+      const double n = static_cast<double>(s.n);
+      out.push_back({types_seen_[t], columns_[m].first, s.n, s.n > 0 ? s.sum / n : kNaN,
+                     s.n > 1 ? std::sqrt(s.squares / (n - 1)) : kNaN, s.n > 0 ? s.lo : kNaN, s.n > 0 ? s.hi : kNaN});
     }
   return out;
 }
 
-std::vector<PlotPanel> biomarker_histograms(const CsvTable& biomarkers) {
+std::vector<PlotPanel> BiomarkerDigest::histograms() const {
   std::vector<PlotPanel> panels;
-  const auto type_column = biomarkers.column("type");
-  if (!type_column) return panels;
-  for (const auto& type : types_of(biomarkers, *type_column))
-    for (const auto& metric : kBiomarkerColumns) {
-      const auto column = biomarkers.column(metric);
-      if (!column) continue;
-      const std::vector<double> values = finite_values_of(biomarkers, *type_column, type, *column);
-      if (values.empty()) continue;
-      const auto [lo_it, hi_it] = std::minmax_element(values.begin(), values.end());
-      double lo = *lo_it, hi = *hi_it;
-      if (hi - lo < 1e-9 * std::max(1.0, std::abs(lo))) lo -= 0.5, hi += 0.5;  // one value: one bin around it
-      const std::size_t bins = static_cast<std::size_t>(std::ceil(std::log2(static_cast<double>(values.size())))) + 1;
-      const double width = (hi - lo) / static_cast<double>(bins);
-      std::vector<double> count(bins, 0.0);
-      for (double v : values) ++count[std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, (v - lo) / width)))];
+  for (std::size_t t = 0; t < types_seen_.size(); ++t)
+    for (std::size_t m = 0; m < columns_.size(); ++m) {
+      const Tally& s = tally(t, m);
+      if (s.count.empty()) continue;
+      const std::string& metric = columns_[m].first;
       // A step line: up and across each bar.
-      PlotSeries series{"n = " + std::to_string(values.size()), {lo}, {0.0}};
+      PlotSeries series{"n = " + std::to_string(s.n), {s.bin_lo}, {0.0}};
       series.markers = false;
-      for (std::size_t b = 0; b < bins; ++b) {
-        const double left = lo + static_cast<double>(b) * width;
-        series.x.insert(series.x.end(), {left, left + width});
-        series.y.insert(series.y.end(), {count[b], count[b]});
+      for (std::size_t b = 0; b < s.count.size(); ++b) {
+        const double left = s.bin_lo + static_cast<double>(b) * s.bin_width;
+        series.x.insert(series.x.end(), {left, left + s.bin_width});
+        series.y.insert(series.y.end(), {s.count[b], s.count[b]});
       }
-      series.x.push_back(hi);
+      series.x.push_back(s.bin_hi);
       series.y.push_back(0.0);
-      panels.push_back({type + ": " + metric, metric, "cell-beats", false, false, {std::move(series)}, {}});
+      panels.push_back({types_seen_[t] + ": " + metric, metric, "cell-beats", false, false, {std::move(series)}, {}});
     }
   return panels;
 }
+
+std::optional<BiomarkerDigest> digest_biomarkers_csv(const std::filesystem::path& file,
+                                                     const std::set<int>& typed_cells) {
+  CsvRowReader first(file);
+  if (!first.ok()) return std::nullopt;
+  BiomarkerDigest digest(first.header(), typed_cells);
+  std::vector<std::string> row;
+  std::size_t rows = 0;
+  while (first.next(row)) digest.first_pass(row), ++rows;
+  CsvRowReader second(file);
+  // The file is read again from its start: a run still appending to it adds
+  // rows past those of the first pass, which the second leaves out.
+  for (std::size_t r = 0; r < rows && second.next(row); ++r) digest.second_pass(row);
+  return digest;
+}
+
+std::vector<BiomarkerSpread> biomarker_spread(const CsvTable& biomarkers) { return digest_of(biomarkers).spread(); }
+
+std::vector<PlotPanel> biomarker_histograms(const CsvTable& biomarkers) { return digest_of(biomarkers).histograms(); }
 
 std::map<int, std::string> cell_types(const CsvTable& biomarkers) {
   std::map<int, std::string> types;

@@ -151,7 +151,9 @@ bool HtmlDocument::png_figure(const std::string& title, const std::filesystem::p
   const std::string bytes = read_bytes(png, ok);
   if (!ok) return false;
   body_ << "<figure><figcaption>" << html_escape(title) << "</figcaption><img alt=\"" << html_escape(title)
-        << "\" src=\"data:image/png;base64," << base64(bytes) << "\"></figure>\n";
+        << "\" src=\"data:image/png;base64,";
+  append_large(base64(bytes));
+  body_ << "\"></figure>\n";
   return true;
 }
 
@@ -175,9 +177,12 @@ void HtmlDocument::png_animation(const std::string& title,
         << id << "',this)\">play</button>\n<input type=\"range\" id=\"" << id << "-range\" min=\"0\" max=\""
         << frames.size() - 1 << "\" value=\"0\" aria-label=\"" << html_escape(title) << "\" oninput=\"fibrodemShowFrame('"
         << id << "',this.value)\">\n<div id=\"" << id << "\">";
-  for (std::size_t k = 0; k < frames.size(); ++k)
+  for (std::size_t k = 0; k < frames.size(); ++k) {
     body_ << "<img alt=\"" << html_escape(frames[k].first) << "\"" << (k == 0 ? "" : " style=\"display:none\"")
-          << " src=\"data:image/png;base64," << base64(frames[k].second) << "\">";
+          << " src=\"data:image/png;base64,";
+    append_large(base64(frames[k].second));
+    body_ << "\">";
+  }
   body_ << "</div></figure>\n";
 }
 
@@ -186,24 +191,40 @@ void HtmlDocument::details(const std::string& summary, const std::string& text, 
         << html_escape(text) << "</pre></details>\n";
 }
 
+// A picture's base64 kept as its own piece: appended to the markup stream it
+// would be copied as the stream grows (twice its size at a time).
+void HtmlDocument::append_large(std::string text) {
+  pieces_.push_back(body_.str());
+  body_.str({});
+  pieces_.push_back(std::move(text));
+}
+
 void HtmlDocument::raw(const std::string& html) { body_ << html; }
 void HtmlDocument::begin_row() { body_ << "<div class=\"row\">\n"; }
 void HtmlDocument::end_row() { body_ << "</div>\n"; }
 
-std::string HtmlDocument::str() const {
-  std::ostringstream page;
+// The page around the body, which is written from where it is kept (a page
+// of a large tissue's pictures is megabytes: no copy of it is made).
+void HtmlDocument::write_to(std::ostream& page) const {
   page << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>" << html_escape(title_)
        << "</title>\n<style>" << kStyle << "</style>\n";
   if (slider_count_ > 0) page << "<script>" << kSliderScript << "</script>\n";
-  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n" << body_.str() << "</body></html>\n";
-  return page.str();
+  page << "</head><body>\n<h1>" << html_escape(title_) << "</h1>\n";
+  for (const auto& piece : pieces_) page << piece;
+  page << body_.view() << "</body></html>\n";
+}
+
+std::string HtmlDocument::str() const {
+  std::ostringstream page;
+  write_to(page);
+  return std::move(page).str();
 }
 
 void HtmlDocument::write(const std::filesystem::path& file) const {
   const std::filesystem::path temporary = file.string() + ".tmp";
   {
     std::ofstream out(temporary, std::ios::binary);
-    out << str();
+    write_to(out);
     if (!out.flush()) throw std::runtime_error("cannot write " + temporary.string());
   }
   std::filesystem::rename(temporary, file);

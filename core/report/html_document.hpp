@@ -47,11 +47,17 @@ class HtmlDocument {
   void end_row();
 
   std::string str() const;
+  void write_to(std::ostream& page) const;
   // Written to a temporary file and renamed: a reader never sees half a page.
   void write(const std::filesystem::path& file) const;
 
  private:
+  void append_large(std::string text);
+
   std::string title_;
+  // The body: whole pieces (markup, then each picture's base64), and the
+  // markup since the last picture.
+  std::vector<std::string> pieces_;
   std::ostringstream body_;
   int slider_count_ = 0;
 };

@@ -6,6 +6,7 @@
 #include <deque>
 #include <fstream>
 #include <iomanip>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -26,15 +27,17 @@ namespace {
 
 // The last lines of run.log shown in the page (the whole log is beside it).
 constexpr std::size_t kLogTailLines = 400;
-// CSV files above this size are not read into the page's plots (read as
-// text rows they would take ~15x their size in memory); the report says so.
+// traces.csv and phase_singularities.csv above this size are not read into
+// the page's plots (read as text rows they would take ~15x their size in
+// memory); the report says so. biomarkers.csv is read row by row, at any size.
 constexpr std::uintmax_t kMostCsvBytes = 128ull << 20;
 
 struct RunFolder {
   fs::path dir;
   json summary;  // null if summary.json is missing or unreadable
   std::string summary_problem;
-  std::optional<CsvTable> traces, biomarkers;
+  std::optional<CsvTable> traces;
+  std::optional<BiomarkerDigest> biomarkers;  // read row by row: any size
   std::vector<std::string> too_large;  // CSV files left out for their size
   std::vector<std::string> log_tail;
   std::vector<std::string> log_problems;  // [warning] and [error] lines of the whole log
@@ -43,13 +46,16 @@ struct RunFolder {
 RunFolder read_folder(const fs::path& dir) {
   RunFolder f{dir, nullptr, "", std::nullopt, std::nullopt, {}, {}, {}};
   std::error_code error;
-  for (auto [name, table] : {std::pair{"traces.csv", &f.traces}, std::pair{"biomarkers.csv", &f.biomarkers}}) {
-    const auto bytes = fs::file_size(dir / name, error);
-    if (!error && bytes > kMostCsvBytes)
-      f.too_large.push_back(std::string(name) + " (" + std::to_string(bytes >> 20) + " MB) is too large to plot here");
-    else
-      *table = read_csv_table(dir / name);
-  }
+  const auto bytes = fs::file_size(dir / "traces.csv", error);
+  if (!error && bytes > kMostCsvBytes)
+    f.too_large.push_back("traces.csv (" + std::to_string(bytes >> 20) + " MB) is too large to plot here");
+  else
+    f.traces = read_csv_table(dir / "traces.csv");
+  std::set<int> traced_cells;  // whose type the traces' legend names
+  if (f.traces)
+    for (const auto& column : f.traces->header)
+      if (const int cell = parse_trace_column(column).cell; cell >= 0) traced_cells.insert(cell);
+  f.biomarkers = digest_biomarkers_csv(dir / "biomarkers.csv", traced_cells);
   if (std::ifstream in(dir / "summary.json"); !in || !fs::is_regular_file(dir / "summary.json", error)) {
     f.summary_problem = "no summary.json: the run never started, or this is not a run's folder";
   } else {
@@ -192,17 +198,17 @@ std::string plot_of(const std::vector<PlotPanel>& panels, std::size_t columns, i
 
 void biomarker_section(HtmlDocument& page, const RunFolder& f) {
   page.heading(2, "Biomarkers per cell type", "biomarkers");
-  if (!f.biomarkers || f.biomarkers->rows.empty()) {
+  if (!f.biomarkers || f.biomarkers->rows() == 0) {
     page.paragraph("No beats in biomarkers.csv (none recorded, or the file is missing).");
     return;
   }
   std::vector<std::vector<std::string>> rows;
-  for (const auto& b : biomarker_spread(*f.biomarkers))
+  for (const auto& b : f.biomarkers->spread())
     rows.push_back({b.type, b.metric, std::to_string(b.n), fixed_decimals(b.mean, 2), fixed_decimals(b.sd, 2),
                     fixed_decimals(b.min, 2), fixed_decimals(b.max, 2)});
   page.paragraph("Over every cell-beat in biomarkers.csv (summary.json's mean_biomarkers).");
   page.table({"cell type", "biomarker", "cell-beats", "mean", "SD", "min", "max"}, rows);
-  const auto panels = biomarker_histograms(*f.biomarkers);
+  const auto panels = f.biomarkers->histograms();
   if (!panels.empty()) page.svg_figure("Biomarker histograms", plot_of(panels, std::min<std::size_t>(4, panels.size()), 300, "hist-"));
 }
 
@@ -225,7 +231,7 @@ void traces_section(HtmlDocument& page, const RunFolder& f) {
     page.paragraph("No samples in traces.csv (nothing traced, or the file is missing).");
     return;
   }
-  const auto types = f.biomarkers ? cell_types(*f.biomarkers) : std::map<int, std::string>{};
+  const auto types = f.biomarkers ? f.biomarkers->types() : std::map<int, std::string>{};
   std::map<std::string, std::string> units;
   if (f.summary.is_object() && f.summary.contains("trace_units") && f.summary["trace_units"].is_object())
     for (const auto& [variable, unit] : f.summary["trace_units"].items())

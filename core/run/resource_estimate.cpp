@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -36,6 +37,11 @@ double samples(double duration_ms, double from_ms, double every_ms) {
   return every_ms > 0 && duration_ms >= from_ms ? std::floor((duration_ms - from_ms) / every_ms) + 1 : 0;
 }
 
+// The program's own pages beside its heap: code, libraries, plugins, thread
+// stacks, the allocator's arenas (peak RSS less peak heap: 30 MB on the
+// Fig. 3 scene, 36 MB on sheet 1 cm).
+constexpr double kProgramBytes = 30e6;
+
 }  // namespace
 
 double ResourceEstimate::memory_bytes() const { return sum(memory); }
@@ -53,6 +59,21 @@ std::string ResourceEstimate::describe() const {
   return s + ")";
 }
 
+// The terms below are measured, each on what it counts, with heaptrack (peak
+// heap by allocation site) and /usr/bin/time -f %M (peak RSS) on:
+//   sheet 1 cm:   fibrotic_sheet 10 x 10 mm, 10 % patchy fibroblasts (33,496
+//                 cells, 214,372 particles, 99,483 edges, no bonds), colman +
+//                 maleckar_active2, solver auto (adaptive), 30 ms, maps,
+//                 snapshots every 5 ms, report;
+//   sheet 2.5 cm: the same 25 x 25 mm (210,940 cells), 20 ms;
+//   Fig. 3:       examples/fig3_in_series_ep.json (3,129 cells, 16,653
+//                 particles with DEM bonds, rush_larsen, 500 ms) and
+//                 10 mm wide (tissue.width_mm=10: 27,435 cells, 144,063
+//                 particles, 30 ms).
+// The run's peak is either while it steps (states, the integrator's work
+// arrays, the coupling) or while the maps are written, after the run has
+// freed its stepping work (Simulation::Impl::release_run_buffers); the
+// report is read from disk row by row and stays below both.
 ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, const CellSystem& system,
                                     bool mechanics) {
   ResourceEstimate e;
@@ -60,55 +81,87 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   double states = 0, cells = static_cast<double>(system.cell_count());
   for (const auto& pop : system.populations) states += static_cast<double>(pop.size() * pop.n_states());
   for (const auto& m : system.myofilaments) states += static_cast<double>(m.pop.size() * m.pop.n_states());
-  // y, a, b per state, plus what the integrator keeps per state.
-  const double per_state = solver.method == "adaptive" ? 9 : solver.method == "rush_larsen2" ? 5 : 3;
-  e.memory.push_back({fmt::format("cell states: {:.0f} x {:g} arrays", states, per_state), 8 * per_state * states,
+  const double particles = static_cast<double>(tissue.particles.size());
+  const double bonds = static_cast<double>(tissue.bonds.size());
+  const double edges = static_cast<double>(tissue.cell_edges.size());
+  e.memory.push_back({"program, libraries, plugins and threads", kProgramBytes, ""});
+  // y, a, b per state and the populations' per-cell parameters: 28.5 bytes
+  // a state (sheet 1 cm: 23.7 MB for 830,692 states).
+  e.memory.push_back({fmt::format("cell states: {:.0f}", states), 28.5 * states, "a smaller tissue"});
+  // The tissue as built: its particles, bonds, cell graph and cells, with
+  // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
+  // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
+  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, cells),
+                      1.5 * (sizeof(Particle) * particles + sizeof(Bond) * bonds +
+                             sizeof(std::pair<int, int>) * edges + 20 * cells),
                       "a smaller tissue"});
+  // The biomarker tracker's per-cell state (152 bytes a cell) and a
+  // BeatBiomarkers a cell and beat (125 bytes with the vector's growth);
+  // sheet 1 cm: 5.09 and 4.19 MB.
+  const double beats = std::max<double>(1.0, static_cast<double>(system.stimulus.onsets(scene.duration_ms).size()));
+  e.memory.push_back({fmt::format("biomarkers: {:.0f} cells x {:.0f} beats", cells, beats),
+                      152 * cells + 125 * cells * beats, "a smaller tissue"});
+
+  // ---- freed at the end of the stepping ----
+  std::vector<ResourceEstimate::Part> stepping;
+  // What the integrator keeps per state: adaptive 6 arrays (sheet 1 cm:
+  // 41.0 MB for 830,692 states: 49 bytes a state), second-order Rush-Larsen
+  // 2, the first-order methods none beyond the populations'.
+  const double integrator_arrays = solver.method == "adaptive" ? 6 : solver.method == "rush_larsen2" ? 2 : 0;
+  if (integrator_arrays > 0)
+    stepping.push_back({fmt::format("integrator: {:.0f} states x {:g} arrays", states, integrator_arrays),
+                        8 * integrator_arrays * states, "a smaller tissue"});
   if (solver.method == "cvode") {
     const std::string linear = solver.linear_solver;
     const bool dense = linear == "dense" || (linear == "auto" && states <= 200);
-    e.memory.push_back({dense ? fmt::format("CVODE dense Jacobian {:.0f}^2", states)
+    stepping.push_back({dense ? fmt::format("CVODE dense Jacobian {:.0f}^2", states)
                               : fmt::format("CVODE vectors and linear solver, {:.0f} states", states),
                         dense ? 16 * states * states : 8 * 40 * states,
                         dense ? "solver.linear_solver \"band\" or \"krylov\"" : "a smaller tissue"});
   }
   if (system.coupler) {
-    const double edges = static_cast<double>(system.coupled_pairs.size());
+    const double pairs = static_cast<double>(system.coupled_pairs.size());
     // The Laplacian (2 entries an edge and a diagonal, 12 bytes each, in
-    // compressed rows); with an implicit solve the conjugate gradients' work:
-    // 8 vectors of one double a cell (coupling/coupling_cg.hpp).
-    const bool implicit = system.implicit_coupling || solver.method == "adaptive";
-    e.memory.push_back({fmt::format("coupling: {:.0f} edges{}", edges, implicit ? ", CG vectors" : ""),
-                        12 * (2 * edges + cells) + 4 * cells + (implicit ? 64 : 8) * cells, "a smaller tissue"});
+    // compressed rows), the coupled pairs, and the conjugate gradients' own
+    // copy of the matrix and 8 vectors of a double a cell (built with the
+    // coupler, explicit or not: coupling/coupling_cg.hpp). Sheet 1 cm:
+    // 9.4 MB, this 8.8; Fig. 3 widened (explicit): 7.6 MB, this 6.5.
+    const double matrix = 12 * (2 * pairs + cells);
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), 2 * matrix + 8 * pairs + 64 * cells,
+                        "a smaller tissue"});
   }
-  // The rest, measured (peak RSS of the Fig. 3 in-series EP scene, adaptive,
-  // 200 ms, at 3k, 52k and 208k cells: this estimate within 20 % of each):
-  // the program, its libraries and plugins; the tissue and the run's
-  // bookkeeping (biomarkers, inputs, tiles), by particle; and the pictures,
-  // maps and report drawn from it.
-  const double particles = static_cast<double>(tissue.particles.size());
-  e.memory.push_back({"program and libraries", 25e6, ""});
-  e.memory.push_back({fmt::format("tissue and run bookkeeping: {:.0f} particles", particles), 235 * particles,
-                      "a smaller tissue"});
-  const auto& out = scene.output;
-  const bool drawn = samples(scene.duration_ms, out.snapshots.from_ms, out.snapshots.every_ms) > 0;
-  if (out.tissue_picture || out.maps || out.report || (drawn && out.snapshots.png))
-    e.memory.push_back({"pictures, maps and report", 745 * particles,
-                        "output.tissue_picture, output.maps, output.report false; output.snapshots.png false"});
+  if (const auto& re = scene.output.reentry; re.on) {
+    // V of every cell at every sample, as float, and the spectrum's bins.
+    const double frames = samples(scene.duration_ms, re.from_ms, re.every_ms);
+    const double bins = std::max(0.0, (re.f_max_hz - re.f_min_hz) * frames * re.every_ms / 1000.0) + 1;
+    stepping.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples", cells, frames),
+                        4 * cells * frames + 16 * cells * bins,
+                        "output.reentry: a larger every_ms, a later from_ms, or a smaller tissue"});
+  }
+  // tissue.vtk (output.tissue_picture), written on the background thread as
+  // the stepping starts: 110 bytes a particle (sheet 1 cm: 23.6 MB at the
+  // run's peak, beside the integrator's arrays) and 35 a bond (Fig. 3
+  // widened: 23.6 MB for 144,063 particles and 223,013 bonds).
+  if (scene.output.tissue_picture)
+    stepping.push_back({fmt::format("tissue.vtk: {:.0f} particles", particles), 110 * particles + 35 * bonds,
+                        "output.tissue_picture false"});
+  double stepping_bytes = 0;
+  for (auto& part : stepping) stepping_bytes += part.bytes, e.memory.push_back(std::move(part));
+  // ---- after the stepping ----
+  // maps.vtk: the tissue's geometry and the per-cell maps written out, 220
+  // bytes a particle (sheet 1 cm: 47.2 MB for 214,372 particles). Only what
+  // exceeds the stepping's freed work adds to the peak.
+  if (scene.output.maps) {
+    const double maps = 220 * particles;
+    e.memory.push_back({fmt::format("maps.vtk: {:.0f} particles, beyond the stepping's freed work", particles),
+                        std::max(0.0, maps - stepping_bytes), "output.maps false"});
+  }
   const auto& tr = scene.output.traces;
   const double trace_samples = samples(scene.duration_ms, tr.from_ms, tr.every_ms);
   double columns = mechanics ? 3 : 0;
   for (const auto& block : tr.blocks) columns += static_cast<double>(block.cells.size() * block.variables.size());
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
-  if (const auto& re = scene.output.reentry; re.on) {
-    // V of every cell at every sample, as float, and the spectrum's bins.
-    const double frames = samples(scene.duration_ms, re.from_ms, re.every_ms);
-    const double bins = std::max(0.0, (re.f_max_hz - re.f_min_hz) * frames * re.every_ms / 1000.0) + 1;
-    e.memory.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples", cells, frames),
-                        4 * cells * frames + 16 * cells * bins,
-                        "output.reentry: a larger every_ms, a later from_ms, or a smaller tissue"});
-  }
   if (mechanics)
     e.memory.push_back({fmt::format("DEM: {} particles, {} bonds", tissue.particles.size(), tissue.bonds.size()),
                         256.0 * static_cast<double>(tissue.particles.size()) +

@@ -43,7 +43,8 @@ struct Simulation::Impl : StepObserver {
   Tissue tissue;
   ProcessPlan plan;
   CellSystem system;
-  std::unique_ptr<Integrator> integrator;
+  std::unique_ptr<Integrator> integrator;  // null once the run is over
+  std::string integrator_text, integrator_report;  // its describe() and report(), kept when it is freed
   std::shared_ptr<spdlog::logger> log;
 
   TraceRecorder traces;
@@ -94,6 +95,7 @@ struct Simulation::Impl : StepObserver {
   void on_step(double t_old, double t_new, const double* dVdt) override;
   const MechanicsSolver* mechanics_solver() const { return mechanics ? &mechanics->solver() : nullptr; }
   json summary() const;
+  void release_run_buffers();
 
   // ---- the scene assembled (simulation_assembly.cpp) ----
   void make_logger();

@@ -219,7 +219,8 @@ void Simulation::Impl::log_run_end() {
   if (const auto& governor = system.thread_governor(); governor.adapting())
     log->info("threads auto: the cell models' loop ran {} steps on {} threads and {} on one ({} switches)",
               governor.calls_on_more(), governor.max_threads(), governor.calls_on_one(), governor.switches());
-  if (const auto report = integrator->report(); !report.empty()) log->info("integrator: {}", report);
+  if (const auto report = integrator ? integrator->report() : integrator_report; !report.empty())
+    log->info("integrator: {}", report);
   if (status == "failed") log->error("run failed: {}", error);
   else if (status == "interrupted")
     log->warn("run interrupted: {} of {} ms simulated in {:.3f} s wall, {} steps", t_reached_ms, scene.duration_ms,
