@@ -25,6 +25,24 @@ TEST_CASE("summarize: mean, sample SD and the t-based 95 % CI of the mean, non-f
   CHECK(summarize({}).n == 0);
 }
 
+TEST_CASE("summarize_proportion: Wilson's score interval for events out of runs") {
+  // 3 of 4: Wilson's interval (p + z^2/2n +- z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n),
+  // z = 1.959963984540054, worked by hand: [0.300642, 0.954413].
+  const SampleSummary three = summarize_proportion({1, 0, 1, 1, NAN});
+  CHECK(three.n == 4);
+  CHECK(three.mean == 0.75);
+  CHECK(three.ci95_low == doctest::Approx(0.300642).epsilon(1e-6));
+  CHECK(three.ci95_high == doctest::Approx(0.954413).epsilon(1e-6));
+  // None of 4: from 0 to z^2/(n + z^2) = 0.489891, not the empty interval a t
+  // interval gives.
+  const SampleSummary none = summarize_proportion({0, 0, 0, 0});
+  CHECK(none.ci95_low == 0.0);
+  CHECK(none.ci95_high == doctest::Approx(0.489891).epsilon(1e-6));
+  // Not all 0 or 1: the t interval of the mean.
+  const SampleSummary other = summarize_proportion({2, 4, 9});
+  CHECK(other.ci95_low == summarize({2, 4, 9}).ci95_low);
+}
+
 TEST_CASE("paired t-test: differences b - a, t and two-sided p") {
   // d = 1, 2, 3, 4: mean 2.5, SD sqrt(5/3), t = 2.5 / (SD / 2) = 3.872983346207417;
   // two-sided p for 3 degrees of freedom from the closed-form CDF

@@ -2,6 +2,7 @@
 
 #include <boost/math/distributions/students_t.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -27,6 +28,21 @@ SampleSummary summarize(const std::vector<double>& values) {
   const double half = boost::math::quantile(t, 0.975) * s.sd / std::sqrt(static_cast<double>(s.n));
   s.ci95_low = s.mean - half;
   s.ci95_high = s.mean + half;
+  return s;
+}
+
+SampleSummary summarize_proportion(const std::vector<double>& values) {
+  SampleSummary s = summarize(values);
+  for (double v : values)
+    if (std::isfinite(v) && v != 0 && v != 1) return s;
+  if (s.n == 0) return s;
+  // p +- z sqrt(p (1 - p) / n + z^2 / (4 n^2)), centred at (p + z^2 / (2 n)),
+  // all over 1 + z^2 / n; z the normal 97.5 % quantile.
+  const double z = 1.959963984540054, n = static_cast<double>(s.n), p = s.mean;
+  const double centre = p + z * z / (2 * n), denominator = 1 + z * z / n;
+  const double half = z * std::sqrt(p * (1 - p) / n + z * z / (4 * n * n));
+  s.ci95_low = std::max(0.0, (centre - half) / denominator);
+  s.ci95_high = std::min(1.0, (centre + half) / denominator);
   return s;
 }
 

@@ -29,7 +29,7 @@ const std::vector<SummaryMetric>& summary_metrics() {
     l.push_back({"peak_eps_yy", [](const json& s) { return number_at(s, {"peak_strain", "yy"}); }});
     // 1 or 0, so that its mean over a sweep's seeds is the probability of
     // inducing re-entry.
-    l.push_back({"reentry_detected", [](const json& s) { return number_at(s, {"reentry", "detected"}); }});
+    l.push_back({"reentry_detected", [](const json& s) { return number_at(s, {"reentry", "detected"}); }, true});
     l.push_back({"reentry_duration_ms", [](const json& s) { return number_at(s, {"reentry", "duration_ms"}); }});
     return l;
   }();

@@ -18,6 +18,7 @@ namespace fibrodem {
 struct SummaryMetric {
   std::string name;
   std::function<double(const json& summary)> of;
+  bool proportion = false;  // 1 or 0 per run: summarised by summarize_proportion
 };
 const std::vector<SummaryMetric>& summary_metrics();
 

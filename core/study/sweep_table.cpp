@@ -77,7 +77,7 @@ std::vector<std::vector<SampleSummary>> statistics(const std::vector<GridPoint>&
       std::vector<double> values;
       for (const SweepRun* r : p.runs)
         if (r->status == "completed") values.push_back(m.of(r->summary));
-      stats.back().push_back(summarize(values));
+      stats.back().push_back(m.proportion ? summarize_proportion(values) : summarize(values));
     }
   }
   return stats;
@@ -93,7 +93,8 @@ void write_statistics(const std::vector<GridPoint>& points, const std::vector<Su
   for (const auto& m : list)
     for (const char* s : {"_mean", "_sd", "_ci95_low", "_ci95_high"}) csv_header.push_back(m.name + s);
   CsvWriter csv(dir / "sweep_stats.csv", csv_header);
-  md << "\nOver the seeds: mean [95 % confidence interval] (Student's t):\n\n";
+  md << "\nOver the seeds: mean [95 % confidence interval] (Student's t; for reentry_detected, the fraction\n"
+        "of runs with re-entry [Wilson score interval]):\n\n";
   std::vector<std::string> md_header = header;
   for (const auto& m : list) md_header.push_back(m.name);
   markdown_header(md, md_header);
