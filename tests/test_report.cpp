@@ -96,7 +96,11 @@ TEST_CASE("report pieces: biomarker spread per type, checked against values by h
   table.header = {"cell", "type", "beat", "apd90_ms", "rmp_mV"};
   table.rows = {{"0", "myocyte", "0", "200", "-80"}, {"0", "myocyte", "1", "220", "-78"},
                 {"1", "fibroblast", "0", "", "-50"}};
-  const auto spread = biomarker_spread(table);
+  // The digest fed the rows in memory, in its two passes.
+  BiomarkerDigest digest(table.header, {1});
+  for (const auto& row : table.rows) digest.first_pass(row);
+  for (const auto& row : table.rows) digest.second_pass(row);
+  const auto spread = digest.spread();
   REQUIRE(spread.size() == 4);  // 2 types x 2 columns present
   CHECK(spread[0].type == "myocyte");
   CHECK(spread[0].metric == "apd90_ms");
@@ -108,12 +112,12 @@ TEST_CASE("report pieces: biomarker spread per type, checked against values by h
   CHECK(spread[2].n == 0);  // a fibroblast has no APD here
   CHECK(std::isnan(spread[2].mean));
   // Histograms: one per type and biomarker with values; counts add up to n.
-  const auto panels = biomarker_histograms(table);
+  const auto panels = digest.histograms();
   REQUIRE(panels.size() == 3);
   double counted = 0;
   for (std::size_t i = 1; i + 1 < panels[0].series[0].y.size(); i += 2) counted += panels[0].series[0].y[i];
   CHECK(counted == 2);
-  CHECK(cell_types(table).at(1) == "fibroblast");
+  CHECK(digest.types().at(1) == "fibroblast");
 }
 
 TEST_CASE("report pieces: biomarkers.csv read row by row gives the by-hand spread of its whole rows") {

@@ -31,11 +31,13 @@ double csv_number(const std::string& text) {
   return end != nullptr && *end == '\0' ? v : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::optional<std::size_t> CsvTable::column(const std::string& name) const {
+std::optional<std::size_t> csv_column(const std::vector<std::string>& header, const std::string& name) {
   for (std::size_t c = 0; c < header.size(); ++c)
     if (header[c] == name) return c;
   return std::nullopt;
 }
+
+std::optional<std::size_t> CsvTable::column(const std::string& name) const { return csv_column(header, name); }
 
 std::vector<double> CsvTable::numbers(std::size_t column) const {
   std::vector<double> out;

@@ -27,6 +27,9 @@ struct CsvTable {
 // A cell as a number: NaN if it is empty or not a number.
 double csv_number(const std::string& cell);
 
+// The index of the column named `name` in a header, if it has one.
+std::optional<std::size_t> csv_column(const std::vector<std::string>& header, const std::string& name);
+
 // The rows of a file one at a time; the same rows read_csv_table keeps.
 class CsvRowReader {
  public:

@@ -11,26 +11,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::optional<std::size_t> column_of(const std::vector<std::string>& header, const std::string& name) {
-  for (std::size_t c = 0; c < header.size(); ++c)
-    if (header[c] == name) return c;
-  return std::nullopt;
-}
-
-BiomarkerDigest digest_of(const CsvTable& table, std::set<int> typed_cells = {}) {
-  BiomarkerDigest digest(table.header, std::move(typed_cells));
-  for (const auto& row : table.rows) digest.first_pass(row);
-  for (const auto& row : table.rows) digest.second_pass(row);
-  return digest;
-}
-
 }  // namespace
 
 BiomarkerDigest::BiomarkerDigest(const std::vector<std::string>& header, std::set<int> typed_cells)
-    : type_column_(column_of(header, "type")), cell_column_(column_of(header, "cell")),
+    : type_column_(csv_column(header, "type")), cell_column_(csv_column(header, "cell")),
       typed_cells_(std::move(typed_cells)) {
   for (const auto& metric : kBiomarkerColumns)
-    if (const auto column = column_of(header, metric)) columns_.emplace_back(metric, *column);
+    if (const auto column = csv_column(header, metric)) columns_.emplace_back(metric, *column);
 }
 
 std::size_t BiomarkerDigest::type_index(const std::string& type) {
@@ -140,22 +127,6 @@ std::optional<BiomarkerDigest> digest_biomarkers_csv(const std::filesystem::path
   // rows past those of the first pass, which the second leaves out.
   for (std::size_t r = 0; r < rows && second.next(row); ++r) digest.second_pass(row);
   return digest;
-}
-
-std::vector<BiomarkerSpread> biomarker_spread(const CsvTable& biomarkers) { return digest_of(biomarkers).spread(); }
-
-std::vector<PlotPanel> biomarker_histograms(const CsvTable& biomarkers) { return digest_of(biomarkers).histograms(); }
-
-std::map<int, std::string> cell_types(const CsvTable& biomarkers) {
-  std::map<int, std::string> types;
-  const auto cell = biomarkers.column("cell"), type = biomarkers.column("type");
-  if (!cell || !type) return types;
-  for (const auto& row : biomarkers.rows) {
-    char* end = nullptr;
-    const long index = std::strtol(row[*cell].c_str(), &end, 10);
-    if (end != row[*cell].c_str()) types.emplace(static_cast<int>(index), row[*type]);
-  }
-  return types;
 }
 
 }  // namespace fibrodem

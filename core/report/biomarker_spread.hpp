@@ -74,11 +74,4 @@ class BiomarkerDigest {
 std::optional<BiomarkerDigest> digest_biomarkers_csv(const std::filesystem::path& file,
                                                      const std::set<int>& typed_cells);
 
-// The same from a table in memory.
-std::vector<BiomarkerSpread> biomarker_spread(const CsvTable& biomarkers);
-std::vector<PlotPanel> biomarker_histograms(const CsvTable& biomarkers);
-
-// cell index -> type, from the cell and type columns.
-std::map<int, std::string> cell_types(const CsvTable& biomarkers);
-
 }  // namespace fibrodem
