@@ -61,18 +61,6 @@ bool is_number(const std::string& s) {
   return end != nullptr && *end == '\0';
 }
 
-// The whole file in one read (a tissue run's snapshots are megabytes).
-std::string read_bytes(const std::filesystem::path& file, bool& ok) {
-  std::error_code error;
-  const auto size = std::filesystem::file_size(file, error);
-  std::ifstream in(file, std::ios::binary);
-  ok = !error && static_cast<bool>(in);
-  if (!ok) return {};
-  std::string bytes(size, '\0');
-  ok = static_cast<bool>(in.read(bytes.data(), static_cast<std::streamsize>(size)));
-  return ok ? bytes : std::string();
-}
-
 }  // namespace
 
 std::string html_escape(const std::string& text) {
@@ -97,6 +85,17 @@ std::string base64(const std::string& bytes) {
                                 reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<int>(bytes.size()));
   out.resize(static_cast<std::size_t>(n));
   return out;
+}
+
+// The whole file in one read (a tissue run's snapshots are megabytes).
+std::optional<std::string> read_file_bytes(const std::filesystem::path& file) {
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file, error);
+  std::ifstream in(file, std::ios::binary);
+  if (error || !in) return std::nullopt;
+  std::string bytes(size, '\0');
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) return std::nullopt;
+  return bytes;
 }
 
 HtmlDocument::HtmlDocument(std::string title) : title_(std::move(title)) {}
@@ -147,25 +146,13 @@ void HtmlDocument::svg_figure(const std::string& title, const std::string& svg) 
 }
 
 bool HtmlDocument::png_figure(const std::string& title, const std::filesystem::path& png) {
-  bool ok = false;
-  const std::string bytes = read_bytes(png, ok);
-  if (!ok) return false;
+  const auto bytes = read_file_bytes(png);
+  if (!bytes) return false;
   body_ << "<figure><figcaption>" << html_escape(title) << "</figcaption><img alt=\"" << html_escape(title)
         << "\" src=\"data:image/png;base64,";
-  append_large(base64(bytes));
+  append_large(base64(*bytes));
   body_ << "\"></figure>\n";
   return true;
-}
-
-void HtmlDocument::png_slider(const std::string& title,
-                              const std::vector<std::pair<std::string, std::filesystem::path>>& frames) {
-  std::vector<std::pair<std::string, std::string>> read;
-  for (const auto& [label, file] : frames) {
-    bool ok = false;
-    std::string bytes = read_bytes(file, ok);
-    if (ok) read.emplace_back(label, std::move(bytes));
-  }
-  png_animation(title, read);
 }
 
 void HtmlDocument::png_animation(const std::string& title,

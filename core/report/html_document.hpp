@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -14,6 +15,8 @@ namespace fibrodem {
 std::string html_escape(const std::string& text);
 // RFC 4648 base64 (OpenSSL's encoder).
 std::string base64(const std::string& bytes);
+// A file's bytes in one read (a picture to embed); nullopt if it cannot be read.
+std::optional<std::string> read_file_bytes(const std::filesystem::path& file);
 
 class HtmlDocument {
  public:
@@ -32,12 +35,10 @@ class HtmlDocument {
   // A titled figure showing a PNG file, embedded as a data URI; false (and
   // nothing added) if the file cannot be read.
   bool png_figure(const std::string& title, const std::filesystem::path& png);
-  // Pictures in time order under one slider (snapshots): one <img> shown at
-  // a time, switched by a range input or played in a loop by a play/pause
-  // button (inline script), the frames kept as data URIs in the page. Files
-  // that cannot be read are left out.
-  void png_slider(const std::string& title, const std::vector<std::pair<std::string, std::filesystem::path>>& frames);
-  // The same from PNG bytes already in memory (label, bytes).
+  // Pictures in time order under one slider (snapshots), from PNG bytes
+  // (label, bytes): one <img> shown at a time, switched by a range input or
+  // played in a loop by a play/pause button (inline script), the frames kept
+  // as data URIs in the page.
   void png_animation(const std::string& title, const std::vector<std::pair<std::string, std::string>>& frames);
   // Preformatted text folded away (a manifest, a log), open if asked.
   void details(const std::string& summary, const std::string& text, bool open = false);

@@ -3,11 +3,10 @@
 #include <cairo.h>
 
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 
 #include "io/png_file.hpp"
+#include "report/html_document.hpp"
 
 namespace fibrodem {
 
@@ -26,21 +25,13 @@ std::vector<std::size_t> evenly_spread(std::size_t n, std::size_t most) {
 
 namespace {
 using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-
-std::string file_bytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return in ? bytes.str() : std::string();
-}
-
 }  // namespace
 
 std::string png_at_most_wide(const std::filesystem::path& png, int max_width_px) {
   Surface image(cairo_image_surface_create_from_png(png.c_str()), cairo_surface_destroy);
   if (cairo_surface_status(image.get()) != CAIRO_STATUS_SUCCESS) return {};
   const int width = cairo_image_surface_get_width(image.get()), height = cairo_image_surface_get_height(image.get());
-  if (width <= max_width_px) return file_bytes(png);
+  if (width <= max_width_px) return read_file_bytes(png).value_or(std::string());
   const double scale = static_cast<double>(max_width_px) / width;
   const int small_height = std::max(1, static_cast<int>(std::lround(height * scale)));
   Surface small(cairo_image_surface_create(CAIRO_FORMAT_RGB24, max_width_px, small_height), cairo_surface_destroy);
