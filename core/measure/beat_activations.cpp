@@ -1,5 +1,7 @@
 #include "measure/beat_activations.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -89,6 +91,8 @@ BeatActivations assign_beats(const std::vector<std::vector<double>>& activations
     }
   return out;
 }
+
+std::string beat_map_name(int beat) { return fmt::format("activation_beat_{:03d}.png", beat); }
 
 json beats_summary(const BeatActivations& b) {
   json per_beat = json::array();

@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "util/json_reader.hpp"
@@ -57,5 +58,11 @@ BeatActivations assign_beats(const std::vector<std::vector<double>>& activations
 // unreached_fraction) and the cycle length (the spatial median of the
 // per-cell medians, their range, the cells measured).
 json beats_summary(const BeatActivations& beats);
+
+// The maps drawn of the beats (run/reentry_maps.hpp), found by the report by
+// name: the first kMostBeatMaps beats, beat k's picture activation_beat_<k>.png,
+// k zero-padded to 3 digits.
+inline constexpr std::size_t kMostBeatMaps = 24;
+std::string beat_map_name(int beat);
 
 }  // namespace fibrodem

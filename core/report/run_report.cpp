@@ -1,7 +1,6 @@
 #include "report/run_report.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
 #include <deque>
 #include <fstream>
@@ -12,6 +11,7 @@
 
 #include "io/csv_writer.hpp"
 #include "io/plot_svg.hpp"
+#include "measure/beat_activations.hpp"
 #include "report/singularity_panel.hpp"
 #include "report/biomarker_spread.hpp"
 #include "report/html_document.hpp"
@@ -251,10 +251,9 @@ void beats_section(HtmlDocument& page, const fs::path& dir, const json& reentry)
     rows.push_back({field(b, "beat"), field(b, "onset_ms"), field(b, "wave"), field(b, "first_activation_ms"),
                     field(b, "last_activation_ms"), field(b, "reached") + " / " + field(b, "counted"),
                     field(b, "unreached_fraction")});
-    char name[40];  // as run/reentry_maps.hpp names them
-    std::snprintf(name, sizeof name, "activation_beat_%03d.png", b.value("beat", 0));
-    if (fs::exists(dir / name))
-      maps.emplace_back("beat " + field(b, "beat") + ", " + field(b, "unreached_fraction") + " not reached", dir / name);
+    const fs::path map = dir / beat_map_name(b.value("beat", 0));
+    if (fs::exists(map))
+      maps.emplace_back("beat " + field(b, "beat") + ", " + field(b, "unreached_fraction") + " not reached", map);
   }
   if (!rows.empty()) {
     page.heading(3, "Beats");

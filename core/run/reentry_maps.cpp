@@ -10,8 +10,6 @@
 
 namespace fibrodem {
 
-std::string beat_map_name(int beat) { return fmt::format("activation_beat_{:03d}.png", beat); }
-
 namespace {
 // Without antialiasing a map has at most 256 colours and is written as a
 // palette PNG, a fraction of the size (as the snapshots).

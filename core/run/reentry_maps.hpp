@@ -2,7 +2,8 @@
 // frequency of every cell and each beat's activation times, as pictures
 // (dominant_frequency_map.png, activation_beat_<k>.png) and one ParaView
 // file (reentry_maps.vtk, or .vtp with vtk_format "xml") holding them all
-// with each cell's cycle length. At most kMostBeatMaps beats are drawn, so
+// with each cell's cycle length. At most kMostBeatMaps beats are drawn
+// (measure/beat_activations.hpp, which names their pictures), so
 // that a long fibrillating run writes a bounded number of files; every beat
 // stays in summary.json.
 #pragma once
@@ -14,11 +15,6 @@
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
-
-inline constexpr std::size_t kMostBeatMaps = 24;  // the first ones
-
-// The picture of beat k: activation_beat_<k>.png, k zero-padded to 3 digits.
-std::string beat_map_name(int beat);
 
 // Returns the number of beats drawn.
 std::size_t write_reentry_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
