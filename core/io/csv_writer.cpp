@@ -57,6 +57,8 @@ CsvWriter& CsvWriter::cell(const std::string& value) {
 }
 
 CsvWriter& CsvWriter::cell(double value) { return cell(format_number(value)); }
+
+std::string format_number_or_empty(double value) { return std::isfinite(value) ? format_number(value) : ""; }
 CsvWriter& CsvWriter::cell(long long value) { return cell(std::to_string(value)); }
 
 void CsvWriter::flush() {

@@ -39,6 +39,8 @@ class CsvWriter {
 };
 
 std::string format_number(double value);  // shortest exact text; "nan", "inf"
+// The same, empty for NaN or infinity (a table's missing value).
+std::string format_number_or_empty(double value);
 // `digits` decimals (tables for people); `missing` for NaN or infinity.
 std::string fixed_decimals(double value, int digits, const std::string& missing = "");
 

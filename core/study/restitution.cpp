@@ -181,8 +181,7 @@ void refine_erp(const Protocol& protocol, std::vector<RestitutionPoint>& points,
       result.erp_ms = failed;
       return;
     }
-    const double half_steps = std::floor((captured - failed) / resolution / 2 + 1e-9);
-    RestitutionPoint p = run_interval(protocol, failed + std::max(1.0, half_steps) * resolution);
+    RestitutionPoint p = run_interval(protocol, bisection_interval_ms(failed, captured, resolution));
     p.refinement = true;
     if (protocol.options.on_run_done) protocol.options.on_run_done(p);
     points.push_back(p);
@@ -190,17 +189,15 @@ void refine_erp(const Protocol& protocol, std::vector<RestitutionPoint>& points,
   }
 }
 
-// Shortest round-trip text (as every CSV the project writes), empty for NaN.
-std::string number_text(double x) { return std::isfinite(x) ? format_number(x) : ""; }
-
 void write_table(const std::vector<RestitutionPoint>& points, const fs::path& file) {
   std::ofstream out(file);
   out << "interval_ms,captured,cells_measured,cells_captured,s1_apd90_ms,s2_apd90_ms,s2_apd50_ms,di_ms,stage,run\n";
-  for (const auto& p : points)
+  for (const auto& p : points) {
     out << interval_text(p.interval_ms) << "," << (p.captured ? 1 : 0) << "," << p.cells_measured << ","
-        << p.cells_captured << "," << number_text(p.s1_apd90_ms) << "," << number_text(p.s2_apd90_ms) << ","
-        << number_text(p.s2_apd50_ms) << "," << number_text(p.di_ms) << ","
-        << (p.refinement ? "bisection" : "scan") << "," << p.run << "\n";
+        << p.cells_captured;
+    for (double ms : {p.s1_apd90_ms, p.s2_apd90_ms, p.s2_apd50_ms, p.di_ms}) out << "," << format_number_or_empty(ms);
+    out << "," << (p.refinement ? "bisection" : "scan") << "," << p.run << "\n";
+  }
   if (!out) throw std::runtime_error("cannot write " + file.string());
 }
 
@@ -246,14 +243,14 @@ RestitutionResult run_restitution(json manifest, RestitutionOptions options) {
   Protocol protocol;
   protocol.s1_onset_ms = last_s1_onset_ms(manifest, kStudy);
   const double s2_onset = number_at(manifest["stimulus"][1], "start_ms", 0, "stimulus[1]");
-  protocol.tail_ms = number_at(manifest, "duration_ms", 0, "") - s2_onset;
+  const double duration_ms = number_at(manifest, "duration_ms", 0, "");
+  protocol.tail_ms = duration_ms - s2_onset;
   if (!(protocol.tail_ms > 0))
     throw ManifestError("duration_ms", "the run must last past S2 (stimulus[1].start_ms " + interval_text(s2_onset) +
-                                           " ms), got " + number_text(number_at(manifest, "duration_ms", 0, "")) +
-                                           " ms");
+                                           " ms), got " + format_number_or_empty(duration_ms) + " ms");
   if (options.intervals_ms.empty()) options.intervals_ms = default_restitution_intervals(manifest);
   for (double ci : options.intervals_ms)
-    if (!(ci > 0)) throw std::invalid_argument("coupling intervals must be > 0 ms, got " + number_text(ci));
+    if (!(ci > 0)) throw std::invalid_argument("coupling intervals must be > 0 ms, got " + format_number_or_empty(ci));
   protocol.sweep.base = manifest;
   protocol.options = options;
   fs::create_directories(options.out);

@@ -1,5 +1,6 @@
 #include "study/s1s2_protocol.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <set>
@@ -49,6 +50,11 @@ std::optional<std::size_t> beat_of_onset(const json& manifest, double onset_ms) 
     ++beat;
   }
   return std::nullopt;
+}
+
+double bisection_interval_ms(double low_ms, double high_ms, double resolution_ms) {
+  const double half_steps = std::floor((high_ms - low_ms) / resolution_ms / 2 + 1e-9);
+  return low_ms + std::max(1.0, half_steps) * resolution_ms;
 }
 
 std::string interval_text(double ms) {

@@ -30,6 +30,12 @@ double coupling_interval_ms(const json& manifest, const std::string& study);
 // every train (as biomarkers.csv and summary.json number beats).
 std::optional<std::size_t> beat_of_onset(const json& manifest, double onset_ms);
 
+// The interval to run between `low_ms` and `high_ms` when bisecting a
+// boundary (S2 captured or not, re-entry or not): the midpoint on the
+// resolution's grid counted from the low end (so that the probes of a scan on
+// that grid stay on it), at least one resolution step above it.
+double bisection_interval_ms(double low_ms, double high_ms, double resolution_ms);
+
 // A number of an object, `otherwise` if absent; ManifestError at path.key if
 // not a number.
 double number_at(const json& object, const char* key, double otherwise, const std::string& path);

@@ -20,8 +20,6 @@ std::string cell_text(const json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-std::string number_text(double v) { return std::isfinite(v) ? format_number(v) : ""; }
-
 // A markdown cell: numbers cut to two decimals.
 std::string shown(const std::string& text) {
   std::string s = text;
@@ -108,7 +106,7 @@ void write_statistics(const std::vector<GridPoint>& points, const std::vector<Su
     for (const auto& c : row) csv.cell(c);
     std::vector<std::string> md_row = shown(row);
     for (const auto& s : stats[k]) {
-      for (double v : {s.mean, s.sd, s.ci95_low, s.ci95_high}) csv.cell(number_text(v));
+      for (double v : {s.mean, s.sd, s.ci95_low, s.ci95_high}) csv.cell(format_number_or_empty(v));
       md_row.push_back(!std::isfinite(s.mean) ? ""
                        : std::isfinite(s.ci95_low)
                            ? shown(format_number(s.mean)) + " [" + shown(format_number(s.ci95_low)) + ", " +
@@ -193,7 +191,7 @@ std::string write_sweep_tables(const SweepFile& sweep, const std::vector<SweepRu
   for (std::size_t k = 0; k < runs.size(); ++k) {
     std::vector<std::string> row = {std::to_string(k)};
     for (const auto& [path, v] : runs[k].values) row.push_back(cell_text(v));
-    for (const auto& m : list) row.push_back(number_text(m.of(runs[k].summary)));
+    for (const auto& m : list) row.push_back(format_number_or_empty(m.of(runs[k].summary)));
     row.push_back(runs[k].status);
     for (const auto& c : row) csv.cell(c);
     csv.end_row();

@@ -71,13 +71,6 @@ struct Bracket {
   double low_ms, high_ms;
 };
 
-// Midpoint on the resolution's grid counted from the bracket's low end, so
-// that the probes of a scan on that grid stay on it.
-double bisection_point(const Bracket& b, double resolution_ms) {
-  const double half_steps = std::floor((b.high_ms - b.low_ms) / resolution_ms / 2 + 1e-9);
-  return b.low_ms + std::max(1.0, half_steps) * resolution_ms;
-}
-
 // Adjacent classified intervals of one seed on either side of a boundary,
 // wider apart than the resolution.
 std::vector<Bracket> open_brackets(const std::map<long long, std::map<double, bool>>& known, double resolution_ms) {
@@ -137,7 +130,7 @@ WindowSearch search_vulnerable_window(const WindowScan& scan, const std::vector<
   for (auto brackets = open_brackets(known, scan.resolution_ms); !brackets.empty();
        brackets = open_brackets(known, scan.resolution_ms)) {
     std::vector<S2Probe> probes;
-    for (const auto& b : brackets) probes.push_back({bisection_point(b, scan.resolution_ms), b.seed});
+    for (const auto& b : brackets) probes.push_back({bisection_interval_ms(b.low_ms, b.high_ms, scan.resolution_ms), b.seed});
     take(probes, true);
   }
   for (long long seed : seeds) {
