@@ -138,11 +138,10 @@ void Simulation::Impl::run() {
 // samples (measured by now). What Simulation's accessors give after run()
 // stays: the tissue, the populations (summary's models), biomarkers, traces.
 void Simulation::Impl::release_run_buffers() {
-  if (integrator) {
-    integrator_text = integrator->describe();
-    integrator_report = integrator->report();
-    integrator.reset();
-  }
+  if (!integrator) return;  // released before (a run that completed, then its end)
+  integrator_text = integrator->describe();
+  integrator_report = integrator->report();
+  integrator.reset();
   system.coupler.reset();
   tracker.reset();
   reentry_frames = VoltageFrames();
