@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <csignal>
+#include <regex>
 #include <tuple>
 
 #include "run/interrupt.hpp"
@@ -275,6 +276,43 @@ TEST_CASE("a scene too large for the machine is refused at set-up with the estim
   // A scene that fits says what it needs.
   Simulation fits(parse_scene(testing::passive_cell_manifest()));
   CHECK(fits.resource_estimate().find("memory ~") == 0);
+}
+
+TEST_CASE("the estimate of the snapshots' size bounds what is written, within a factor of ten") {
+  // A 400-cell myocyte strand with snapshots as PNG and compressed VTK XML:
+  // the estimate (resource_estimate.cpp: at most 33 bytes a particle before
+  // zlib, ~8 a particle of PNG) is an upper bound, and not so loose that the
+  // disk check would refuse a scene that fits (a 5 x 5 cm sheet's frames are
+  // ~6 bytes a particle; the estimate once said 54 GB for its 1.8 GB).
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "snapshot_sizes", "duration_ms": 4,
+    "tissue": {"builder": "strand", "type": "myocyte", "cells": 400},
+    "cells": {"myocyte": {"model": "courtemanche", "variant": "paced_1hz"}},
+    "stimulus": [{"target": [0, 1], "start_ms": 0.5, "duration_ms": 2, "amplitude_pA": 8000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"snapshots": {"every_ms": 1, "vtk": true}, "vtk_format": "xml", "report": false}
+  })");
+  const auto dir = testing::scratch_dir("snapshot_sizes");
+  m["output"]["dir"] = dir.string();
+  Simulation sim(parse_scene(m));
+  const std::string estimate = sim.resource_estimate();
+  sim.run();
+  std::smatch found;
+  REQUIRE(std::regex_search(estimate, found, std::regex(R"((\d+) snapshots ([0-9.e+]+) (kB|MB|GB))")));
+  const double unit = found[3] == "kB" ? 1e3 : found[3] == "MB" ? 1e6 : 1e9;
+  const double estimated = std::stod(found[2]) * unit;
+  double written = 0;
+  int frames = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string().rfind("snapshot_", 0) == 0) {
+      written += static_cast<double>(entry.file_size());
+      frames += entry.path().extension() == ".vtp";
+    }
+  CAPTURE(estimate);
+  CAPTURE(written);
+  CHECK(frames == std::stoi(found[1]));
+  CHECK(estimated >= written);
+  CHECK(estimated <= 10 * written);
 }
 
 TEST_CASE("output.traces as a list of blocks: a fibroblast-only variable beside the myocyte's, one time axis") {

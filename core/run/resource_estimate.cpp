@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "io/tissue_picture.hpp"
 #include "util/manifest_error.hpp"
 
 namespace fibrodem {
@@ -58,6 +59,35 @@ std::string ResourceEstimate::describe() const {
     s += (i ? "; " : "") + output[i].what + " " + size_text(output[i].bytes);
   return s + ")";
 }
+
+namespace {
+
+// A snapshot's PNG: ~8 bytes a particle on small tissues (170 kB for 22k
+// particles; Fig. 3's 16,653: 44 kB), but never more than a byte a pixel (a
+// palette's index): the picture is height_px (1500) high whatever the
+// tissue's size, as wide as the tissue's aspect asks, plus ~300 px of margins
+// and colour bar (a 5 x 5 cm sheet's frame: 12-19 kB for 5.9 M particles).
+double png_frame_bytes(const Tissue& tissue) {
+  if (tissue.particles.empty()) return 0;
+  double xmin = tissue.particles[0].x_um, xmax = xmin, ymin = tissue.particles[0].y_um, ymax = ymin;
+  for (const auto& p : tissue.particles) {
+    xmin = std::min(xmin, p.x_um), xmax = std::max(xmax, p.x_um);
+    ymin = std::min(ymin, p.y_um), ymax = std::max(ymax, p.y_um);
+  }
+  const double height_px = PictureOptions{}.height_px;
+  const double width_px = height_px * (xmax - xmin) / std::max(1.0, ymax - ymin) + 300;
+  return std::min(8.0 * static_cast<double>(tissue.particles.size()), width_px * (height_px + 100));
+}
+
+// A snapshot's VTK file: legacy text ~120 bytes a particle; XML PolyData
+// (io/vtk_xml_writer.hpp) at most its raw binary arrays, 33 bytes a particle
+// (points 12, radius 4, cell 4, type 1, V 4, vertex connectivity and offsets
+// 8) before zlib, which leaves 6-8 (Fig. 3: 7.5; a 5 x 5 cm sheet: 6).
+double vtk_frame_bytes(const std::string& vtk_format, double particles) {
+  return (vtk_format == "xml" ? 33.0 : 120.0) * particles;
+}
+
+}  // namespace
 
 // The terms below are measured, each on what it counts, with heaptrack (peak
 // heap by allocation site) and /usr/bin/time -f %M (peak RSS) on:
@@ -172,10 +202,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         "output.traces: fewer cells or variables, or a larger every_ms"});
     const auto& snap = scene.output.snapshots;
     const double frames = samples(scene.duration_ms, snap.from_ms, snap.every_ms);
-    // A PNG frame: ~60 bytes a particle (measured: 170 kB for 22k particles);
-    // VTK: ~120 bytes a particle.
     e.output.push_back({fmt::format("{:.0f} snapshots", frames),
-                        frames * ((snap.png ? 60 : 0) + (snap.vtk ? 120 : 0)) * particles,
+                        frames * ((snap.png ? png_frame_bytes(tissue) : 0.0) +
+                                  (snap.vtk ? vtk_frame_bytes(scene.output.vtk_format, particles) : 0.0)),
                         "output.snapshots: a larger every_ms, or png/vtk false"});
     e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * cells + 300.0 * particles + 1e5, ""});
     if (scene.output.checkpoint.every_ms > 0) {
