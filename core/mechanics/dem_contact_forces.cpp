@@ -17,8 +17,8 @@ struct DemSolver::BlockScratch {
 
 // Forces per contact in parallel (blocks of bonds, then of contacts), then
 // their sums per body, each from its own contacts in a fixed order, and the
-// closing half kick of h_s with them (bodies in the step's fixed parts, on
-// the thread that moves them).
+// closing half kick of h_s with them (bodies in parts of equal contact work:
+// partition_force_sums).
 void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
   const std::size_t bond_blocks = (bonds_.size() + kBlock - 1) / kBlock;
   const std::size_t blocks = bond_blocks + (contacts_.size() + kBlock - 1) / kBlock;
@@ -35,7 +35,7 @@ void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
     }
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < kStepParts; ++k)
-      for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+      for (std::size_t b = sum_part_first_body_[k]; b < sum_part_first_body_[k + 1]; ++b) {
         sum_forces_on_body(b);
         kick_body(b, h_s);
       }

@@ -95,6 +95,7 @@ void DemSolver::index_contacts() {
   body_kr_.resize(bx_.size());
   particle_contacts_.build(px_.size(), bonds_, contacts_);
   body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
+  partition_force_sums();
 }
 
 std::size_t DemSolver::broken_bonds() const {

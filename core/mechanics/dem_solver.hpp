@@ -136,6 +136,7 @@ class DemSolver final : public MechanicsSolver {
   void add_bodies(const Tissue& tissue);
   void index_particles();
   void partition_bodies();
+  void partition_force_sums();
   std::vector<std::pair<int, int>> form_bonds(const Tissue& tissue);
   void kick_body(std::size_t b, double h_s);
   void drift_and_reshape(std::size_t b, double dt_s);
@@ -183,7 +184,8 @@ class DemSolver final : public MechanicsSolver {
   std::vector<double> pa_;  // axial offset in spacings (k - (N-1)/2)
   std::vector<double> px_, py_, px_old_, py_old_, pvx_, pvy_, pr_, pw_;
   std::vector<int> body_particle_start_, body_particle_;  // each body's particles, ascending (CSR)
-  std::vector<std::size_t> part_first_body_;              // the step's kStepParts parts of bodies
+  std::vector<std::size_t> part_first_body_;              // the move loop's kStepParts parts of bodies
+  std::vector<std::size_t> sum_part_first_body_;          // the force sums' parts (by contacts)
 
   // Bonds, unbonded contacts (and the next list, scratch).
   BondSet bonds_, contacts_, next_contacts_;
