@@ -20,7 +20,9 @@ namespace adaptive_detail {
 struct Row {
   double* y;                  // the population's states (the block's cells)
   double* start;              // saved states at the step's start
-  double* first_order;        // first-order full step (the error estimate)
+  double* a_start;            // linear form at the step's start (the midpoint step keeps it here)
+  double* b_start;
+  double* first_order;        // the first-order full step, if wanted (null: only its error is)
   const double* a;            // linear form dy/dt = a + b y (the thread's tile)
   const double* b;
   bool exponential;           // gates, and other states with a linear form (stiff_rate)
@@ -46,30 +48,38 @@ double largest_lane(const Real& x) {
   return *std::max_element(lanes, lanes + simd::kLanes);
 }
 
-// Stage 1 on a row: save the start, write the first-order full step to
-// first_order and the first-order half step to y.
+// The first-order full step and half step from y0 with the start's linear
+// form (A, B): one exp for both (exp(B h) = exp(B h/2)^2). Stage 1 takes the
+// half step; stage 2 takes the full step afresh, bit for bit the same, rather
+// than keep it a step long in an array per state.
+struct FirstOrder {
+  Real full, half;
+};
+FirstOrder first_order_steps(bool exponential, const Real& y0, const Real& A, const Real& B, double h) {
+  if (exponential) {
+    const Real half = simd::exp(B * (0.5 * h));
+    return {rush_larsen_update(y0, A, B, half * half, h), rush_larsen_update(y0, A, B, half, 0.5 * h)};
+  }
+  const Real slope = A + B * y0;
+  return {y0 + h * slope, y0 + (0.5 * h) * slope};
+}
+
+// Stage 1 on a row: save the start, write the first-order half step to y.
 void first_stage(const Row& row, std::size_t count, double h) {
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
     simd::store(row.start + c, y0, n);
-    if (row.exponential) {
-      const Real half = simd::exp(B * (0.5 * h));  // exp(B h) = half^2: one exp
-      simd::store(row.first_order + c, rush_larsen_update(y0, A, B, half * half, h), n);
-      simd::store(row.y + c, rush_larsen_update(y0, A, B, half, 0.5 * h), n);
-    } else {
-      const Real slope = A + B * y0;
-      simd::store(row.first_order + c, y0 + h * slope, n);
-      simd::store(row.y + c, y0 + (0.5 * h) * slope, n);
-    }
+    simd::store(row.y + c, first_order_steps(row.exponential, y0, A, B, h).half, n);
   }
 }
 
 // Stage 2 on a row: the full step from the start with the midpoint's linear
 // form (y holds the midpoint); returns the row's largest error in tolerances
-// (inf if a new value left [lo, hi] or is NaN).
-double second_stage(const Row& row, std::size_t count, double h, double rtol, double atol_scaled, double lo,
-                    double hi) {
+// (inf if a new value left [lo, hi] or is NaN) against the first-order step
+// (taken exponentially if first_exponential, as stage 1 took it).
+double second_stage(const Row& row, bool first_exponential, std::size_t count, double h, double rtol,
+                    double atol_scaled, double lo, double hi) {
   Real worst(0.0);
   Real::batch_bool_type in_limits(true);
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
@@ -78,8 +88,12 @@ double second_stage(const Row& row, std::size_t count, double h, double rtol, do
     const Real next = row.exponential ? rush_larsen_update(y0, A, B, simd::exp(B * h), h)
                                       : y0 + h * (A + B * simd::load(row.y + c, n));
     simd::store(row.y + c, next, n);
+    const Real first = first_order_steps(first_exponential, y0, simd::load(row.a_start + c, n),
+                                         simd::load(row.b_start + c, n), h)
+                           .full;
+    if (row.first_order) simd::store(row.first_order + c, first, n);
     const Real tolerance = rtol * simd::fabs(next) + atol_scaled;
-    worst = simd::fmax(worst, simd::fabs(next - simd::load(row.first_order + c, n)) / tolerance);
+    worst = simd::fmax(worst, simd::fabs(next - first) / tolerance);
     in_limits = in_limits & (next >= lo) & (next <= hi);  // NaN fails
   }
   return xsimd::all(in_limits) ? largest_lane(worst) : kInf;
@@ -126,6 +140,12 @@ double extrapolated_row(const Row& row, const double* a_prev, const double* b_pr
   return xsimd::all(in_limits) ? largest_lane(worst) : kInf;
 }
 
+// Keeps a block's a, b at the step's start (stage 2 and the next step use them).
+void keep_linear_forms(const Row& row, std::size_t count) {
+  std::copy_n(row.a, count, row.a_start);
+  std::copy_n(row.b, count, row.b_start);
+}
+
 // Largest of `value` and the atomic's (a block's error into the step's).
 void atomic_max(std::atomic<double>& target, double value) {
   double seen = target.load(std::memory_order_relaxed);
@@ -154,7 +174,6 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     Buffers buf;
     buf.pop = &pop;
     buf.start.resize(pop.y.size());
-    buf.first_order.resize(pop.y.size());
     for (auto* v : {&buf.a_prev, &buf.b_prev, &buf.a_now, &buf.b_now}) v->assign(pop.y.size(), 0.0);
     if (system.coupler && pop.voltage_state >= 0)
       for (auto* v : {&buf.F_prev, &buf.F_now, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
@@ -197,8 +216,13 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
   const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
   const auto& states = pop.info().states;
   for (std::size_t k = 0; k < states.size(); ++k) {
-    const Row row{pop.y.data() + k * n + offset, buf.start.data() + k * n + offset,
-                  buf.first_order.data() + k * n + offset, block.a + k * block.ab_stride,
+    const std::size_t at = k * n + offset;
+    const Row row{pop.y.data() + at,
+                  buf.start.data() + at,
+                  buf.a_now.data() + at,
+                  buf.b_now.data() + at,
+                  buf.first_order.empty() ? nullptr : buf.first_order.data() + at,
+                  block.a + k * block.ab_stride,
                   block.b + k * block.ab_stride,
                   states[k].gate || has_slope(block.b + k * block.ab_stride, block.end)};
     if (coupled && static_cast<int>(k) == pop.voltage_state) potential(pop, row, offset, block.end);
@@ -211,14 +235,6 @@ double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
   return history_ ? extrapolated_step(system, t, h) : midpoint_step(system, t, h);
 }
 
-// Keeps a block's a, b at the step's start (the next step extrapolates from them).
-void AdaptiveIntegrator::keep_linear_forms(Buffers& buf, const Row& row, std::size_t k, std::size_t offset,
-                                           std::size_t count) {
-  const std::size_t at = k * buf.pop->size() + offset;
-  std::copy_n(row.a, count, buf.a_now.begin() + static_cast<std::ptrdiff_t>(at));
-  std::copy_n(row.b, count, buf.b_now.begin() + static_cast<std::ptrdiff_t>(at));
-}
-
 double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h) {
   // The stimulus at the step's middle: steps never straddle a pulse edge.
   const double t_stim = t + 0.5 * h, theta = 0.5 * h;
@@ -228,8 +244,8 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t offset) {
-          keep_linear_forms(buf, row, k, offset, block.end);
+        [&](const Row& row, std::size_t, Buffers&, std::size_t) {
+          keep_linear_forms(row, block.end);
           first_stage(row, block.end, h);
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
@@ -253,8 +269,10 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
       for (std::size_t c = 0; c < n; ++c) {
         const double V_half = v_global_[pop.cells[c]];
         pop.y[row + c] = V_half;
-        // Crank-Nicolson with F at the start: V1's first-order companion.
-        buf.first_order[row + c] = 2 * V_half - buf.start[row + c];
+        // Crank-Nicolson with F at the start: V1's first-order companion
+        // (in v_half, its solve done).
+        buf.v_half[c] = 2 * V_half - buf.start[row + c];
+        if (!buf.first_order.empty()) buf.first_order[row + c] = buf.v_half[c];
       }
     }
   }
@@ -265,9 +283,11 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
     for_rows(
         pop, block, coupled,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
-          block_error = std::max(block_error, second_stage(row, block.end, h, rtol_, atol_ * buf.scale[k],
-                                                           pop.lower_limit_of(k),
-                                                           pop.upper_limit_of(k)));
+          // Stage 1's choice, from the start's slopes.
+          const bool first_exponential = pop.info().states[k].gate || has_slope(row.b_start, block.end);
+          block_error =
+              std::max(block_error, second_stage(row, first_exponential, block.end, h, rtol_, atol_ * buf.scale[k],
+                                                 pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           double* v_full = buffers_of(p).v_full.data() + offset;
@@ -326,7 +346,7 @@ void AdaptiveIntegrator::solve(CellSystem& system, double theta, std::vector<dou
 }
 
 // V1 from (I + theta K) V1 = v_full, into the populations; the largest of
-// `error` and V's own (against the first-order companion in first_order, if
+// `error` and V's own (against the first-order companion in v_half, if
 // with_companion), inf if V left its range.
 double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, double error, bool with_companion) {
   solve(system, theta, &Buffers::v_full);
@@ -341,7 +361,7 @@ double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, dou
       pop.y[k * n + c] = V1;
       if (!(V1 >= lo && V1 <= hi)) error = kInf;
       if (with_companion)
-        error = std::max(error, std::abs(V1 - buf.first_order[k * n + c]) / (rtol_ * std::abs(V1) + atol));
+        error = std::max(error, std::abs(V1 - buf.v_half[c]) / (rtol_ * std::abs(V1) + atol));
     }
   }
   return error;
@@ -440,7 +460,8 @@ std::string AdaptiveIntegrator::report() const {
 // A step at the smallest size still failed: take it once more to name the
 // cell and state with the largest error, then stop the run.
 void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err) {
-  history_ = false;  // the two-evaluation step leaves a first-order companion for every state
+  history_ = false;  // the two-evaluation step, which leaves a first-order companion for every state here:
+  for (Buffers& buf : buffers_) buf.first_order.resize(buf.pop->y.size());
   try_step(system, t, h);
   std::string worst = "?";
   double worst_error = -1;

@@ -72,16 +72,20 @@ class AdaptiveIntegrator final : public Integrator {
   static constexpr double kSmallestSolveTolerance_mV = 1e-9;
 
  private:
-  // Per population: the states at the step's start, the first-order full
-  // step, and per state the scale of its absolute tolerance.
+  // Per population: the states at the step's start, and per state the scale
+  // of its absolute tolerance.
   struct Buffers {
     Population* pop = nullptr;
-    std::vector<double> start, first_order, scale;
+    std::vector<double> start, scale;
+    // The first-order full step: filled only while fail() looks for the
+    // worst state (a step's error is taken as it is computed).
+    std::vector<double> first_order;
     // Linear forms a, b at the last accepted step's start, and at this one's.
     std::vector<double> a_prev, b_prev, a_now, b_now;
     // A coupled potential, per local cell (each block writes its own stretch):
     // the membrane term F at the last accepted step's start and at this one's,
-    // and the right-hand sides of the two solves.
+    // and the right-hand sides of the two solves (v_half then holds V1's
+    // first-order companion).
     std::vector<double> F_prev, F_now, v_half, v_full;
   };
   void prepare(CellSystem& system);
@@ -97,8 +101,6 @@ class AdaptiveIntegrator final : public Integrator {
   void accept(double h);
   template <class EachRow, class Potential>
   void for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row, Potential&& potential);
-  static void keep_linear_forms(Buffers& buf, const adaptive_detail::Row& row, std::size_t k, std::size_t offset,
-                                std::size_t count);
   void restore();
   static double on_grid(double h_ms);
   double next_after_accepted(double step_ms, double wanted_ms, double err);
