@@ -20,7 +20,9 @@ namespace adaptive_detail {
 struct Row {
   double* y;                  // the population's states (the block's cells)
   double* start;              // saved states at the step's start
-  double* a_start;            // linear form at the step's start (the midpoint step keeps it here)
+  // The linear form at the last accepted step's start (the history), which
+  // the step overwrites with its own start's once it has read it.
+  double* a_start;
   double* b_start;
   double* first_order;        // the first-order full step, if wanted (null: only its error is)
   const double* a;            // linear form dy/dt = a + b y (the thread's tile)
@@ -101,26 +103,25 @@ double second_stage(const Row& row, bool first_exponential, std::size_t count, d
 
 // The one-evaluation step on a row: the linear form at the step's middle
 // extrapolated from this step's start (a, b) and the previous one's
-// (a_prev, b_prev; omega = h / (2 h_prev)), the state advanced from its start
+// (in a_start, b_start; omega = h / (2 h_prev)), the state advanced from its start
 // with it (second order). The estimate is its difference to the step with the
 // start's own form (first order): for a linear form perturbed by (dA, dB) the
 // end moves by h phi1(B h) (dA + dB y_mean) to first order (variation of
 // constants; phi1(z) = (e^z - 1)/z, y_mean the mean of the two ends), which
-// costs no second exp. Keeps a, b in a_now, b_now for the next step; returns
-// the row's largest error in tolerances (inf out of [lo, hi] or NaN).
-double extrapolated_row(const Row& row, const double* a_prev, const double* b_prev, double* a_now, double* b_now,
-                        std::size_t count, double h, double omega, double rtol, double atol_scaled, double lo,
-                        double hi) {
+// costs no second exp. Keeps a, b in a_start, b_start for the next step;
+// returns the row's largest error in tolerances (inf out of [lo, hi] or NaN).
+double extrapolated_row(const Row& row, std::size_t count, double h, double omega, double rtol, double atol_scaled,
+                        double lo, double hi) {
   Real worst(0.0);
   Real::batch_bool_type in_limits(true);
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
-    simd::store(a_now + c, A, n);
-    simd::store(b_now + c, B, n);
+    const Real A_mid = A + omega * (A - simd::load(row.a_start + c, n));
+    const Real B_mid = B + omega * (B - simd::load(row.b_start + c, n));
+    simd::store(row.a_start + c, A, n);
+    simd::store(row.b_start + c, B, n);
     simd::store(row.start + c, y0, n);
-    const Real A_mid = A + omega * (A - simd::load(a_prev + c, n));
-    const Real B_mid = B + omega * (B - simd::load(b_prev + c, n));
     Real next, change;  // change: the end's difference to the first-order step
     if (row.exponential) {
       const Real Bh = B_mid * h, E = simd::exp(Bh);
@@ -174,9 +175,9 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     Buffers buf;
     buf.pop = &pop;
     buf.start.resize(pop.y.size());
-    for (auto* v : {&buf.a_prev, &buf.b_prev, &buf.a_now, &buf.b_now}) v->assign(pop.y.size(), 0.0);
+    for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(pop.y.size(), 0.0);
     if (system.coupler && pop.voltage_state >= 0)
-      for (auto* v : {&buf.F_prev, &buf.F_now, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
+      for (auto* v : {&buf.F_last, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
     const auto& states = pop.info().states;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
@@ -219,8 +220,8 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
     const std::size_t at = k * n + offset;
     const Row row{pop.y.data() + at,
                   buf.start.data() + at,
-                  buf.a_now.data() + at,
-                  buf.b_now.data() + at,
+                  buf.a_last.data() + at,
+                  buf.b_last.data() + at,
                   buf.first_order.empty() ? nullptr : buf.first_order.data() + at,
                   block.a + k * block.ab_stride,
                   block.b + k * block.ab_stride,
@@ -254,7 +255,7 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
             row.start[c] = V0;
-            buf.F_now[offset + c] = F0;
+            buf.F_last[offset + c] = F0;
             buf.v_half[offset + c] = V0 + theta * F0;
             buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF;
           }
@@ -306,13 +307,9 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
     double block_error = 0;
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t offset) {
-          const std::size_t at = k * pop.size() + offset;
-          block_error = std::max(
-              block_error, extrapolated_row(row, buf.a_prev.data() + at, buf.b_prev.data() + at,
-                                            buf.a_now.data() + at, buf.b_now.data() + at, block.end, h, omega, rtol_,
-                                            atol_ * buf.scale[k], pop.lower_limit_of(k),
-                                            pop.upper_limit_of(k)));
+        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
+          block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, rtol_, atol_ * buf.scale[k],
+                                                               pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           // CNAB2: (I + theta K) V1 = (I - theta K) V0 + h F_mid, F_mid
@@ -323,9 +320,9 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
           const double* gap = gap_current(system, p, offset, count);
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
-            const double F_mid = F0 + omega * (F0 - buf.F_prev[offset + c]);
+            const double F_mid = F0 + omega * (F0 - buf.F_last[offset + c]);
             row.start[c] = V0;
-            buf.F_now[offset + c] = F0;
+            buf.F_last[offset + c] = F0;
             buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF + h * F_mid;
             block_error = std::max(block_error, h * std::abs(F_mid - F0) / (rtol_ * std::abs(V0) + atol));
           }
@@ -367,13 +364,9 @@ double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, dou
   return error;
 }
 
-// The step was accepted: its start's linear forms become the history.
+// The step was accepted: its start's linear forms, which it left in
+// a_last, b_last and F_last, are the history.
 void AdaptiveIntegrator::accept(double h) {
-  for (Buffers& buf : buffers_) {
-    std::swap(buf.a_prev, buf.a_now);
-    std::swap(buf.b_prev, buf.b_now);
-    std::swap(buf.F_prev, buf.F_now);
-  }
   h_prev_ = h;
   history_ = true;
 }
@@ -431,7 +424,10 @@ void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_en
     system.states_checked = system.states_in_limits = accepted;
     if (!accepted) {
       restore();
-      if (!std::isfinite(err)) history_ = false;  // start afresh with the two-evaluation step
+      // The step left its start's linear forms where the history was (one
+      // array per state, not two): the retry is the two-evaluation step,
+      // which needs none.
+      history_ = false;
       if (step <= kMinStep_ms) fail(system, t, step, err);
       h = std::isfinite(err) ? controller_.next_step(step, err, false) : 0.25 * step;
       h = std::max(h, 0.5 * kMinStep_ms);
