@@ -7,6 +7,7 @@
 
 #include <pugixml.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -230,6 +231,68 @@ TEST_CASE("legacy .vtk and XML .vtp of one tissue hold the same points, cells an
   }
   CHECK(arrays == 4);  // radius_um, cell, cell_type, activation_ms
   CHECK(vtp.bytes.count("PointData/activation_ms") == 1);
+}
+
+TEST_CASE("files of a tissue larger than the writers' buffers hold every particle, bond, field and displacement") {
+  // 6000 cells of 6 particles bonded in a row: each .vtp array spans several
+  // 64 KiB blocks, the legacy text ~2 MB, many times the 64 kB it is
+  // written out by. Expected values: the tissue's own, as each format rounds them.
+  Tissue t;
+  for (int c = 0; c < 6000; ++c) {
+    const int cell = t.add_cell(c % 10 ? CellType::myocyte : CellType::fibroblast, 0.1 * c, 1.0 / (c + 3));
+    for (int k = 0; k < 6; ++k) {
+      t.add_particle(cell, 0.1 * c + 16.7 * k, 1.0 / (c + 3) + k, 12.5);
+      if (k > 0) t.bonds.push_back({6 * c + k - 1, 6 * c + k});
+    }
+  }
+  std::vector<double> field(t.cell_count());
+  for (std::size_t c = 0; c < field.size(); ++c) field[c] = std::sqrt(static_cast<double>(c) + 0.5);
+  std::vector<std::array<double, 2>> displacement(t.particles.size());
+  for (std::size_t p = 0; p < displacement.size(); ++p) displacement[p] = {0.001 * p, -1.0 / (p + 1)};
+  const auto dir = testing::scratch_dir("vtk_streamed");
+  write_tissue_vtp(t, dir / "t.vtp", {{"V_mV", field}}, true, &displacement);
+  write_tissue_vtk(t, dir / "t.vtk", {{"V_mV", field}}, true, &displacement);
+
+  const VtpFile vtp = read_vtp(dir / "t.vtp");
+  const std::size_t n = t.particles.size();
+  const auto points = vtp.array<float>("Points/Points");
+  const auto cell = vtp.array<std::int32_t>("PointData/cell");
+  const auto v = vtp.array<float>("PointData/V_mV");
+  const auto d = vtp.array<float>("PointData/displacement_um");
+  const auto ends = vtp.array<std::int32_t>("Lines/connectivity");
+  REQUIRE(points.size() == 3 * n);
+  REQUIRE(cell.size() == n);
+  REQUIRE(v.size() == n);
+  REQUIRE(d.size() == 3 * n);
+  REQUIRE(ends.size() == 2 * t.bonds.size());
+  std::size_t differ = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const Particle& q = t.particles[p];
+    differ += points[3 * p] != static_cast<float>(q.x_um) || points[3 * p + 1] != static_cast<float>(q.y_um) ||
+              cell[p] != q.cell || v[p] != static_cast<float>(field[static_cast<std::size_t>(q.cell)]) ||
+              d[3 * p] != static_cast<float>(displacement[p][0]) ||
+              d[3 * p + 1] != static_cast<float>(displacement[p][1]) || d[3 * p + 2] != 0.0f;
+  }
+  for (std::size_t b = 0; b < t.bonds.size(); ++b)
+    differ += ends[2 * b] != t.bonds[b].p || ends[2 * b + 1] != t.bonds[b].q;
+  CHECK(differ == 0);
+
+  // The legacy file: its last section, the displacement, read back whole
+  // (%.9g text: nine significant digits, within 5e-9 relative of the values).
+  const std::string text = testing::read_file(dir / "t.vtk");
+  const std::size_t at = text.find("VECTORS displacement_um double\n");
+  REQUIRE(at != std::string::npos);
+  std::istringstream in(text.substr(at + 31));
+  std::size_t read = 0, off = 0;
+  double x, y, z;
+  while (in >> x >> y >> z) {
+    REQUIRE(read < n);
+    off += std::abs(x - displacement[read][0]) > 5e-9 * std::abs(displacement[read][0]) ||
+           std::abs(y - displacement[read][1]) > 5e-9 * std::abs(displacement[read][1]) || z != 0;
+    ++read;
+  }
+  CHECK(read == n);
+  CHECK(off == 0);
 }
 
 namespace {

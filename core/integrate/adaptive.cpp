@@ -20,7 +20,11 @@ namespace adaptive_detail {
 struct Row {
   double* y;                  // the population's states (the block's cells)
   double* start;              // saved states at the step's start
-  double* first_order;        // first-order full step (the error estimate)
+  // The linear form at the last accepted step's start (the history), which
+  // the step overwrites with its own start's once it has read it.
+  double* a_start;
+  double* b_start;
+  double* first_order;        // the first-order full step, if wanted (null: only its error is)
   const double* a;            // linear form dy/dt = a + b y (the thread's tile)
   const double* b;
   bool exponential;           // gates, and other states with a linear form (stiff_rate)
@@ -46,30 +50,38 @@ double largest_lane(const Real& x) {
   return *std::max_element(lanes, lanes + simd::kLanes);
 }
 
-// Stage 1 on a row: save the start, write the first-order full step to
-// first_order and the first-order half step to y.
+// The first-order full step and half step from y0 with the start's linear
+// form (A, B): one exp for both (exp(B h) = exp(B h/2)^2). Stage 1 takes the
+// half step; stage 2 takes the full step afresh, bit for bit the same, rather
+// than keep it a step long in an array per state.
+struct FirstOrder {
+  Real full, half;
+};
+FirstOrder first_order_steps(bool exponential, const Real& y0, const Real& A, const Real& B, double h) {
+  if (exponential) {
+    const Real half = simd::exp(B * (0.5 * h));
+    return {rush_larsen_update(y0, A, B, half * half, h), rush_larsen_update(y0, A, B, half, 0.5 * h)};
+  }
+  const Real slope = A + B * y0;
+  return {y0 + h * slope, y0 + (0.5 * h) * slope};
+}
+
+// Stage 1 on a row: save the start, write the first-order half step to y.
 void first_stage(const Row& row, std::size_t count, double h) {
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
     simd::store(row.start + c, y0, n);
-    if (row.exponential) {
-      const Real half = simd::exp(B * (0.5 * h));  // exp(B h) = half^2: one exp
-      simd::store(row.first_order + c, rush_larsen_update(y0, A, B, half * half, h), n);
-      simd::store(row.y + c, rush_larsen_update(y0, A, B, half, 0.5 * h), n);
-    } else {
-      const Real slope = A + B * y0;
-      simd::store(row.first_order + c, y0 + h * slope, n);
-      simd::store(row.y + c, y0 + (0.5 * h) * slope, n);
-    }
+    simd::store(row.y + c, first_order_steps(row.exponential, y0, A, B, h).half, n);
   }
 }
 
 // Stage 2 on a row: the full step from the start with the midpoint's linear
 // form (y holds the midpoint); returns the row's largest error in tolerances
-// (inf if a new value left [lo, hi] or is NaN).
-double second_stage(const Row& row, std::size_t count, double h, double rtol, double atol_scaled, double lo,
-                    double hi) {
+// (inf if a new value left [lo, hi] or is NaN) against the first-order step
+// (taken exponentially if first_exponential, as stage 1 took it).
+double second_stage(const Row& row, bool first_exponential, std::size_t count, double h, double rtol,
+                    double atol_scaled, double lo, double hi) {
   Real worst(0.0);
   Real::batch_bool_type in_limits(true);
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
@@ -78,8 +90,12 @@ double second_stage(const Row& row, std::size_t count, double h, double rtol, do
     const Real next = row.exponential ? rush_larsen_update(y0, A, B, simd::exp(B * h), h)
                                       : y0 + h * (A + B * simd::load(row.y + c, n));
     simd::store(row.y + c, next, n);
+    const Real first = first_order_steps(first_exponential, y0, simd::load(row.a_start + c, n),
+                                         simd::load(row.b_start + c, n), h)
+                           .full;
+    if (row.first_order) simd::store(row.first_order + c, first, n);
     const Real tolerance = rtol * simd::fabs(next) + atol_scaled;
-    worst = simd::fmax(worst, simd::fabs(next - simd::load(row.first_order + c, n)) / tolerance);
+    worst = simd::fmax(worst, simd::fabs(next - first) / tolerance);
     in_limits = in_limits & (next >= lo) & (next <= hi);  // NaN fails
   }
   return xsimd::all(in_limits) ? largest_lane(worst) : kInf;
@@ -87,26 +103,25 @@ double second_stage(const Row& row, std::size_t count, double h, double rtol, do
 
 // The one-evaluation step on a row: the linear form at the step's middle
 // extrapolated from this step's start (a, b) and the previous one's
-// (a_prev, b_prev; omega = h / (2 h_prev)), the state advanced from its start
+// (in a_start, b_start; omega = h / (2 h_prev)), the state advanced from its start
 // with it (second order). The estimate is its difference to the step with the
 // start's own form (first order): for a linear form perturbed by (dA, dB) the
 // end moves by h phi1(B h) (dA + dB y_mean) to first order (variation of
 // constants; phi1(z) = (e^z - 1)/z, y_mean the mean of the two ends), which
-// costs no second exp. Keeps a, b in a_now, b_now for the next step; returns
-// the row's largest error in tolerances (inf out of [lo, hi] or NaN).
-double extrapolated_row(const Row& row, const double* a_prev, const double* b_prev, double* a_now, double* b_now,
-                        std::size_t count, double h, double omega, double rtol, double atol_scaled, double lo,
-                        double hi) {
+// costs no second exp. Keeps a, b in a_start, b_start for the next step;
+// returns the row's largest error in tolerances (inf out of [lo, hi] or NaN).
+double extrapolated_row(const Row& row, std::size_t count, double h, double omega, double rtol, double atol_scaled,
+                        double lo, double hi) {
   Real worst(0.0);
   Real::batch_bool_type in_limits(true);
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
-    simd::store(a_now + c, A, n);
-    simd::store(b_now + c, B, n);
+    const Real A_mid = A + omega * (A - simd::load(row.a_start + c, n));
+    const Real B_mid = B + omega * (B - simd::load(row.b_start + c, n));
+    simd::store(row.a_start + c, A, n);
+    simd::store(row.b_start + c, B, n);
     simd::store(row.start + c, y0, n);
-    const Real A_mid = A + omega * (A - simd::load(a_prev + c, n));
-    const Real B_mid = B + omega * (B - simd::load(b_prev + c, n));
     Real next, change;  // change: the end's difference to the first-order step
     if (row.exponential) {
       const Real Bh = B_mid * h, E = simd::exp(Bh);
@@ -124,6 +139,12 @@ double extrapolated_row(const Row& row, const double* a_prev, const double* b_pr
     in_limits = in_limits & (next >= lo) & (next <= hi);  // NaN fails
   }
   return xsimd::all(in_limits) ? largest_lane(worst) : kInf;
+}
+
+// Keeps a block's a, b at the step's start (stage 2 and the next step use them).
+void keep_linear_forms(const Row& row, std::size_t count) {
+  std::copy_n(row.a, count, row.a_start);
+  std::copy_n(row.b, count, row.b_start);
 }
 
 // Largest of `value` and the atomic's (a block's error into the step's).
@@ -154,10 +175,9 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     Buffers buf;
     buf.pop = &pop;
     buf.start.resize(pop.y.size());
-    buf.first_order.resize(pop.y.size());
-    for (auto* v : {&buf.a_prev, &buf.b_prev, &buf.a_now, &buf.b_now}) v->assign(pop.y.size(), 0.0);
+    for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(pop.y.size(), 0.0);
     if (system.coupler && pop.voltage_state >= 0)
-      for (auto* v : {&buf.F_prev, &buf.F_now, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
+      for (auto* v : {&buf.F_last, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
     const auto& states = pop.info().states;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
@@ -197,8 +217,13 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
   const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
   const auto& states = pop.info().states;
   for (std::size_t k = 0; k < states.size(); ++k) {
-    const Row row{pop.y.data() + k * n + offset, buf.start.data() + k * n + offset,
-                  buf.first_order.data() + k * n + offset, block.a + k * block.ab_stride,
+    const std::size_t at = k * n + offset;
+    const Row row{pop.y.data() + at,
+                  buf.start.data() + at,
+                  buf.a_last.data() + at,
+                  buf.b_last.data() + at,
+                  buf.first_order.empty() ? nullptr : buf.first_order.data() + at,
+                  block.a + k * block.ab_stride,
                   block.b + k * block.ab_stride,
                   states[k].gate || has_slope(block.b + k * block.ab_stride, block.end)};
     if (coupled && static_cast<int>(k) == pop.voltage_state) potential(pop, row, offset, block.end);
@@ -211,14 +236,6 @@ double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
   return history_ ? extrapolated_step(system, t, h) : midpoint_step(system, t, h);
 }
 
-// Keeps a block's a, b at the step's start (the next step extrapolates from them).
-void AdaptiveIntegrator::keep_linear_forms(Buffers& buf, const Row& row, std::size_t k, std::size_t offset,
-                                           std::size_t count) {
-  const std::size_t at = k * buf.pop->size() + offset;
-  std::copy_n(row.a, count, buf.a_now.begin() + static_cast<std::ptrdiff_t>(at));
-  std::copy_n(row.b, count, buf.b_now.begin() + static_cast<std::ptrdiff_t>(at));
-}
-
 double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h) {
   // The stimulus at the step's middle: steps never straddle a pulse edge.
   const double t_stim = t + 0.5 * h, theta = 0.5 * h;
@@ -228,8 +245,8 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t offset) {
-          keep_linear_forms(buf, row, k, offset, block.end);
+        [&](const Row& row, std::size_t, Buffers&, std::size_t) {
+          keep_linear_forms(row, block.end);
           first_stage(row, block.end, h);
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
@@ -238,7 +255,7 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
             row.start[c] = V0;
-            buf.F_now[offset + c] = F0;
+            buf.F_last[offset + c] = F0;
             buf.v_half[offset + c] = V0 + theta * F0;
             buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF;
           }
@@ -253,8 +270,10 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
       for (std::size_t c = 0; c < n; ++c) {
         const double V_half = v_global_[pop.cells[c]];
         pop.y[row + c] = V_half;
-        // Crank-Nicolson with F at the start: V1's first-order companion.
-        buf.first_order[row + c] = 2 * V_half - buf.start[row + c];
+        // Crank-Nicolson with F at the start: V1's first-order companion
+        // (in v_half, its solve done).
+        buf.v_half[c] = 2 * V_half - buf.start[row + c];
+        if (!buf.first_order.empty()) buf.first_order[row + c] = buf.v_half[c];
       }
     }
   }
@@ -265,9 +284,11 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
     for_rows(
         pop, block, coupled,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
-          block_error = std::max(block_error, second_stage(row, block.end, h, rtol_, atol_ * buf.scale[k],
-                                                           pop.lower_limit_of(k),
-                                                           pop.upper_limit_of(k)));
+          // Stage 1's choice, from the start's slopes.
+          const bool first_exponential = pop.info().states[k].gate || has_slope(row.b_start, block.end);
+          block_error =
+              std::max(block_error, second_stage(row, first_exponential, block.end, h, rtol_, atol_ * buf.scale[k],
+                                                 pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           double* v_full = buffers_of(p).v_full.data() + offset;
@@ -286,13 +307,9 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
     double block_error = 0;
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t offset) {
-          const std::size_t at = k * pop.size() + offset;
-          block_error = std::max(
-              block_error, extrapolated_row(row, buf.a_prev.data() + at, buf.b_prev.data() + at,
-                                            buf.a_now.data() + at, buf.b_now.data() + at, block.end, h, omega, rtol_,
-                                            atol_ * buf.scale[k], pop.lower_limit_of(k),
-                                            pop.upper_limit_of(k)));
+        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
+          block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, rtol_, atol_ * buf.scale[k],
+                                                               pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           // CNAB2: (I + theta K) V1 = (I - theta K) V0 + h F_mid, F_mid
@@ -303,9 +320,9 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
           const double* gap = gap_current(system, p, offset, count);
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
-            const double F_mid = F0 + omega * (F0 - buf.F_prev[offset + c]);
+            const double F_mid = F0 + omega * (F0 - buf.F_last[offset + c]);
             row.start[c] = V0;
-            buf.F_now[offset + c] = F0;
+            buf.F_last[offset + c] = F0;
             buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF + h * F_mid;
             block_error = std::max(block_error, h * std::abs(F_mid - F0) / (rtol_ * std::abs(V0) + atol));
           }
@@ -326,7 +343,7 @@ void AdaptiveIntegrator::solve(CellSystem& system, double theta, std::vector<dou
 }
 
 // V1 from (I + theta K) V1 = v_full, into the populations; the largest of
-// `error` and V's own (against the first-order companion in first_order, if
+// `error` and V's own (against the first-order companion in v_half, if
 // with_companion), inf if V left its range.
 double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, double error, bool with_companion) {
   solve(system, theta, &Buffers::v_full);
@@ -341,19 +358,15 @@ double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, dou
       pop.y[k * n + c] = V1;
       if (!(V1 >= lo && V1 <= hi)) error = kInf;
       if (with_companion)
-        error = std::max(error, std::abs(V1 - buf.first_order[k * n + c]) / (rtol_ * std::abs(V1) + atol));
+        error = std::max(error, std::abs(V1 - buf.v_half[c]) / (rtol_ * std::abs(V1) + atol));
     }
   }
   return error;
 }
 
-// The step was accepted: its start's linear forms become the history.
+// The step was accepted: its start's linear forms, which it left in
+// a_last, b_last and F_last, are the history.
 void AdaptiveIntegrator::accept(double h) {
-  for (Buffers& buf : buffers_) {
-    std::swap(buf.a_prev, buf.a_now);
-    std::swap(buf.b_prev, buf.b_now);
-    std::swap(buf.F_prev, buf.F_now);
-  }
   h_prev_ = h;
   history_ = true;
 }
@@ -411,7 +424,10 @@ void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_en
     system.states_checked = system.states_in_limits = accepted;
     if (!accepted) {
       restore();
-      if (!std::isfinite(err)) history_ = false;  // start afresh with the two-evaluation step
+      // The step left its start's linear forms where the history was (one
+      // array per state, not two): the retry is the two-evaluation step,
+      // which needs none.
+      history_ = false;
       if (step <= kMinStep_ms) fail(system, t, step, err);
       h = std::isfinite(err) ? controller_.next_step(step, err, false) : 0.25 * step;
       h = std::max(h, 0.5 * kMinStep_ms);
@@ -440,7 +456,8 @@ std::string AdaptiveIntegrator::report() const {
 // A step at the smallest size still failed: take it once more to name the
 // cell and state with the largest error, then stop the run.
 void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err) {
-  history_ = false;  // the two-evaluation step leaves a first-order companion for every state
+  history_ = false;  // the two-evaluation step, which leaves a first-order companion for every state here:
+  for (Buffers& buf : buffers_) buf.first_order.resize(buf.pop->y.size());
   try_step(system, t, h);
   std::string worst = "?";
   double worst_error = -1;

@@ -12,8 +12,8 @@
 //   Adams-Bashforth 2 step);
 // - evaluated (two evaluations: a first-order half step, then the forms at
 //   the midpoint), where there is no history to extrapolate from: at the
-//   start, after a stimulus edge (the right-hand side jumps), after a step
-//   that left a state's range.
+//   start, after a stimulus edge (the right-hand side jumps), after a
+//   rejected step.
 // The potential: with K = C^-1 L the coupling (seed paper eq. 4-5), F the
 // membrane term (all of dV/dt but the coupling), theta = h/2,
 //   (I + theta K) V1 = (I - theta K) V0 + h F_mid
@@ -32,7 +32,9 @@
 // (so that V, in mV, and Ca_i, in mM, are held to the same relative accuracy).
 // For V in the extrapolated step, h |F_mid - F0| bounds the difference
 // ((I + theta K)^-1 has max norm 1). Rejected steps are retried from the saved
-// states; StepController (PI) chooses the next step.
+// states with the evaluated midpoint (the extrapolated step overwrites its
+// history with its start's linear forms, so that a state needs three arrays:
+// the saved start, a and b); StepController (PI) chooses the next step.
 //
 // Steps land exactly on stimulus edges (restarting the controller with a
 // small step there, so that a 0.1 ms pulse is never stepped over), on sample
@@ -72,17 +74,21 @@ class AdaptiveIntegrator final : public Integrator {
   static constexpr double kSmallestSolveTolerance_mV = 1e-9;
 
  private:
-  // Per population: the states at the step's start, the first-order full
-  // step, and per state the scale of its absolute tolerance.
+  // Per population: the states at the step's start, and per state the scale
+  // of its absolute tolerance.
   struct Buffers {
     Population* pop = nullptr;
-    std::vector<double> start, first_order, scale;
-    // Linear forms a, b at the last accepted step's start, and at this one's.
-    std::vector<double> a_prev, b_prev, a_now, b_now;
+    std::vector<double> start, scale;
+    // The first-order full step: filled only while fail() looks for the
+    // worst state (a step's error is taken as it is computed).
+    std::vector<double> first_order;
+    // Linear forms a, b at the last accepted step's start; a step reads them,
+    // then writes its own start's in their place.
+    std::vector<double> a_last, b_last;
     // A coupled potential, per local cell (each block writes its own stretch):
-    // the membrane term F at the last accepted step's start and at this one's,
-    // and the right-hand sides of the two solves.
-    std::vector<double> F_prev, F_now, v_half, v_full;
+    // the membrane term F, likewise, and the right-hand sides of the two
+    // solves (v_half then holds V1's first-order companion).
+    std::vector<double> F_last, v_half, v_full;
   };
   void prepare(CellSystem& system);
   // One trial step from t over h: the error in tolerances (inf if a state
@@ -97,8 +103,6 @@ class AdaptiveIntegrator final : public Integrator {
   void accept(double h);
   template <class EachRow, class Potential>
   void for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row, Potential&& potential);
-  static void keep_linear_forms(Buffers& buf, const adaptive_detail::Row& row, std::size_t k, std::size_t offset,
-                                std::size_t count);
   void restore();
   static double on_grid(double h_ms);
   double next_after_accepted(double step_ms, double wanted_ms, double err);

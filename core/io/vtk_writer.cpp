@@ -10,16 +10,20 @@ namespace fibrodem {
 
 namespace {
 
-// The file's text, built in memory with std::to_chars and written at once:
-// a snapshot of the Fig. 3 tissue is ~17k particles x 8 numbers, which an
-// ostream formats at a few times the cost (a snapshot is written between the
-// cells' steps, or beside them on the writer's thread). Doubles are written
-// as printf's %.9g.
+// The file's text, formatted with std::to_chars into a buffer that goes to
+// the file whenever it holds kFlushBytes (a snapshot of the Fig. 3 tissue is
+// ~17k particles x 8 numbers, which an ostream formats at a few times the
+// cost; and the text of a 1e6-cell tissue, ~0.4 GB, is never held whole).
+// Doubles are written as printf's %.9g.
 class VtkText {
  public:
-  VtkText& operator<<(const std::string& s) { return text_.append(s), *this; }
-  VtkText& operator<<(const char* s) { return text_.append(s), *this; }
-  VtkText& operator<<(char c) { return text_.push_back(c), *this; }
+  explicit VtkText(const std::filesystem::path& file) : file_(file), f_(std::fopen(file.c_str(), "wb"), &std::fclose) {
+    if (!f_) throw std::runtime_error("write_tissue_vtk: cannot write " + file.string());
+    text_.reserve(kFlushBytes + 256);
+  }
+  VtkText& operator<<(const std::string& s) { return text_.append(s), spill(); }
+  VtkText& operator<<(const char* s) { return text_.append(s), spill(); }
+  VtkText& operator<<(char c) { return text_.push_back(c), spill(); }
   template <class T, std::enable_if_t<std::is_arithmetic_v<T>, int> = 0>
   VtkText& operator<<(T value) {
     char digits[32];
@@ -29,11 +33,27 @@ class VtkText {
     else
       r = std::to_chars(digits, digits + sizeof digits, value);
     text_.append(digits, r.ptr);
-    return *this;
+    return spill();
   }
-  const std::string& str() const { return text_; }
+  // Writes what is left and closes the file.
+  void close() {
+    flush();
+    if (std::fclose(f_.release()) != 0) throw std::runtime_error("write_tissue_vtk: error writing " + file_.string());
+  }
 
  private:
+  static constexpr std::size_t kFlushBytes = 1 << 16;
+  VtkText& spill() {
+    if (text_.size() >= kFlushBytes) flush();
+    return *this;
+  }
+  void flush() {
+    if (std::fwrite(text_.data(), 1, text_.size(), f_.get()) != text_.size())
+      throw std::runtime_error("write_tissue_vtk: error writing " + file_.string());
+    text_.clear();
+  }
+  std::filesystem::path file_;
+  std::unique_ptr<FILE, decltype(&std::fclose)> f_;
   std::string text_;
 };
 
@@ -50,7 +70,7 @@ void write_tissue_vtk(const Tissue& tissue, const std::filesystem::path& file,
   const std::size_t n = tissue.particles.size();
   if (displacement_um && displacement_um->size() != n)
     throw std::runtime_error("write_tissue_vtk: one displacement per particle");
-  VtkText out;
+  VtkText out(file);
   out << "# vtk DataFile Version 3.0\n"
       << "fibrodem tissue: " << tissue.cell_count() << " cells, " << n
       << " particles, lengths in um\nASCII\nDATASET POLYDATA\n";
@@ -80,11 +100,7 @@ void write_tissue_vtk(const Tissue& tissue, const std::filesystem::path& file,
     out << "VECTORS displacement_um double\n";
     for (const auto& d : *displacement_um) out << d[0] << ' ' << d[1] << " 0\n";
   }
-  std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen(file.c_str(), "wb"), &std::fclose);
-  if (!f) throw std::runtime_error("write_tissue_vtk: cannot write " + file.string());
-  const std::string& text = out.str();
-  if (std::fwrite(text.data(), 1, text.size(), f.get()) != text.size() || std::fclose(f.release()) != 0)
-    throw std::runtime_error("write_tissue_vtk: error writing " + file.string());
+  out.close();
 }
 
 }  // namespace fibrodem

@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "io/tissue_picture.hpp"
+#include "measure/biomarkers.hpp"
 #include "util/manifest_error.hpp"
 
 namespace fibrodem {
@@ -31,6 +31,35 @@ double sum(const std::vector<ResourceEstimate::Part>& parts) {
 const ResourceEstimate::Part& largest(const std::vector<ResourceEstimate::Part>& parts) {
   return *std::max_element(parts.begin(), parts.end(),
                            [](const auto& a, const auto& b) { return a.bytes < b.bytes; });
+}
+
+// A tissue picture (tissue.png, a snapshot's PNG, the activation map): an
+// RGB24 surface 1500 pixels high (PictureOptions::height_px) as wide as the
+// tissue's aspect asks, with margins and the colour bar, and a quarter more
+// for the PNG encoder's rows and output (sheet 1 cm: 10.4 MB surface, 2.6 MB
+// encoder).
+constexpr double kPictureHeightPx = 1560;
+double picture_width_px(const Tissue& tissue) {
+  const auto box = tissue.bounds_um();
+  const double aspect = box[3] > box[2] ? std::max(box[1] - box[0], 1.0) / (box[3] - box[2]) : 1.0;
+  return std::min(32767.0, 1500 * aspect + 150);
+}
+double picture_bytes(const Tissue& tissue) { return 1.25 * 4 * picture_width_px(tissue) * kPictureHeightPx; }
+
+// A snapshot's PNG: ~8 bytes a particle on small tissues (170 kB for 22k
+// particles; Fig. 3's 16,653: 44 kB), but never more than a byte a pixel (a
+// palette's index) of the picture, whose size does not grow with the tissue
+// (a 5 x 5 cm sheet's frame: 12-19 kB for 5.9 M particles).
+double png_frame_bytes(const Tissue& tissue) {
+  return std::min(8.0 * static_cast<double>(tissue.particles.size()), picture_width_px(tissue) * kPictureHeightPx);
+}
+
+// A snapshot's VTK file: legacy text ~120 bytes a particle; XML PolyData
+// (io/vtk_xml_writer.hpp) at most its raw binary arrays, 33 bytes a particle
+// (points 12, radius 4, cell 4, type 1, V 4, vertex connectivity and offsets
+// 8) before zlib, which leaves 6-8 (Fig. 3: 7.5; a 5 x 5 cm sheet: 6).
+double vtk_frame_bytes(const std::string& vtk_format, double particles) {
+  return (vtk_format == "xml" ? 33.0 : 120.0) * particles;
 }
 
 // Sample count of a series every `every_ms` from `from_ms` to the end.
@@ -60,34 +89,6 @@ std::string ResourceEstimate::describe() const {
   return s + ")";
 }
 
-namespace {
-
-// A snapshot's PNG: ~8 bytes a particle on small tissues (170 kB for 22k
-// particles; Fig. 3's 16,653: 44 kB), but never more than a byte a pixel (a
-// palette's index): the picture is height_px (1500) high whatever the
-// tissue's size, as wide as the tissue's aspect asks, plus ~300 px of margins
-// and colour bar (a 5 x 5 cm sheet's frame: 12-19 kB for 5.9 M particles).
-double png_frame_bytes(const Tissue& tissue) {
-  if (tissue.particles.empty()) return 0;
-  double xmin = tissue.particles[0].x_um, xmax = xmin, ymin = tissue.particles[0].y_um, ymax = ymin;
-  for (const auto& p : tissue.particles) {
-    xmin = std::min(xmin, p.x_um), xmax = std::max(xmax, p.x_um);
-    ymin = std::min(ymin, p.y_um), ymax = std::max(ymax, p.y_um);
-  }
-  const double height_px = PictureOptions{}.height_px;
-  const double width_px = height_px * (xmax - xmin) / std::max(1.0, ymax - ymin) + 300;
-  return std::min(8.0 * static_cast<double>(tissue.particles.size()), width_px * (height_px + 100));
-}
-
-// A snapshot's VTK file: legacy text ~120 bytes a particle; XML PolyData
-// (io/vtk_xml_writer.hpp) at most its raw binary arrays, 33 bytes a particle
-// (points 12, radius 4, cell 4, type 1, V 4, vertex connectivity and offsets
-// 8) before zlib, which leaves 6-8 (Fig. 3: 7.5; a 5 x 5 cm sheet: 6).
-double vtk_frame_bytes(const std::string& vtk_format, double particles) {
-  return (vtk_format == "xml" ? 33.0 : 120.0) * particles;
-}
-
-}  // namespace
 
 // The terms below are measured, each on what it counts, with heaptrack (peak
 // heap by allocation site) and /usr/bin/time -f %M (peak RSS) on:
@@ -96,6 +97,10 @@ double vtk_frame_bytes(const std::string& vtk_format, double particles) {
 //                 maleckar_active2, solver auto (adaptive), 30 ms, maps,
 //                 snapshots every 5 ms, report;
 //   sheet 2.5 cm: the same 25 x 25 mm (210,940 cells), 20 ms;
+//   scale sheets: examples/scale/sheet_2p5cm.json (no fibrosis, colman,
+//                 VTK XML, snapshots every 20 ms) at 10 x 10 mm (33,496
+//                 cells, 234,472 particles) and 25 x 25 mm (210,940 cells,
+//                 1,476,580 particles), 30 ms;
 //   Fig. 3:       examples/fig3_in_series_ep.json (3,129 cells, 16,653
 //                 particles with DEM bonds, rush_larsen, 500 ms) and
 //                 10 mm wide (tissue.width_mm=10: 27,435 cells, 144,063
@@ -126,21 +131,26 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                              sizeof(std::pair<int, int>) * edges + 20 * cells),
                       "a smaller tissue"});
   // The biomarker tracker's per-cell state (152 bytes a cell) and a
-  // BeatBiomarkers a cell and beat (125 bytes with the vector's growth);
-  // sheet 1 cm: 5.09 and 4.19 MB.
+  // BeatBiomarkers a cell and beat (room reserved for them all at the
+  // first); scale sheet 2.5 cm: 32.1 and 13.5 MB.
   const double beats = std::max<double>(1.0, static_cast<double>(system.stimulus.onsets(scene.duration_ms).size()));
   e.memory.push_back({fmt::format("biomarkers: {:.0f} cells x {:.0f} beats", cells, beats),
-                      152 * cells + 125 * cells * beats, "a smaller tissue"});
+                      152 * cells + sizeof(BeatBiomarkers) * cells * beats, "a smaller tissue"});
 
   // ---- freed at the end of the stepping ----
   std::vector<ResourceEstimate::Part> stepping;
-  // What the integrator keeps per state: adaptive 6 arrays (sheet 1 cm:
-  // 41.0 MB for 830,692 states: 49 bytes a state), second-order Rush-Larsen
-  // 2, the first-order methods none beyond the populations'.
-  const double integrator_arrays = solver.method == "adaptive" ? 6 : solver.method == "rush_larsen2" ? 2 : 0;
+  // What the integrator keeps per state: adaptive 3 arrays (the saved
+  // start, the linear forms' a and b) and, with coupling, 4 doubles a cell
+  // (scale sheet 1 cm: 22.5 MB for 904,392 states and 33,496 cells, this
+  // 22.8),
+  // second-order Rush-Larsen 2, the first-order methods none beyond the
+  // populations'.
+  const bool adaptive = solver.method == "adaptive";
+  const double integrator_arrays = adaptive ? 3 : solver.method == "rush_larsen2" ? 2 : 0;
   if (integrator_arrays > 0)
     stepping.push_back({fmt::format("integrator: {:.0f} states x {:g} arrays", states, integrator_arrays),
-                        8 * integrator_arrays * states, "a smaller tissue"});
+                        8 * integrator_arrays * states + (adaptive && system.coupler ? 32 * cells : 0.0),
+                        "a smaller tissue"});
   if (solver.method == "cvode") {
     const std::string linear = solver.linear_solver;
     const bool dense = linear == "dense" || (linear == "auto" && states <= 200);
@@ -168,22 +178,23 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         4 * cells * frames + 16 * cells * bins,
                         "output.reentry: a larger every_ms, a later from_ms, or a smaller tissue"});
   }
-  // tissue.vtk (output.tissue_picture), written on the background thread as
-  // the stepping starts: 110 bytes a particle (sheet 1 cm: 23.6 MB at the
-  // run's peak, beside the integrator's arrays) and 35 a bond (Fig. 3
-  // widened: 23.6 MB for 144,063 particles and 223,013 bonds).
-  if (scene.output.tissue_picture)
-    stepping.push_back({fmt::format("tissue.vtk: {:.0f} particles", particles), 110 * particles + 35 * bonds,
-                        "output.tissue_picture false"});
+  // A picture drawn on the background thread while the cells step
+  // (tissue.png as the stepping starts, each snapshot's PNG). The VTK files
+  // are streamed to disk: 64 kB buffers whatever the tissue.
+  const bool pictures_while_stepping =
+      scene.output.tissue_picture || (scene.output.snapshots.every_ms > 0 && scene.output.snapshots.png);
+  if (pictures_while_stepping)
+    stepping.push_back({"a picture being drawn", picture_bytes(tissue),
+                        "output.snapshots.png false and output.tissue_picture false"});
   double stepping_bytes = 0;
   for (auto& part : stepping) stepping_bytes += part.bytes, e.memory.push_back(std::move(part));
   // ---- after the stepping ----
-  // maps.vtk: the tissue's geometry and the per-cell maps written out, 220
-  // bytes a particle (sheet 1 cm: 47.2 MB for 214,372 particles). Only what
-  // exceeds the stepping's freed work adds to the peak.
+  // The maps: four per-cell fields, the activation map's picture (the VTK
+  // file is streamed). Only what exceeds the stepping's freed work adds to
+  // the peak.
   if (scene.output.maps) {
-    const double maps = 220 * particles;
-    e.memory.push_back({fmt::format("maps.vtk: {:.0f} particles, beyond the stepping's freed work", particles),
+    const double maps = 32 * cells + picture_bytes(tissue);
+    e.memory.push_back({fmt::format("maps: {:.0f} cells, beyond the stepping's freed work", cells),
                         std::max(0.0, maps - stepping_bytes), "output.maps false"});
   }
   const auto& tr = scene.output.traces;

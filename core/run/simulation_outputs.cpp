@@ -83,6 +83,13 @@ void Simulation::Impl::on_sample(double t) {
 }
 
 void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
+  // Room for a beat of every cell at every onset at once: grown by doubling,
+  // the list would hold up to twice that, and three times while it moves.
+  if (beats.size() == beats.capacity()) {
+    const std::size_t onsets = std::max<std::size_t>(1, system.stimulus.onsets(scene.duration_ms).size());
+    const std::size_t expected = onsets * system.cell_count();
+    if (beats.size() < expected) beats.reserve(expected);
+  }
   beats.push_back(b);
   if (!biomarkers_csv.is_open()) return;
   biomarkers_csv.cell(static_cast<long long>(b.cell))
