@@ -4,8 +4,11 @@
 // ranks; rank 0 gathers their results and writes the tables.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "run/rank_group.hpp"
 
 namespace fibrodem::cli {
 
@@ -16,12 +19,26 @@ class MpiRanks {
   MpiRanks(const MpiRanks&) = delete;
   MpiRanks& operator=(const MpiRanks&) = delete;
 
+  // The rank count the launcher gave this process's job, read from its
+  // environment (OpenMPI's OMPI_COMM_WORLD_SIZE, MPICH's PMI_SIZE): 1 when
+  // not launched by mpirun. Needs no MPI_Init, and holds in a build without
+  // MPI too, whose N processes would otherwise each think they are alone.
+  // 1 in a process a rank started (a sweep's child run inherits mpirun's
+  // environment; MpiRanks marks it).
+  static int launched_size();
+
   bool launched() const { return launched_; }
   int rank() const { return rank_; }
   int size() const { return size_; }
   int on_this_host() const { return local_size_; }  // ranks sharing this machine's cores
   // Rank 0 receives every rank's text, in rank order; the others an empty list.
   std::vector<std::string> gather(const std::string& mine) const;
+  // The ranks as a Simulation's RankGroup (one tissue split over them);
+  // valid while this object lives.
+  std::shared_ptr<RankGroup> group() const;
+  // Ends every rank of the job (a rank whose part of a split run failed:
+  // the others would wait for it at their next exchange).
+  [[noreturn]] void abort(int exit_code) const;
 
  private:
   bool launched_ = false;

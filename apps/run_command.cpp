@@ -6,13 +6,17 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/mpi_ranks.hpp"
 #include "report/run_report.hpp"
 #include "report/vulnerable_window_report.hpp"
 #include "run/interrupt.hpp"
+#include "run/over_ranks.hpp"
 #include "run/simulation.hpp"
 
 namespace fibrodem::cli {
@@ -40,6 +44,28 @@ void print_outputs(const std::filesystem::path& dir) {
   std::cout << "}\n";
 }
 
+// Under mpirun with several ranks, a scene they cannot share stops on every
+// rank before anything is written, instead of N processes writing one folder.
+void refuse_split_over_ranks(const std::string& command, const Scene& scene, bool resuming) {
+  const int ranks = MpiRanks::launched_size();
+  if (ranks <= 1) return;
+  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, resuming);
+  if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks(command, ranks, unsupported));
+}
+
+// The ranks of an mpirun that splits this run's tissue (null: one process).
+std::unique_ptr<MpiRanks> split_ranks() {
+  const int launched = MpiRanks::launched_size();
+  if (launched <= 1) return nullptr;
+  auto ranks = std::make_unique<MpiRanks>();
+  if (!ranks->launched())
+    throw std::runtime_error("`fibrodem run` under mpirun with " + std::to_string(launched) +
+                             " ranks: this fibrodem was built without MPI, so its ranks cannot share one tissue. "
+                             "Nothing was written. Run it on one rank, or build with libopenmpi-dev "
+                             "(scripts/setup.sh)");
+  return ranks;
+}
+
 }  // namespace
 
 int run_command(const RunArgs& args) {
@@ -49,14 +75,30 @@ int run_command(const RunArgs& args) {
     if (scene.output.dir.empty()) scene.output.dir = "out/" + scene.name;
     scene.output.overwrite = args.overwrite;
     if (args.no_report) scene.output.report = false;
+    refuse_split_over_ranks("run", scene, false);
+    const std::unique_ptr<MpiRanks> ranks = split_ranks();
     RunOptions options;
     options.console_log = !args.quiet;
     // A progress line only for a person at a terminal, never in logs or CI.
     options.progress = !args.quiet && isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
-    Simulation simulation(scene, nullptr, options);
-    install_interrupt_handlers();  // SIGINT / SIGTERM end the run at the end of a step, outputs kept
-    simulation.run();
-    print_outputs(scene.output.dir);
+    if (!ranks) {
+      Simulation simulation(scene, nullptr, options);
+      install_interrupt_handlers();  // SIGINT / SIGTERM end the run at the end of a step, outputs kept
+      simulation.run();
+      print_outputs(scene.output.dir);
+      return 0;
+    }
+    // The tissue split over the ranks (docs/parallel.md); rank 0 writes.
+    // A rank that fails ends the job: the others would wait for it.
+    options.ranks = ranks->group();
+    try {
+      Simulation simulation(scene, nullptr, options);
+      simulation.run();
+    } catch (const std::exception& e) {
+      std::cerr << "error: rank " << ranks->rank() << " of " << ranks->size() << ": " << e.what() << "\n";
+      ranks->abort(4);
+    }
+    if (ranks->rank() == 0) print_outputs(scene.output.dir);
     return 0;
   });
 }
@@ -78,6 +120,7 @@ int resume_command(const ResumeArgs& args) {
     if (status == "completed") throw ManifestError("", "the run in " + args.dir + " completed: nothing to resume");
     if (!summary.contains("manifest")) throw ManifestError("", (dir / "summary.json").string() + " has no manifest");
     Scene scene = parse_scene(summary.at("manifest"));
+    refuse_split_over_ranks("resume", scene, true);
     scene.output.dir = args.dir;
     scene.output.overwrite = true;  // its own files
     if (args.no_report) scene.output.report = false;

@@ -146,6 +146,7 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   refresh_gap_current_ = false;
   if (coupler && !implicit_coupling && (refresh_coupling || gap_current_pA.size() != populations.size())) {
     if (!voltage_fresh) gather_voltage();
+    if (refresh_ghost_voltages) refresh_ghost_voltages(V_mV.data());
     gap_current_pA.resize(populations.size());
     for (std::size_t p = 0; p < populations.size(); ++p) gap_current_pA[p].resize(populations[p].size());
     refresh_gap_current_ = true;

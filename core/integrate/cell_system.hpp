@@ -64,6 +64,11 @@ struct CellSystem {
   bool voltages_observed = false;
   std::vector<double> next_V_mV;
   std::vector<double> i_ext_pA;                    // per global cell: the stimulus of the step
+  // A run split over ranks (run/halo_exchange.hpp): the populations hold this
+  // rank's cells only, and this refreshes the other ranks' cells joined to
+  // them (ghosts) in V_mV before the explicit gap currents read it. Null in
+  // one process.
+  std::function<void(double* V_mV)> refresh_ghost_voltages;
   double last_step_ms = 0;                         // the integrator's last step (trace dt_ms)
   // Set by an integrator that checked every state against its population's
   // limits while updating it: the observer then need not scan them again

@@ -106,6 +106,7 @@ json run_summary(const RunFacts& f) {
                           {"atol", f.scene.solver.atol}, {"why", f.solver_choice}};
   s["wall_time_s"] = f.wall_s;
   s["steps"] = f.steps;
+  s["mpi_ranks"] = f.mpi_ranks;
   s["simulated_ms"] = f.simulated_ms;
   if (!f.last_checkpoint.is_null()) s["last_checkpoint"] = f.last_checkpoint;
   if (!f.resumed_from.is_null()) s["resumed_from"] = f.resumed_from;

@@ -13,6 +13,7 @@
 
 #include "run/interrupt.hpp"
 #include "run/output_dir.hpp"
+#include "run/over_ranks.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
 #include "run/state_guard.hpp"
@@ -24,6 +25,12 @@ namespace fs = std::filesystem;
 Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
     : scene(s), options(o), registry(std::move(r)) {
   ScopeTimer timer(set_up_seconds);
+  if (options.ranks && options.ranks->size() > 1) ranks = options.ranks;
+  if (ranks && ranks->rank() != 0) {  // rank 0 writes and tells
+    scene.output.dir.clear();
+    options.console_log = options.progress = false;
+    options.on_progress = nullptr;
+  }
   // Before any computation: a folder that cannot take the outputs stops here.
   if (!scene.output.dir.empty()) prepare_output_dir(scene.output.dir, scene.output.overwrite);
   if (!registry) {
@@ -37,6 +44,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   tissue = scene.tissue->build(scene.seed);
   plan = plan_processes(scene, tissue);
   choose_solver();
+  split_over_ranks();
   use_threads();
   build_populations();
   derive_contraction_from_traces();
@@ -47,9 +55,11 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
     plan.notes.push_back("solver.simd false: cell models evaluated one cell at a time in double");
   }
   build_coupling();
+  connect_ranks();
   build_mechanics();
   system.stimulus = Stimulus(scene.stimuli, tissue);
-  traces = TraceRecorder(scene, system, mechanics != nullptr, plan.has("contraction"));
+  refuse_traced_outputs();
+  traces = TraceRecorder(ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));
   build_lookup_tables();
   set_state_limits(system, scene.solver);
   start_from_initial_state();
@@ -64,6 +74,8 @@ void Simulation::Impl::run() {
   if (status != "set up")
     throw std::logic_error("Simulation::run: this simulation has run already (status \"" + status +
                            "\"); make a new Simulation to run the scene again");
+  if (ranks && resume_point)
+    throw std::runtime_error(refusal_over_ranks("resume", ranks->size(), {"fibrodem resume"}));
   started = last_progress = last_flush = std::chrono::steady_clock::now();
   status = "running";
   try {
@@ -95,6 +107,7 @@ void Simulation::Impl::run() {
       log->warn("{}: stopping with every output written", error);
     }
     tracker->finish();
+    gather_from_ranks();
     {
       ScopeTimer measuring(measurement_seconds);
       measure_reentry();
@@ -254,7 +267,8 @@ json Simulation::Impl::summary() const {
                       .last_checkpoint = last_checkpoint,
                       .resumed_from = resumed_from,
                       .trace_units = traces.units(),
-                      .reentry = reentry_measured});
+                      .reentry = reentry_measured,
+                      .mpi_ranks = ranks ? ranks->size() : 1});
 }
 
 Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> registry, RunOptions options)

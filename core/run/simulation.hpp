@@ -15,6 +15,7 @@
 #include "measure/biomarkers.hpp"
 #include "model/plugin_registry.hpp"
 #include "run/checkpoint_dir.hpp"
+#include "run/rank_group.hpp"
 #include "scene/effects.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"
@@ -34,6 +35,10 @@ struct RunOptions {
   // time, at the end of a step, on the thread running the simulation (the
   // Python module's progress callback). An exception from it fails the run.
   std::function<void(double t_ms)> on_progress;
+  // The ranks the tissue is split over (docs/parallel.md; null or one rank:
+  // this process runs it all). Every rank makes a Simulation of the same
+  // scene; rank 0 writes the output folder, the others nothing.
+  std::shared_ptr<RankGroup> ranks;
 };
 
 class Simulation {

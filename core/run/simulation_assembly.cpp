@@ -59,9 +59,11 @@ void Simulation::Impl::use_threads() {
     threads = cores;
     why = "solver.threads = 0: every core";
   } else if (threads < 0) {
-    const bool large = tissue.cell_count() >= kCellsForThreads;
+    // (Split over ranks: this rank's cells.)
+    const std::size_t cells = ranks ? share.owned.size() : tissue.cell_count();
+    const bool large = cells >= kCellsForThreads;
     threads = large ? cores : 1;
-    why = fmt::format("solver.threads auto: {} cells {} {} ({} cores)", tissue.cell_count(), large ? ">=" : "<",
+    why = fmt::format("solver.threads auto: {} cells {} {} ({} cores)", cells, large ? ">=" : "<",
                       kCellsForThreads, cores);
   }
   // auto on several cores: measured step by step against one thread, in
@@ -97,6 +99,13 @@ void Simulation::Impl::build_populations() {
   system.where.resize(tissue.cell_count());
   for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell) {
     const int p = population_of.at(tissue.type[cell]);
+    // Split over ranks: another rank's cell is in no population here (its
+    // type's population is named, for its capacitance; every rank has one
+    // population per cell type of the tissue, possibly empty).
+    if (!owns(cell)) {
+      system.where[cell] = {p, std::numeric_limits<std::size_t>::max()};
+      continue;
+    }
     system.where[cell] = {p, system.populations[p].cells.size()};
     system.populations[p].cells.push_back(static_cast<int>(cell));
   }

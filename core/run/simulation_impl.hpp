@@ -28,6 +28,7 @@
 #include "io/csv_writer.hpp"
 #include "measure/reentry.hpp"
 #include "run/checkpoint_dir.hpp"
+#include "run/halo_exchange.hpp"
 #include "run/mechanics_coupling.hpp"
 #include "run/resource_estimate.hpp"
 #include "run/run_clock.hpp"
@@ -84,6 +85,13 @@ struct Simulation::Impl : StepObserver {
   std::vector<double> V_previous;
   long long reentry_next_sample = 0;  // index k of the next sample time from_ms + k every_ms
   json reentry_measured;
+  // A run split over ranks (RunOptions::ranks with more than one; else
+  // null): this rank's cells (`owned`, per global cell) and their ghosts,
+  // and the halo exchange of the ghosts' potentials (simulation_ranks.cpp).
+  std::shared_ptr<RankGroup> ranks;
+  RankCells share;
+  std::vector<char> owned;
+  std::unique_ptr<HaloExchange> halo;
 
   // ---- the life cycle (simulation.cpp) ----
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o);
@@ -115,6 +123,14 @@ struct Simulation::Impl : StepObserver {
   void check_explicit_stability();
   void guard_resources();
 
+  // ---- a run split over ranks (simulation_ranks.cpp) ----
+  void split_over_ranks();
+  bool owns(std::size_t cell) const { return owned.empty() || owned[cell]; }
+  Scene scene_of_own_traces() const;
+  void refuse_traced_outputs() const;
+  void connect_ranks();
+  void gather_from_ranks();
+
   // ---- checkpoints (simulation_checkpoints.cpp) ----
   void plan_checkpoints();
   CheckpointFields checkpoint_fields(double t);
@@ -129,6 +145,7 @@ struct Simulation::Impl : StepObserver {
   double next_sample_ms() const override;
   void on_sample(double t) override;
   void record_beat(const BeatBiomarkers& b);
+  void write_biomarker_row(const BeatBiomarkers& b);
   void snapshot_if_due(double t);
   void start_reentry_sampling(double t);
   void sample_reentry_if_due(double t_old, double t_new);

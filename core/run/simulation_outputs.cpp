@@ -33,7 +33,7 @@ void Simulation::Impl::open_outputs() {
   if (!resume_point) {
     clear_checkpoints(out);  // an earlier run's, in a folder given --overwrite
     fs::remove(out / kSnapshotCollection);  // likewise: this run lists its own snapshots
-    traces.open_csv(out / "traces.csv");
+    if (!ranks) traces.open_csv(out / "traces.csv");  // split over ranks: written whole at the end
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
                                 "dvdt_max_mV_per_ms", "apd50_ms"});
@@ -82,7 +82,13 @@ void Simulation::Impl::on_sample(double t) {
   traces.sample(t, system, mechanics_solver());
 }
 
+// Split over ranks: this rank's cells' beats, gathered and written at the
+// end (gather_from_ranks).
 void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
+  if (ranks) {
+    if (owns(static_cast<std::size_t>(b.cell))) beats.push_back(b);
+    return;
+  }
   // Room for a beat of every cell at every onset at once: grown by doubling,
   // the list would hold up to twice that, and three times while it moves.
   if (beats.size() == beats.capacity()) {
@@ -91,6 +97,10 @@ void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
     if (beats.size() < expected) beats.reserve(expected);
   }
   beats.push_back(b);
+  write_biomarker_row(b);
+}
+
+void Simulation::Impl::write_biomarker_row(const BeatBiomarkers& b) {
   if (!biomarkers_csv.is_open()) return;
   biomarkers_csv.cell(static_cast<long long>(b.cell))
       .cell(std::string(cell_type_name(b.type)))

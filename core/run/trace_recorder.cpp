@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -162,6 +164,77 @@ void TraceRecorder::sample(double t, CellSystem& system, const MechanicsSolver* 
   }
   if (csv_.is_open()) csv_.end_row();
   ++next_sample_index_;
+}
+
+std::string TraceRecorder::packed_columns() const {
+  std::string text;
+  for (const auto& c : columns_)
+    text += c.variable + "\t" + std::to_string(c.cell) + "\t" + c.unit + "\t" + (c.step ? "1" : "0") + "\n";
+  return text;
+}
+
+std::vector<double> TraceRecorder::packed_samples() const {
+  std::vector<double> packed(times_);
+  for (const auto& column : samples_) packed.insert(packed.end(), column.begin(), column.end());
+  return packed;
+}
+
+void TraceRecorder::merge(const TraceSpec& spec, const std::vector<std::string>& columns_by_rank,
+                          const std::vector<std::vector<double>>& samples_by_rank) {
+  // Every rank's columns by name, with their samples; the times from any
+  // rank that sampled (all sample at the same times).
+  std::map<std::string, std::pair<TraceColumn, std::vector<double>>> found;
+  std::vector<double> times;
+  for (std::size_t r = 0; r < columns_by_rank.size(); ++r) {
+    std::istringstream lines(columns_by_rank[r]);
+    std::vector<TraceColumn> columns;
+    for (std::string line; std::getline(lines, line);) {
+      std::istringstream fields(line);
+      TraceColumn c;
+      std::string cell, step;
+      std::getline(fields, c.variable, '\t');
+      std::getline(fields, cell, '\t');
+      std::getline(fields, c.unit, '\t');
+      std::getline(fields, step, '\t');
+      c.cell = std::stoi(cell);
+      c.step = step == "1";
+      columns.push_back(c);
+    }
+    if (columns.empty()) continue;
+    const std::vector<double>& packed = samples_by_rank[r];
+    const std::size_t count = packed.size() / (columns.size() + 1);
+    if (times.empty()) times.assign(packed.begin(), packed.begin() + static_cast<long>(count));
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const auto from = packed.begin() + static_cast<long>((k + 1) * count);
+      found.emplace(columns[k].name(), std::make_pair(columns[k], std::vector<double>(from, from + static_cast<long>(count))));
+    }
+  }
+  // One process's order: dt_ms, then each block's cells' variables, each once.
+  columns_.clear();
+  samples_.clear();
+  auto take = [&](const std::string& name) {
+    auto it = found.find(name);
+    if (it == found.end()) return;
+    columns_.push_back(it->second.first);
+    samples_.push_back(std::move(it->second.second));
+    found.erase(it);
+  };
+  take(kStepVariable);
+  for (const auto& block : spec.blocks)
+    for (int cell : block.cells)
+      for (const auto& var : block.variables) take(var + "_" + std::to_string(cell));
+  times_ = std::move(times);
+  next_sample_index_ = static_cast<long long>(times_.size());
+}
+
+void TraceRecorder::write_csv(const std::filesystem::path& file) {
+  open_csv(file);
+  for (std::size_t s = 0; s < times_.size(); ++s) {
+    csv_.cell(times_[s]);
+    for (const auto& column : samples_) csv_.cell(column[s]);
+    csv_.end_row();
+  }
+  csv_.flush();
 }
 
 std::vector<std::string> TraceRecorder::column_names() const {

@@ -57,6 +57,19 @@ class TraceRecorder {
   // `mechanics` must be given when strain columns were resolved.
   void sample(double t, CellSystem& system, const MechanicsSolver* mechanics);
 
+  // A run split over ranks (docs/parallel.md): each rank records the columns
+  // of its own cells (and dt_ms); rank 0 merges them at the end. What a rank
+  // sends: its columns as text (a line "variable\tcell\tunit\tstep" each) and
+  // its samples as numbers (the times, then each column's samples).
+  std::string packed_columns() const;
+  std::vector<double> packed_samples() const;
+  // Rank 0: every rank's packed columns and samples (in rank order) taken as
+  // this recorder's, in the order one process records them (`spec`'s).
+  void merge(const TraceSpec& spec, const std::vector<std::string>& columns_by_rank,
+             const std::vector<std::vector<double>>& samples_by_rank);
+  // traces.csv whole, from the samples held (after merge()).
+  void write_csv(const std::filesystem::path& file);
+
   const std::vector<TraceColumn>& columns() const { return columns_; }
   std::vector<std::string> column_names() const;
   // Each traced variable's unit, as the models declare it (summary.json

@@ -1,0 +1,43 @@
+#include "run/over_ranks.hpp"
+
+#include "integrate/method_choice.hpp"
+
+namespace fibrodem {
+
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, const ProcessPlan& plan, const std::string& method,
+                                                bool resuming) {
+  std::vector<std::string> unsupported;
+  for (const char* effect : {"mechanics", "contraction", "mechano_electric_feedback"})
+    if (plan.has(effect)) unsupported.push_back(std::string("effect \"") + effect + "\"");
+  if (!SolverSpec::fixed_step(method))
+    unsupported.push_back(scene.solver.method == "auto"
+                              ? "solver.method \"auto\", which chose \"" + method +
+                                    "\" (name a fixed-step method: euler, rush_larsen, rush_larsen2)"
+                              : "solver.method \"" + method + "\" (only the fixed-step methods run split)");
+  if (plan.has("coupling") && scene.coupling.scheme == "implicit") unsupported.push_back("coupling.scheme \"implicit\"");
+  if (scene.settle.ms > 0) unsupported.push_back("settle (the coupled tissue settled before t = 0)");
+  if (scene.output.checkpoint.every_ms > 0) unsupported.push_back("output.checkpoint");
+  if (!scene.initial_state.from.empty()) unsupported.push_back("initial_state.from");
+  if (scene.output.reentry.on) unsupported.push_back("output.reentry");
+  if (scene.output.snapshots.every_ms > 0) unsupported.push_back("output.snapshots");
+  if (resuming) unsupported.push_back("fibrodem resume");
+  return unsupported;
+}
+
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, bool resuming) {
+  const Tissue tissue = scene.tissue->build(scene.seed);
+  const ProcessPlan plan = plan_processes(scene, tissue);
+  const std::string method =
+      scene.solver.method == "auto" ? choose_method(scene.solver, tissue.cell_count()).solver.method : scene.solver.method;
+  return unsupported_over_ranks(scene, plan, method, resuming);
+}
+
+std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported) {
+  std::string text = "`fibrodem " + command + "` under mpirun with " + std::to_string(ranks) +
+                     " ranks: this scene cannot be split over ranks yet; unsupported: ";
+  for (std::size_t k = 0; k < unsupported.size(); ++k) text += (k ? "; " : "") + unsupported[k];
+  return text + ". Nothing was written. Run it on one rank (mpirun -n 1, or without mpirun), or spread whole "
+                "runs over ranks with `mpirun -n " + std::to_string(ranks) + " fibrodem sweep` (docs/parallel.md)";
+}
+
+}  // namespace fibrodem

@@ -1,0 +1,32 @@
+// What `fibrodem run` can split over the ranks of an mpirun (docs/parallel.md):
+// the electrophysiology of one tissue with a fixed-step method (euler,
+// rush_larsen, rush_larsen2) and explicit gap-junction coupling, its
+// biomarkers, traces of states, maps and summary. Anything else stops on
+// every rank with the message below before anything is written, instead of
+// N processes writing one folder. (`fibrodem sweep` spreads whole runs over
+// ranks.)
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/effects.hpp"
+#include "scene/scene.hpp"
+#include "tissue/tissue.hpp"
+
+namespace fibrodem {
+
+// Each part of the scene that a run over several ranks cannot take, as a
+// phrase naming it and where the manifest asks for it; empty: it can run
+// split. `method` is the solver's method once "auto" has chosen.
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, const ProcessPlan& plan, const std::string& method,
+                                                bool resuming);
+// The same from the scene alone (builds its tissue: which effects it needs
+// and what "auto" chooses follow from it).
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, bool resuming);
+
+// The error every rank stops with: the command, the rank count, what is
+// unsupported and what to do instead.
+std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported);
+
+}  // namespace fibrodem

@@ -1,0 +1,37 @@
+// The ranks one run is split over (docs/parallel.md): what a Simulation
+// needs of them. The command line implements it over MPI (apps/mpi_ranks.hpp);
+// the core itself does not link MPI.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace fibrodem {
+
+// One message of a halo exchange with one other rank: `send_count` values
+// from `send` go to it while `receive_count` values from it land in
+// `receive` (both sides agree on the counts: tissue/rank_cells.hpp).
+struct HaloMessage {
+  int rank = -1;
+  const double* send = nullptr;
+  std::size_t send_count = 0;
+  double* receive = nullptr;
+  std::size_t receive_count = 0;
+};
+
+class RankGroup {
+ public:
+  virtual ~RankGroup() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Every message sent and received; returns when all have arrived. Called
+  // by every rank at the same point (each with its own neighbours).
+  virtual void exchange(const std::vector<HaloMessage>& messages) = 0;
+  // Rank 0 receives every rank's values, in rank order; the others an empty
+  // list. (Collective: every rank calls it.)
+  virtual std::vector<std::vector<double>> gather(const std::vector<double>& mine) = 0;
+  virtual std::vector<std::string> gather_text(const std::string& mine) = 0;
+};
+
+}  // namespace fibrodem

@@ -1,0 +1,130 @@
+// A run split over the ranks of an mpirun (docs/parallel.md): the tissue's
+// cell graph is partitioned (every rank computes the same partition from the
+// same tissue), each rank's populations hold its own cells, the explicit gap
+// currents read the neighbours' potentials refreshed by a halo exchange, and
+// at the end rank 0 gathers the beats and traces and writes every file as
+// one process would. Each cell's update reads its own states, its stimulus
+// and its neighbours' potentials, summed in the same order as in one
+// process, so the potentials, and everything measured from them, have the
+// same bits on any number of ranks.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "run/over_ranks.hpp"
+#include "run/simulation_impl.hpp"
+#include "tissue/cell_partition.hpp"
+#include "util/json_reader.hpp"
+
+namespace fibrodem {
+
+namespace {
+
+// A beat as numbers (its integers are exact in a double).
+constexpr std::size_t kBeatFields = 9;
+
+void pack(const BeatBiomarkers& b, std::vector<double>& into) {
+  into.insert(into.end(), {static_cast<double>(b.cell), static_cast<double>(static_cast<int>(b.type)),
+                           static_cast<double>(b.beat), b.activation_ms, b.rmp_mV, b.apo_mV, b.apd50_ms, b.apd90_ms,
+                           b.dvdt_max_mV_per_ms});
+}
+
+BeatBiomarkers unpack(const double* v) {
+  BeatBiomarkers b;
+  b.cell = static_cast<int>(v[0]);
+  b.type = static_cast<CellType>(static_cast<int>(v[1]));
+  b.beat = static_cast<int>(v[2]);
+  b.activation_ms = v[3];
+  b.rmp_mV = v[4];
+  b.apo_mV = v[5];
+  b.apd50_ms = v[6];
+  b.apd90_ms = v[7];
+  b.dvdt_max_mV_per_ms = v[8];
+  return b;
+}
+
+}  // namespace
+
+// After the solver is chosen: a scene the split cannot take stops here (the
+// command line checks the same before anything is written); then this
+// rank's share of the cells.
+void Simulation::Impl::split_over_ranks() {
+  if (!ranks) return;
+  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, plan, scene.solver.method, false);
+  if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", ranks->size(), unsupported));
+  const CellPartition partition = partition_cells(tissue, ranks->size());
+  share = rank_cells(tissue, partition, ranks->rank());
+  owned.assign(tissue.cell_count(), 0);
+  for (int cell : share.owned) owned[static_cast<std::size_t>(cell)] = 1;
+  const std::vector<std::size_t> sizes = partition.sizes();
+  plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
+                                   "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
+                                   ranks->size(), *std::min_element(sizes.begin(), sizes.end()),
+                                   *std::max_element(sizes.begin(), sizes.end()), partition.cut_edges(tissue),
+                                   tissue.cell_edges.size(), ranks->rank(), share.owned.size(), share.ghosts.size(),
+                                   share.neighbours.size()));
+}
+
+// The explicit gap currents of this rank's cells read their ghosts' potentials.
+void Simulation::Impl::connect_ranks() {
+  if (!ranks || !system.coupler) return;
+  halo = std::make_unique<HaloExchange>(*ranks, share);
+  system.refresh_ghost_voltages = [h = halo.get()](double* V_mV) { h->refresh(V_mV); };
+}
+
+// output.traces as this rank records it: its own cells only (a cell that
+// does not exist stays, for the same error on every rank).
+Scene Simulation::Impl::scene_of_own_traces() const {
+  Scene own = scene;
+  for (auto& block : own.output.traces.blocks)
+    block.cells.erase(std::remove_if(block.cells.begin(), block.cells.end(),
+                                     [&](int cell) {
+                                       return cell >= 0 && static_cast<std::size_t>(cell) < tissue.cell_count() &&
+                                              !owns(static_cast<std::size_t>(cell));
+                                     }),
+                      block.cells.end());
+  return own;
+}
+
+// A model output is traced by evaluating the owner's cells at the sample,
+// which would exchange potentials on that rank alone: not yet split.
+// (Decided from the models of the cells' types, the same on every rank.)
+void Simulation::Impl::refuse_traced_outputs() const {
+  if (!ranks) return;
+  for (const auto& block : scene.output.traces.blocks)
+    for (std::size_t j = 0; j < block.variables.size(); ++j)
+      for (int cell : block.cells) {
+        if (cell < 0 || static_cast<std::size_t>(cell) >= tissue.cell_count()) continue;
+        const Population& pop = system.populations[system.where[static_cast<std::size_t>(cell)].first];
+        const std::string& var = block.variables[j];
+        if (find_state(pop.info(), var) < 0 && find_output(pop.info(), var) >= 0)
+          throw ManifestError(index_path(block.path + ".variables", j),
+                              "\"" + var + "\" is an output of model " + pop.info().name +
+                                  ", which a run split over MPI ranks cannot trace yet (states can be traced)");
+      }
+}
+
+// Rank 0 takes every rank's beats (in one process's order: by beat, then
+// cell) and traces, and writes biomarkers.csv and traces.csv.
+void Simulation::Impl::gather_from_ranks() {
+  if (!ranks) return;
+  std::vector<double> mine;
+  mine.reserve(beats.size() * kBeatFields);
+  for (const auto& b : beats) pack(b, mine);
+  const std::vector<std::vector<double>> beats_by_rank = ranks->gather(mine);
+  const std::vector<std::string> columns_by_rank = ranks->gather_text(traces.packed_columns());
+  const std::vector<std::vector<double>> samples_by_rank = ranks->gather(traces.packed_samples());
+  if (ranks->rank() != 0) return;
+  beats.clear();
+  for (const auto& values : beats_by_rank)
+    for (std::size_t k = 0; k + kBeatFields <= values.size(); k += kBeatFields) beats.push_back(unpack(&values[k]));
+  std::stable_sort(beats.begin(), beats.end(), [](const BeatBiomarkers& a, const BeatBiomarkers& b) {
+    return a.beat != b.beat ? a.beat < b.beat : a.cell < b.cell;
+  });
+  for (const auto& b : beats) write_biomarker_row(b);
+  traces.merge(scene.output.traces, columns_by_rank, samples_by_rank);
+  if (!out.empty()) traces.write_csv(out / "traces.csv");
+}
+
+}  // namespace fibrodem

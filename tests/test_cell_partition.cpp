@@ -1,0 +1,177 @@
+// The cell graph split over ranks (tissue/cell_partition.hpp): every cell in
+// one part, balanced, deterministic, and far fewer cut edges than a random
+// split, on a grid whose best cuts are known and on a built tissue.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "support/scenes.hpp"
+#include "tissue/cell_partition.hpp"
+#include "tissue/rank_cells.hpp"
+#include "tissue/tissue_builder.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+// columns x rows cells, each joined to its 4 neighbours.
+Tissue grid_tissue(int columns, int rows) {
+  Tissue t;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < columns; ++c) {
+      t.type.push_back(CellType::myocyte);
+      t.x_um.push_back(25.0 * c);
+      t.y_um.push_back(125.0 * r);
+    }
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < columns; ++c) {
+      const int cell = r * columns + c;
+      if (c + 1 < columns) t.cell_edges.emplace_back(cell, cell + 1);
+      if (r + 1 < rows) t.cell_edges.emplace_back(cell, cell + columns);
+    }
+  std::sort(t.cell_edges.begin(), t.cell_edges.end());
+  return t;
+}
+
+Tissue built_tissue() {
+  const json spec = {{"builder", "in_series"}, {"width_mm", 0.6}, {"height_mm", 1.2}, {"fm_ratio", 0.3}};
+  JsonReader reader(spec, "tissue");
+  return make_tissue_builder(reader)->build(7);
+}
+
+// Cut edges of a uniformly random assignment of cells to parts.
+std::size_t random_cut(const Tissue& tissue, int parts) {
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> pick(0, parts - 1);
+  CellPartition p;
+  p.parts = parts;
+  for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell) p.part_of.push_back(pick(random));
+  return p.cut_edges(tissue);
+}
+
+void check_is_partition(const CellPartition& p, const Tissue& tissue, int parts) {
+  REQUIRE(p.parts == parts);
+  REQUIRE(p.part_of.size() == tissue.cell_count());
+  for (int part : p.part_of) REQUIRE((part >= 0 && part < parts));
+  std::vector<int> seen(tissue.cell_count(), 0);
+  for (int part = 0; part < parts; ++part)
+    for (int cell : p.cells_of(part)) ++seen[static_cast<std::size_t>(cell)];
+  CHECK(std::all_of(seen.begin(), seen.end(), [](int times) { return times == 1; }));
+}
+
+// No part above (1 + kPartImbalance) times the mean, rounded up to whole cells.
+void check_balanced(const CellPartition& p) {
+  const std::vector<std::size_t> sizes = p.sizes();
+  std::size_t total = 0;
+  for (std::size_t size : sizes) total += size;
+  const double mean = static_cast<double>(total) / p.parts;
+  const auto largest = static_cast<double>(*std::max_element(sizes.begin(), sizes.end()));
+  CHECK(largest <= std::ceil((1 + kPartImbalance) * mean));
+}
+
+}  // namespace
+
+TEST_CASE("cell partition: a 40 x 30 grid in 2 and 4 parts, balanced, with near-minimal cuts") {
+  const Tissue grid = grid_tissue(40, 30);
+  // The smallest bisection of a 40 x 30 grid cuts the 30 edges of one row
+  // of columns; four equal quadrants cut 30 + 40 = 70. Scotch's multilevel
+  // heuristic is not exact: within twice these.
+  const int best_cut[] = {0, 0, 30, 0, 70};
+  for (int parts : {2, 4}) {
+    CAPTURE(parts);
+    const CellPartition p = partition_cells(grid, parts);
+    check_is_partition(p, grid, parts);
+    check_balanced(p);
+    CHECK(p.cut_edges(grid) <= static_cast<std::size_t>(2 * best_cut[parts]));
+    // A random split cuts about (1 - 1/parts) of the 2330 edges.
+    CHECK(p.cut_edges(grid) * 10 < random_cut(grid, parts));
+  }
+}
+
+TEST_CASE("cell partition: a built tissue with fibroblasts, 2 to 4 parts") {
+  const Tissue tissue = built_tissue();
+  REQUIRE(tissue.count(CellType::fibroblast) > 0);
+  for (int parts : {2, 3, 4}) {
+    CAPTURE(parts);
+    const CellPartition p = partition_cells(tissue, parts);
+    check_is_partition(p, tissue, parts);
+    check_balanced(p);
+    CHECK(p.cut_edges(tissue) * 5 < random_cut(tissue, parts));
+  }
+}
+
+TEST_CASE("cell partition: the same tissue gives the same parts") {
+  const Tissue tissue = built_tissue();
+  const CellPartition first = partition_cells(tissue, 3);
+  // In between, a partition of another graph (Scotch's state must not leak).
+  (void)partition_cells(grid_tissue(20, 20), 4);
+  const CellPartition again = partition_cells(built_tissue(), 3);
+  CHECK(first.part_of == again.part_of);
+}
+
+TEST_CASE("cell partition: one part without Scotch, and a part count out of range refused") {
+  const Tissue grid = grid_tissue(3, 2);
+  const CellPartition one = partition_cells(grid, 1);
+  CHECK(one.part_of == std::vector<int>(6, 0));
+  CHECK(one.cut_edges(grid) == 0);
+  CHECK_THROWS_WITH_AS(partition_cells(grid, 7),
+                       "cannot split 6 cells into 7 parts: expected 1 to 6 parts (one per MPI rank)",
+                       std::invalid_argument);
+  CHECK_THROWS_AS(partition_cells(grid, 0), std::invalid_argument);
+  // Every cell a part of its own.
+  const CellPartition six = partition_cells(grid, 6);
+  check_is_partition(six, grid, 6);
+  CHECK(six.sizes() == std::vector<std::size_t>(6, 1));
+}
+
+TEST_CASE("rank cells: ghosts close each rank's coupling, and the ranks agree on every message") {
+  const Tissue tissue = built_tissue();
+  const int parts = 3;
+  const CellPartition p = partition_cells(tissue, parts);
+  std::vector<RankCells> shares;
+  for (int rank = 0; rank < parts; ++rank) shares.push_back(rank_cells(tissue, p, rank));
+  std::size_t owned_total = 0;
+  for (const RankCells& share : shares) {
+    CAPTURE(share.rank);
+    owned_total += share.owned.size();
+    CHECK(share.owned == p.cells_of(share.rank));
+    // Every neighbour of an owned cell is owned or a ghost; every ghost is
+    // another rank's and a neighbour of an owned cell.
+    std::vector<char> reachable(tissue.cell_count(), 0);
+    for (int cell : share.owned) reachable[static_cast<std::size_t>(cell)] = 1;
+    for (int cell : share.ghosts) {
+      CHECK(p.part_of[static_cast<std::size_t>(cell)] != share.rank);
+      reachable[static_cast<std::size_t>(cell)] = 1;
+    }
+    std::vector<int> needed;
+    for (const auto& edge : tissue.cell_edges) {
+      const bool a_ours = p.part_of[static_cast<std::size_t>(edge.first)] == share.rank;
+      const bool b_ours = p.part_of[static_cast<std::size_t>(edge.second)] == share.rank;
+      if (a_ours) CHECK(reachable[static_cast<std::size_t>(edge.second)]);
+      if (b_ours) CHECK(reachable[static_cast<std::size_t>(edge.first)]);
+      if (a_ours && !b_ours) needed.push_back(edge.second);
+      if (b_ours && !a_ours) needed.push_back(edge.first);
+    }
+    std::sort(needed.begin(), needed.end());
+    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    CHECK(share.ghosts == needed);
+    // What a sends to b is what b receives from a, cell for cell, in order.
+    for (const HaloNeighbour& n : share.neighbours) {
+      const RankCells& other = shares[static_cast<std::size_t>(n.rank)];
+      const auto back = std::find_if(other.neighbours.begin(), other.neighbours.end(),
+                                     [&](const HaloNeighbour& m) { return m.rank == share.rank; });
+      REQUIRE(back != other.neighbours.end());
+      CHECK(back->receive == n.send);
+      CHECK(back->send == n.receive);
+    }
+  }
+  CHECK(owned_total == tissue.cell_count());
+  // One part: no ghosts, no neighbours.
+  const RankCells alone = rank_cells(tissue, partition_cells(tissue, 1), 0);
+  CHECK(alone.owned.size() == tissue.cell_count());
+  CHECK(alone.ghosts.empty());
+  CHECK(alone.neighbours.empty());
+  CHECK_THROWS_AS(rank_cells(tissue, p, 3), std::invalid_argument);
+}

@@ -1,0 +1,109 @@
+// `fibrodem run` and `fibrodem resume` under mpirun (run/over_ranks.hpp):
+// with one rank a run as without mpirun; with several, a scene the ranks
+// cannot share stops on every rank before anything is written.
+// (tests/test_mpi_tissue.cpp runs a scene they share.)
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <sys/wait.h>
+
+#include "run/over_ranks.hpp"
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+
+namespace {
+
+bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
+
+// (CI runs as root, which OpenMPI refuses unless told; its own allocations
+// that it never frees are not ours to report under AddressSanitizer.)
+std::string mpirun(int ranks) {
+  return "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -n " +
+         std::to_string(ranks) + " --oversubscribe ";
+}
+
+// Runs `fibrodem ARGS` under the launcher; its output goes to `log`.
+int run_fibrodem(const std::string& launcher, const std::string& args, const std::filesystem::path& log) {
+  const std::string command = launcher + std::string(FIBRODEM_BINARY_DIR) + "/fibrodem " + args + " > " +
+                              log.string() + " 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::size_t count_of(const std::string& text, const std::string& part) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+json strand_manifest() {
+  json m = testing::passive_cell_manifest();
+  m["tissue"] = {{"builder", "strand"}, {"cells", 6}, {"type", "fibroblast"}};
+  m["duration_ms"] = 5;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("over ranks: every unsupported part of a scene is named") {
+  json m = strand_manifest();
+  // A fixed-step method with explicit coupling, biomarkers and traces of states: split.
+  CHECK(unsupported_over_ranks(parse_scene(m), false).empty());
+  m["solver"] = {{"method", "cvode"}};
+  m["output"]["checkpoint"] = {{"every_ms", 1}};
+  const std::vector<std::string> named = unsupported_over_ranks(parse_scene(m), true);
+  REQUIRE(named.size() == 3);
+  CHECK(named[0] == "solver.method \"cvode\" (only the fixed-step methods run split)");
+  CHECK(named[1] == "output.checkpoint");
+  CHECK(named[2] == "fibrodem resume");
+  const std::string message = refusal_over_ranks("run", 3, named);
+  CHECK(message.find("`fibrodem run` under mpirun with 3 ranks") != std::string::npos);
+  CHECK(message.find("output.checkpoint; fibrodem resume") != std::string::npos);
+  CHECK(message.find("mpirun -n 3 fibrodem sweep") != std::string::npos);
+  // auto chooses the adaptive method for a tissue (integrate/method_choice.hpp).
+  json automatic = strand_manifest();
+  automatic["tissue"]["cells"] = 40;
+  automatic["solver"] = {{"method", "auto"}};
+  const std::vector<std::string> chosen = unsupported_over_ranks(parse_scene(automatic), false);
+  REQUIRE(chosen.size() == 1);
+  CHECK(chosen[0].find("solver.method \"auto\", which chose \"adaptive\"") == 0);
+  json implicit = strand_manifest();
+  implicit["coupling"] = {{"scheme", "implicit"}};
+  CHECK(unsupported_over_ranks(parse_scene(implicit), false) ==
+        std::vector<std::string>{"coupling.scheme \"implicit\""});
+}
+
+TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
+  if (!have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_run_refused");
+  json m = strand_manifest();
+  m["output"]["checkpoint"] = {{"every_ms", 1}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  const std::string out = (dir / "out").string();
+  CHECK(run_fibrodem(mpirun(2), "run " + (dir / "scene.json").string() + " --out " + out, dir / "log.txt") != 0);
+  const std::string log = testing::read_file(dir / "log.txt");
+  CHECK(count_of(log, "`fibrodem run` under mpirun with 2 ranks") == 2);  // one per rank
+  CHECK_FALSE(std::filesystem::exists(dir / "out"));
+
+  // The same scene on one rank runs as without mpirun.
+  REQUIRE(run_fibrodem(mpirun(1), "run " + (dir / "scene.json").string() + " --out " + out + " --quiet",
+                   dir / "one.txt") == 0);
+  CHECK(json::parse(testing::read_file(dir / "out" / "summary.json"))["status"] == "completed");
+
+  // resume over 2 ranks of a run that stopped before its end (its status
+  // says so: a completed run has nothing to resume): refused, the folder as
+  // it was.
+  json stopped = json::parse(testing::read_file(dir / "out" / "summary.json"));
+  stopped["status"] = "interrupted";
+  std::ofstream(dir / "out" / "summary.json") << stopped.dump();
+  const std::string summary = testing::read_file(dir / "out" / "summary.json");
+  CHECK(run_fibrodem(mpirun(2), "resume " + out, dir / "resume.txt") != 0);
+  const std::string resume_log = testing::read_file(dir / "resume.txt");
+  CHECK(count_of(resume_log, "`fibrodem resume` under mpirun with 2 ranks") == 2);
+  CHECK(resume_log.find("fibrodem resume.") != std::string::npos);
+  CHECK(testing::read_file(dir / "out" / "summary.json") == summary);
+}
