@@ -1,6 +1,7 @@
 #include "integrate/cvode_integrator.hpp"
 
 #include "integrate/block_preconditioner.hpp"
+#include "integrate/cvode_vector_ops.hpp"
 #include "integrate/gate_elimination_lu.hpp"
 
 #include <cvode/cvode.h>
@@ -263,6 +264,8 @@ void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, 
   const auto n = static_cast<sunindextype>(layout.size);
   g.y = N_VNew_Serial(n, sun);
   g.dky = N_VNew_Serial(n, sun);
+  use_compiled_vector_ops(g.y);  // before CVodeInit: CVODE's work vectors are clones of y
+  use_compiled_vector_ops(g.dky);
   double* y = N_VGetArrayPointer(g.y);
   map.pack(y);
 
