@@ -42,7 +42,7 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
   // (the rates never depend on them).
   const std::size_t n = table->points;
   const std::size_t g = table->gates.size();
-  table->rows.resize(n * 2 * g);
+  auto rows = std::make_shared<std::vector<double>>(n * 2 * g);
   Population probe;
   probe.type = pop.type;
   probe.model = pop.model;
@@ -61,17 +61,18 @@ std::shared_ptr<VoltageTable> VoltageTable::build(const Population& pop, double 
     for (std::size_t c = 0; c < m; ++c)
       for (std::size_t i = 0; i < g; ++i) {
         const std::size_t k = static_cast<std::size_t>(table->gates[i]);
-        table->rows[(first + c) * 2 * g + 2 * i] = probe.a[k * m + c];
-        table->rows[(first + c) * 2 * g + 2 * i + 1] = probe.b[k * m + c];
+        (*rows)[(first + c) * 2 * g + 2 * i] = probe.a[k * m + c];
+        (*rows)[(first + c) * 2 * g + 2 * i + 1] = probe.b[k * m + c];
       }
   }
+  table->rows = std::move(rows);
   return std::make_shared<VoltageTable>(cache.insert(std::move(table)));
 }
 
 void VoltageTable::fill(const BlockView& block, int voltage_state) const {
   const VoltageTableRows& d = *data_;
   const int* gates = d.gates.data();
-  const double* rows = d.rows.data();
+  const double* rows = d.rows->data();
   const std::size_t g = d.gates.size(), width = 2 * g;
   const double* V = block.y + static_cast<std::size_t>(voltage_state) * block.stride;
   const std::size_t ab_stride = block.ab_stride ? block.ab_stride : block.stride;
@@ -95,14 +96,15 @@ std::shared_ptr<VoltageTable> VoltageTable::with_rush_larsen_step(double dt_ms) 
   key.rush_larsen_dt_ms = dt_ms;
   auto& cache = VoltageTableCache::instance();
   if (auto rows = cache.find(key)) return std::make_shared<VoltageTable>(std::move(rows));
-  for (std::size_t r = 1; r < d.rows.size(); r += 2)
-    if (d.rows[r] == 0.0) return nullptr;  // a gate standing still there has no y_inf
-  auto t = std::make_shared<VoltageTableRows>(d);
+  const std::vector<double>& ab = *d.rows;
+  for (std::size_t r = 1; r < ab.size(); r += 2)
+    if (ab[r] == 0.0) return nullptr;  // a gate standing still there has no y_inf
+  auto t = std::make_shared<VoltageTableRows>(d);  // the a, b rows shared, not copied
   t->key = std::move(key);
   t->rl_dt = dt_ms;
-  t->rl_rows.resize(d.rows.size());
-  for (std::size_t r = 0; r < d.rows.size(); r += 2) {
-    const double a = d.rows[r], b = d.rows[r + 1];
+  t->rl_rows.resize(ab.size());
+  for (std::size_t r = 0; r < ab.size(); r += 2) {
+    const double a = ab[r], b = ab[r + 1];
     t->rl_rows[r] = -a / b;
     t->rl_rows[r + 1] = std::exp(b * dt_ms);
   }
