@@ -1,33 +1,12 @@
 // The `fibrodem` command line (docs/reference/command_line.md).
 #include <CLI/CLI.hpp>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <iostream>
-#include <unistd.h>
 
 #include "apps/commands.hpp"
-
-namespace {
-
-// OpenMP's threads wait for the next parallel loop by spinning: GCC's libgomp
-// spins ~300,000 times (milliseconds) before it sleeps, which on a shared
-// machine takes a core from other jobs. A run's parallel loops come microseconds
-// apart, so a short spin (~0.1 ms) keeps them fast and lets idle threads sleep.
-// libgomp reads this only when it loads, before main(): so the program starts
-// itself again once with the setting, unless the user chose a policy.
-void bound_openmp_spinning(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
-  // Under valgrind /proc/self/exe is valgrind's tool, not fibrodem: leave it be.
-  if (const char* preload = std::getenv("LD_PRELOAD"); preload && std::strstr(preload, "vgpreload")) return;
-  setenv("GOMP_SPINCOUNT", "10000", 1);
-  execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
-}
-
-}  // namespace
+#include "apps/openmp_spinning.hpp"
 
 int main(int argc, char** argv) {
-  bound_openmp_spinning(argv);
+  fibrodem::cli::keep_arguments(argv);
   CLI::App app{"fibrodem: cardiac tissue cell by cell (electrophysiology, coupling, mechanics)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("fibrodem ") + FIBRODEM_VERSION);
@@ -139,6 +118,10 @@ int main(int argc, char** argv) {
   schema->add_option("kind", schema_args.kind, "manifest (the default) or sweep")->check(CLI::IsMember({"manifest", "sweep"}));
 
   CLI11_PARSE(app, argc, argv);
+
+  // Commands that run scenes or benchmarks on several threads bound OpenMP's
+  // spinning now; run, resume and validate once they know their scene.
+  if (*compare || *sweep || *window || *restitution || *bench) fibrodem::cli::bound_openmp_spinning();
 
   if (*run) return fibrodem::cli::run_command(run_args);
   if (*resume) return fibrodem::cli::resume_command(resume_args);

@@ -13,6 +13,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/mpi_ranks.hpp"
+#include "apps/openmp_spinning.hpp"
 #include "report/run_report.hpp"
 #include "report/vulnerable_window_report.hpp"
 #include "run/interrupt.hpp"
@@ -23,10 +24,14 @@ namespace fibrodem::cli {
 
 namespace {
 
+// The scene of the manifest with its overrides; a scene that may run on a
+// team of threads restarts the program first (apps/openmp_spinning.hpp).
 Scene load_scene(const RunArgs& args) {
   json manifest = read_manifest_file(args.manifest);
   for (const auto& assignment : args.overrides) apply_override(manifest, assignment);
-  return parse_scene(manifest);
+  Scene scene = parse_scene(manifest);
+  if (may_use_thread_team(scene, manifest)) bound_openmp_spinning();
+  return scene;
 }
 
 // What a finished run left in its folder, as one line: every file and folder
@@ -121,6 +126,7 @@ int resume_command(const ResumeArgs& args) {
     if (!summary.contains("manifest")) throw ManifestError("", (dir / "summary.json").string() + " has no manifest");
     Scene scene = parse_scene(summary.at("manifest"));
     refuse_split_over_ranks("resume", scene, true);
+    if (may_use_thread_team(scene, summary.at("manifest"))) bound_openmp_spinning();
     scene.output.dir = args.dir;
     scene.output.overwrite = true;  // its own files
     if (args.no_report) scene.output.report = false;

@@ -25,6 +25,8 @@ TEST_CASE("report pieces: HTML escaping and base64 as RFC 4648 gives them") {
   CHECK(base64("fo") == "Zm8=");
   CHECK(base64("foo") == "Zm9v");
   CHECK(base64("foobar") == "Zm9vYmFy");
+  // Bytes above 0x7f and a zero byte (a PNG's): Python's base64.b64encode(bytes([255, 254, 0, 128])).
+  CHECK(base64(std::string("\xff\xfe\x00\x80", 4)) == "//4AgA==");
 }
 
 TEST_CASE("report pieces: SVG plots get ids unique in the page and scale to its width") {

@@ -33,8 +33,9 @@ struct VoltageTableRows {
   double v_min = 0, step = 1, inv_step = 1;
   std::size_t points = 0;
   std::vector<int> gates;  // tabulated state indices
-  // Row i (V = v_min + i*step): a, b of each gate in turn, 2 * gates.size() values.
-  std::vector<double> rows;
+  // Row i (V = v_min + i*step): a, b of each gate in turn, 2 * gates.size() values
+  // (one copy, shared with the rows that add the Rush-Larsen columns to them).
+  std::shared_ptr<const std::vector<double>> rows;
   // The same rows for y_inf, E (with_rush_larsen_step), and their step (0: none).
   std::vector<double> rl_rows;
   double rl_dt = 0;

@@ -15,8 +15,10 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
+// (a, b rows shared by an entry and its Rush-Larsen entry count in both: the
+// budget errs on the small side.)
 std::size_t bytes_of(const VoltageTableRows& r) {
-  return sizeof r + (r.rows.size() + r.rl_rows.size() + r.key.params.size() + r.key.initial_state.size()) *
+  return sizeof r + ((r.rows ? r.rows->size() : 0) + r.rl_rows.size() + r.key.params.size() + r.key.initial_state.size()) *
                         sizeof(double) +
          r.gates.size() * sizeof(int);
 }

@@ -13,7 +13,7 @@ namespace fibrodem {
 
 // Text made safe inside HTML elements and attribute values.
 std::string html_escape(const std::string& text);
-// RFC 4648 base64 (OpenSSL's encoder).
+// RFC 4648 base64.
 std::string base64(const std::string& bytes);
 // A file's bytes in one read (a picture to embed); nullopt if it cannot be read.
 std::optional<std::string> read_file_bytes(const std::filesystem::path& file);

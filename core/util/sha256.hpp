@@ -1,4 +1,4 @@
-// SHA-256 (OpenSSL) of bytes: plugin files (summary.json), checkpoint files
+// SHA-256 (FIPS 180-4) of bytes: plugin files (summary.json), checkpoint files
 // (their checksum), the settle cache's keys.
 #pragma once
 
