@@ -219,6 +219,7 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   if (!system.voltage_fresh) system.gather_voltage();
   if (!(system.voltages_observed && tracker->steps_by_range(t_new))) {  // else done in on_step_voltages
     const std::size_t cells = tracked_edge(system.cell_count());
+    if (dVdt && ranks) own_dVdt.resize(cells);  // (allocated once, for an integrator that gives dV/dt)
     tracker->step(t_old, t_new, tracked(system.V_mV.data(), own_V_mV, 0, cells),
                   dVdt ? tracked(dVdt, own_dVdt, 0, cells) : nullptr);
   }

@@ -94,7 +94,7 @@ struct Simulation::Impl : StepObserver {
   std::unique_ptr<HaloExchange> halo;
   // The biomarker tracker's cells split over ranks: this rank's own, in
   // share.owned's order; their V (and dV/dt) copied there from the per-cell
-  // arrays at each step (buffers sized when the run starts).
+  // arrays at each step (V's buffer sized when the run starts).
   std::vector<double> own_V_mV, own_dVdt;
 
   // ---- the life cycle (simulation.cpp) ----

@@ -83,8 +83,7 @@ std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
     types.clear();
     types.reserve(share.owned.size());
     for (int cell : share.owned) types.push_back(tissue.type[static_cast<std::size_t>(cell)]);
-    own_V_mV.assign(share.owned.size(), 0.0);
-    own_dVdt.assign(share.owned.size(), 0.0);
+    own_V_mV.assign(share.owned.size(), 0.0);  // (own_dVdt: at the first step given dV/dt, if any)
   }
   auto made = std::make_unique<BiomarkerTracker>(std::move(types), system.stimulus.onsets(scene.duration_ms),
                                                  scene.output.biomarkers_from_ms,
