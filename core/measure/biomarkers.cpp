@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace fibrodem {
@@ -26,6 +28,13 @@ void BiomarkerTracker::mirror(std::size_t c) {
 void BiomarkerTracker::use_pre_upstroke_rmp(double window_ms, double gap_ms) {
   pre_upstroke_ = std::make_unique<PreUpstrokeWindow>(cells_.size(), window_ms, gap_ms);
   rmp_pre_.assign(cells_.size(), std::numeric_limits<double>::quiet_NaN());
+}
+
+void BiomarkerTracker::number_cells(std::vector<int> cell_numbers) {
+  if (cell_numbers.size() != cells_.size())
+    throw std::invalid_argument("BiomarkerTracker::number_cells: " + std::to_string(cell_numbers.size()) +
+                                " numbers for " + std::to_string(cells_.size()) + " cells");
+  cell_numbers_ = std::move(cell_numbers);
 }
 
 void BiomarkerTracker::start(double /*t_ms*/, const double* V) {
@@ -248,7 +257,7 @@ void BiomarkerTracker::close_beat() {
   for (std::size_t c = 0; c < cells_.size(); ++c) {
     const Cell& s = cells_[c];
     BeatBiomarkers b;
-    b.cell = static_cast<int>(c);
+    b.cell = cell_numbers_.empty() ? static_cast<int>(c) : cell_numbers_[c];
     b.type = types_[c];
     b.beat = beat_;
     b.activation_ms = s.t_act;

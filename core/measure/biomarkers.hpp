@@ -53,6 +53,10 @@ class BiomarkerTracker {
   // RMP as the mean V over window_ms ending gap_ms before each cell's
   // activation (output.biomarkers.rmp "pre_upstroke"); call before start().
   void use_pre_upstroke_rmp(double window_ms, double gap_ms);
+  // The tissue's number of each tracked cell, reported as BeatBiomarkers::cell
+  // (one number per type given, e.g. a rank's own cells in a run split over
+  // MPI ranks); without it a cell's number is its index here. Call before start().
+  void number_cells(std::vector<int> cell_numbers);
 
   void start(double t_ms, const double* V_mV);
   // One step from t_old to t_new; V at t_new per cell; dVdt at t_new or null.
@@ -97,6 +101,7 @@ class BiomarkerTracker {
   void mirror(std::size_t c);
 
   std::vector<CellType> types_;
+  std::vector<int> cell_numbers_;  // empty: the index
   std::vector<double> onsets_;
   double from_ms_;
   std::function<void(const BeatBiomarkers&)> on_beat_;

@@ -84,18 +84,14 @@ void Simulation::Impl::run() {
       open_outputs();
       log_setup();
     }
-    tracker = std::make_unique<BiomarkerTracker>(
-        tissue.type, system.stimulus.onsets(scene.duration_ms), scene.output.biomarkers_from_ms,
-        [this](const BeatBiomarkers& b) { record_beat(b); });
-    if (scene.output.rmp_method == "pre_upstroke")
-      tracker->use_pre_upstroke_rmp(scene.output.rmp_window_ms, scene.output.rmp_gap_ms);
+    tracker = make_tracker();
     if (!resume_point) settle_tissue();
     system.record_rest_lengths();
     if (resume_point) {
       resume();
     } else {
       system.gather_voltage();
-      tracker->start(0.0, system.V_mV.data());
+      tracker->start(0.0, tracked(system.V_mV.data(), own_V_mV, 0, tracked_edge(system.cell_count())));
     }
     start_reentry_sampling(start_ms);
     try {
@@ -157,6 +153,8 @@ void Simulation::Impl::release_run_buffers() {
   integrator.reset();
   system.coupler.reset();
   tracker.reset();
+  std::vector<double>().swap(own_V_mV);
+  std::vector<double>().swap(own_dVdt);
   reentry_frames = VoltageFrames();
   std::vector<double>().swap(V_previous);
 #if defined(__GLIBC__)
@@ -202,9 +200,10 @@ void Simulation::Impl::advance_in_segments() {
 void Simulation::Impl::on_step_voltages(double t_old, double t_new, const double* V_new, std::size_t begin,
                                         std::size_t end) {
   if (!tracker->steps_by_range(t_new)) return;  // on_step measures the step whole
-  if (begin != 0) return tracker->step_cells(t_old, t_new, V_new, begin, end);
+  const std::size_t first = tracked_edge(begin), last = tracked_edge(end);
+  if (begin != 0) return tracker->step_cells(t_old, t_new, tracked(V_new, own_V_mV, first, last), first, last);
   const auto start = Clock::now();
-  tracker->step_cells(t_old, t_new, V_new, begin, end);
+  tracker->step_cells(t_old, t_new, tracked(V_new, own_V_mV, first, last), first, last);
   const double took_s = std::chrono::duration<double>(Clock::now() - start).count();
   measurement_seconds += took_s;
   system.seconds[CellSystem::kIonic] -= took_s;
@@ -218,8 +217,12 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   const auto start = Clock::now();
   check_states(system, t_new, {scene.solver, stability, *registry, *integrator});
   if (!system.voltage_fresh) system.gather_voltage();
-  if (!(system.voltages_observed && tracker->steps_by_range(t_new)))  // else done in on_step_voltages
-    tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
+  if (!(system.voltages_observed && tracker->steps_by_range(t_new))) {  // else done in on_step_voltages
+    const std::size_t cells = tracked_edge(system.cell_count());
+    if (dVdt && ranks) own_dVdt.resize(cells);  // (allocated once, for an integrator that gives dV/dt)
+    tracker->step(t_old, t_new, tracked(system.V_mV.data(), own_V_mV, 0, cells),
+                  dVdt ? tracked(dVdt, own_dVdt, 0, cells) : nullptr);
+  }
   sample_reentry_if_due(t_old, t_new);
   auto measured = Clock::now();
   measurement_seconds += std::chrono::duration<double>(measured - start).count();

@@ -92,6 +92,10 @@ struct Simulation::Impl : StepObserver {
   RankCells share;
   std::vector<char> owned;
   std::unique_ptr<HaloExchange> halo;
+  // The biomarker tracker's cells split over ranks: this rank's own, in
+  // share.owned's order; their V (and dV/dt) copied there from the per-cell
+  // arrays at each step (V's buffer sized when the run starts).
+  std::vector<double> own_V_mV, own_dVdt;
 
   // ---- the life cycle (simulation.cpp) ----
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o);
@@ -129,6 +133,9 @@ struct Simulation::Impl : StepObserver {
   Scene scene_of_own_traces() const;
   void refuse_traced_outputs() const;
   void connect_ranks();
+  std::unique_ptr<BiomarkerTracker> make_tracker();
+  std::size_t tracked_edge(std::size_t cell_edge) const;
+  const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);
   void gather_from_ranks();
 
   // ---- checkpoints (simulation_checkpoints.cpp) ----

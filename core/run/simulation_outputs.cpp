@@ -82,11 +82,11 @@ void Simulation::Impl::on_sample(double t) {
   traces.sample(t, system, mechanics_solver());
 }
 
-// Split over ranks: this rank's cells' beats, gathered and written at the
-// end (gather_from_ranks).
+// Split over ranks: this rank's cells' beats (the tracker's, make_tracker),
+// gathered and written at the end (gather_from_ranks).
 void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
   if (ranks) {
-    if (owns(static_cast<std::size_t>(b.cell))) beats.push_back(b);
+    beats.push_back(b);
     return;
   }
   // Room for a beat of every cell at every onset at once: grown by doubling,

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "model/simd.hpp"
 #include "run/over_ranks.hpp"
 #include "run/simulation_impl.hpp"
 #include "tissue/cell_partition.hpp"
@@ -71,6 +72,49 @@ void Simulation::Impl::connect_ranks() {
   if (!ranks || !system.coupler) return;
   halo = std::make_unique<HaloExchange>(*ranks, share);
   system.refresh_ghost_voltages = [h = halo.get()](double* V_mV) { h->refresh(V_mV); };
+}
+
+// The biomarker tracker: of every cell in one process; split over ranks, of
+// this rank's own cells only (each cell's measures read its own potentials
+// only, so they have the same bits), numbered as in the tissue.
+std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
+  std::vector<CellType> types = tissue.type;
+  if (ranks) {
+    types.clear();
+    types.reserve(share.owned.size());
+    for (int cell : share.owned) types.push_back(tissue.type[static_cast<std::size_t>(cell)]);
+    own_V_mV.assign(share.owned.size(), 0.0);  // (own_dVdt: at the first step given dV/dt, if any)
+  }
+  auto made = std::make_unique<BiomarkerTracker>(std::move(types), system.stimulus.onsets(scene.duration_ms),
+                                                 scene.output.biomarkers_from_ms,
+                                                 [this](const BeatBiomarkers& b) { record_beat(b); });
+  if (ranks) made->number_cells(share.owned);
+  if (scene.output.rmp_method == "pre_upstroke")
+    made->use_pre_upstroke_rmp(scene.output.rmp_window_ms, scene.output.rmp_gap_ms);
+  return made;
+}
+
+// The tracker's index where a range of cells by tissue number starts or ends
+// (0 <= cell_edge <= cells). Split over ranks, the step's threads cut the
+// tissue's numbers into ranges; the same cut of the own cells, in proportion
+// and at whole SIMD widths, keeps the threads' shares of them apart and
+// about even (the own cells need not be spread over the numbers).
+std::size_t Simulation::Impl::tracked_edge(std::size_t cell_edge) const {
+  if (!ranks) return cell_edge;
+  const std::size_t own = share.owned.size(), cells = tissue.cell_count();
+  if (cell_edge >= cells) return own;
+  return cell_edge * own / cells / simd::kLanes * simd::kLanes;
+}
+
+// A per-cell array (by tissue number) as the tracker reads it: itself in one
+// process; split over ranks, its own cells' values [begin, end) copied into
+// `own` (tracker order), whose data is returned.
+const double* Simulation::Impl::tracked(const double* per_cell, std::vector<double>& own, std::size_t begin,
+                                        std::size_t end) {
+  if (!ranks) return per_cell;
+  const int* cells = share.owned.data();
+  for (std::size_t i = begin; i < end; ++i) own[i] = per_cell[cells[i]];
+  return own.data();
 }
 
 // output.traces as this rank records it: its own cells only (a cell that
