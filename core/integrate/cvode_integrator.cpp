@@ -237,6 +237,7 @@ void check(int flag, const char* what, const Context& ctx) {
 
 void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, StepObserver& observer) {
   const Layout layout(system);
+  system.for_each_population([](Population& pop) { pop.use_derivatives(); });  // (the map points into them)
   const StateMap map(layout, system);
   Context ctx;
   ctx.system = &system;
