@@ -56,11 +56,28 @@ std::vector<double> potentials(std::size_t n) {
   return V;
 }
 
+// L [nS] built densely from the tissue's edges (seed paper eq. 4-5: D_m
+// between two myocytes, D_f for a pair with a fibroblast), the reference.
+Eigen::MatrixXd dense_laplacian(const Tissue& tissue, double D_m_nS, double D_f_nS) {
+  const auto n = static_cast<Eigen::Index>(tissue.cell_count());
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
+  for (const auto& edge : tissue.cell_edges) {
+    const bool both_myocytes =
+        tissue.type[edge.first] == CellType::myocyte && tissue.type[edge.second] == CellType::myocyte;
+    const double g = both_myocytes ? D_m_nS : D_f_nS;
+    L(edge.first, edge.first) += g;
+    L(edge.second, edge.second) += g;
+    L(edge.first, edge.second) -= g;
+    L(edge.second, edge.first) -= g;
+  }
+  return L;
+}
+
 // x = (C/dt + L)^-1 (C/dt) V by a dense LDLT (Eigen), the reference.
-std::vector<double> direct_solve(const GapJunctionCoupler& coupler, const std::vector<double>& C,
-                                 const std::vector<double>& V, double dt_ms) {
+std::vector<double> direct_solve(const Eigen::MatrixXd& L, const std::vector<double>& C, const std::vector<double>& V,
+                                 double dt_ms) {
   const auto n = static_cast<Eigen::Index>(V.size());
-  Eigen::MatrixXd A = Eigen::MatrixXd(coupler.laplacian_nS());
+  Eigen::MatrixXd A = L;
   Eigen::VectorXd b(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     A(i, i) += C[static_cast<std::size_t>(i)] / dt_ms;
@@ -87,7 +104,7 @@ TEST_CASE("coupling CG: within its tolerance of a direct solve on an irregular t
     for (double tolerance_mV : {1e-2, 1e-6}) {
       CAPTURE(dt_ms);
       CAPTURE(tolerance_mV);
-      const auto reference = direct_solve(coupler, C, V, dt_ms);
+      const auto reference = direct_solve(dense_laplacian(tissue, 1000.0, 0.3), C, V, dt_ms);
       // The solve has work to do: the start (V itself) is far from the answer.
       REQUIRE(max_difference(V, reference) > 100 * tolerance_mV);
       std::vector<double> x = V;
@@ -110,7 +127,7 @@ TEST_CASE("coupling CG: a solve that cannot converge stops with a clear error") 
   GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
   const auto V = potentials(tissue.cell_count());
   SUBCASE("too few iterations for the tolerance") {
-    CouplingCg cg(coupler.laplacian_nS(), C, 2);
+    CouplingCg cg(dense_laplacian(tissue, 1000.0, 0.3).sparseView().eval(), C, 2);
     std::vector<double> x = V;
     CHECK_THROWS_WITH_AS(cg.solve(x.data(), 10.0, 1e-6),
                          doctest::Contains("did not reach the tolerance of 1e-06 mV on the potential in 2 iterations"),
@@ -121,6 +138,32 @@ TEST_CASE("coupling CG: a solve that cannot converge stops with a clear error") 
     CHECK_THROWS_WITH_AS(coupler.implicit_step(x.data(), 1.0, 1e-300),
                          doctest::Contains("did not reach the tolerance of 1e-300 mV"), std::runtime_error);
   }
+}
+
+TEST_CASE("gap-junction coupling: currents -L V and total conductances from the CG's slices of L") {
+  const Tissue tissue = irregular_tissue();
+  const auto C = capacitances(tissue);
+  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+  const auto V = potentials(tissue.cell_count());
+  const Eigen::MatrixXd L = dense_laplacian(tissue, 1000.0, 0.3);
+  const Eigen::VectorXd reference = -L * Eigen::Map<const Eigen::VectorXd>(V.data(), static_cast<Eigen::Index>(V.size()));
+  std::vector<double> added(V.size(), 0.0);
+  coupler.add_current(V.data(), added.data());
+  std::vector<int> cells(V.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = static_cast<int>(cells.size() - 1 - i);  // any order
+  std::vector<double> into(V.size());
+  coupler.current_into(V.data(), cells.data(), cells.size(), into.data());
+  const std::vector<double> total = coupler.total_conductance_nS();
+  for (std::size_t i = 0; i < V.size(); ++i) {
+    CAPTURE(i);
+    const auto row = static_cast<Eigen::Index>(i);
+    // Terms up to ~1e5 pA (1000 nS x 100 mV): the two sums round apart by a
+    // few eps of that, ~1e-10 pA.
+    CHECK(std::abs(added[i] - reference(row)) <= 1e-9);
+    CHECK(into[cells.size() - 1 - i] == added[i]);  // the same sum, cell by cell or all at once
+    CHECK(total[i] == doctest::Approx(L(row, row)).epsilon(1e-14));
+  }
+  CHECK(total.back() == 0.0);  // the isolated cell
 }
 
 TEST_CASE("coupling CG: a potential that is not finite is left for the caller to see") {

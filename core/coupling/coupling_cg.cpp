@@ -109,6 +109,45 @@ inline void CouplingCg::slice_product(long s, const double* y, double* sum) cons
   }
 }
 
+double CouplingCg::row_current(long i, const double* V) const {
+  // The row's entries in column order, the diagonal among them, gathered a
+  // piece at a time and summed by the loop L's compressed rows were summed
+  // by: a loop of that shape is compiled alike (whether its chain of
+  // products is fused into FMAs), so the currents keep their bits.
+  constexpr int kPiece = 32;
+  int column[kPiece];
+  double weight[kPiece];
+  const long s = i / kSlice, lane = i % kSlice;
+  const double diagonal = diagonal_nS_[static_cast<std::size_t>(i)];
+  bool diagonal_due = diagonal != 0;  // (no diagonal entry: a cell without junctions)
+  double current = 0.0;
+  long k = 0;
+  while (true) {
+    int count = 0;
+    for (; k < width_[s] && count < kPiece - 1; ++k) {
+      const long at = start_[s] + k * kSlice + lane;
+      const int j = column_[at];
+      if (j == i) {  // padding: the row's entries are done
+        k = width_[s];
+        break;
+      }
+      if (diagonal_due && j > i) {
+        column[count] = static_cast<int>(i), weight[count++] = diagonal;
+        diagonal_due = false;
+      }
+      column[count] = j, weight[count++] = weight_nS_[at];
+    }
+    const bool last = k >= width_[s];
+    if (last && diagonal_due) column[count] = static_cast<int>(i), weight[count++] = diagonal;
+    for (int e = 0; e < count; ++e) current -= weight[e] * V[column[e]];
+    if (last) return current;
+  }
+}
+
+std::vector<double> CouplingCg::diagonal_nS() const {
+  return {diagonal_nS_.begin(), diagonal_nS_.begin() + n_};
+}
+
 CouplingCg::Sums CouplingCg::residual(const double* x, double dt_ms) {
   const double inverse_dt = 1.0 / dt_ms;
   return over_chunks([&](long first, long end) {

@@ -45,6 +45,9 @@
 // Deterministic whatever the thread count: each row sums its entries in a
 // fixed order; dot products are summed per fixed chunk of kRowsPerChunk rows
 // and the chunks' sums added in chunk order.
+//
+// The slices are the coupling's only copy of L: the coupler's currents -L V
+// come from them too (row_current), each row summed in L's column order.
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -73,6 +76,15 @@ class CouplingCg {
   int solve(double* v_mV, double dt_ms, double tolerance_mV);
   // The next solve starts from v alone, not from the last solve's correction.
   void restart() { last_dt_ms_ = 0; }
+
+  // Rows of L (cells).
+  long rows() const { return n_; }
+  // Row i of -L V [pA] for potentials V [mV]: the row's entries subtracted
+  // one by one in column order, the diagonal among them (the order of L's
+  // compressed rows), so that it is the same sum whatever the threads.
+  double row_current(long i, const double* V_mV) const;
+  // L_ii [nS] of each cell.
+  std::vector<double> diagonal_nS() const;
 
   struct Statistics {
     long solves = 0, iterations = 0;

@@ -30,26 +30,17 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
 
 }  // namespace
 
+// (L exists whole only while the CG slices it.)
 GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, double D_f_nS,
                                        std::vector<double> capacitance_pF)
-    : laplacian_(laplacian_of(tissue, D_m_nS, D_f_nS)),
-      capacitance_pF_(std::move(capacitance_pF)),
-      cg_(laplacian_, capacitance_pF_) {}
-
-// Row `row` of -L V: each row sums in a fixed order, whatever the threads.
-double GapJunctionCoupler::row_current(Eigen::Index row, const double* V) const {
-  double current = 0.0;
-  for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)
-    current -= it.value() * V[it.col()];
-  return current;
-}
+    : capacitance_pF_(std::move(capacitance_pF)), cg_(laplacian_of(tissue, D_m_nS, D_f_nS), capacitance_pF_) {}
 
 void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
-  for_each_cell(laplacian_.outerSize(), [&](Eigen::Index row) { i_ext[row] += row_current(row, V); });
+  for_each_cell(cg_.rows(), [&](long row) { i_ext[row] += cg_.row_current(row, V); });
 }
 
 void GapJunctionCoupler::current_into(const double* V, const int* cells, std::size_t count, double* current) const {
-  for (std::size_t k = 0; k < count; ++k) current[k] = row_current(cells[k], V);
+  for (std::size_t k = 0; k < count; ++k) current[k] = cg_.row_current(cells[k], V);
 }
 
 void GapJunctionCoupler::implicit_step(double* V, double dt_ms, double tolerance_mV) {
@@ -58,13 +49,7 @@ void GapJunctionCoupler::implicit_step(double* V, double dt_ms, double tolerance
 
 std::string GapJunctionCoupler::describe_solves() const { return cg_.describe_statistics(); }
 
-std::vector<double> GapJunctionCoupler::total_conductance_nS() const {
-  std::vector<double> total(static_cast<std::size_t>(laplacian_.rows()), 0.0);
-  for (Eigen::Index row = 0; row < laplacian_.outerSize(); ++row)
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(laplacian_, row); it; ++it)
-      if (it.col() == row) total[static_cast<std::size_t>(row)] = it.value();
-  return total;
-}
+std::vector<double> GapJunctionCoupler::total_conductance_nS() const { return cg_.diagonal_nS(); }
 
 double GapJunctionCoupler::max_rate_per_ms() const {
   const std::vector<double> total = total_conductance_nS();

@@ -1,12 +1,11 @@
 // Gap-junction coupling on the cell graph (seed paper eq. 4-5):
 //   I_n,c = sum_i D^i (V_i - V_c),
-// D = D_m between two myocytes and D_f for any pair with a fibroblast. Stored
-// as the graph Laplacian L [nS] (Eigen sparse, row-major) so that the currents
-// are -L V and the backward-Euler step solves (C/dt + L) V' = (C/dt) V, by
-// preconditioned conjugate gradients (coupling/coupling_cg.hpp).
+// D = D_m between two myocytes and D_f for any pair with a fibroblast, as the
+// graph Laplacian L [nS]: the currents are -L V and the backward-Euler step
+// solves (C/dt + L) V' = (C/dt) V, by preconditioned conjugate gradients
+// (coupling/coupling_cg.hpp), which hold L for both.
 #pragma once
 
-#include <Eigen/SparseCore>
 #include <string>
 #include <vector>
 
@@ -20,9 +19,6 @@ class GapJunctionCoupler final : public Coupler {
  public:
   GapJunctionCoupler(const Tissue& tissue, double D_m_nS, double D_f_nS,
                      std::vector<double> capacitance_pF);
-  GapJunctionCoupler(const GapJunctionCoupler&) = delete;  // cg_ refers to laplacian_
-  GapJunctionCoupler& operator=(const GapJunctionCoupler&) = delete;
-
   void add_current(const double* V_mV, double* i_ext_pA) const override;
   void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const override;
   void implicit_step(double* V_mV, double dt_ms, double tolerance_mV) override;
@@ -31,11 +27,7 @@ class GapJunctionCoupler final : public Coupler {
   double max_rate_per_ms() const override;
   std::vector<double> total_conductance_nS() const override;
 
-  const Eigen::SparseMatrix<double, Eigen::RowMajor>& laplacian_nS() const { return laplacian_; }
-
  private:
-  double row_current(Eigen::Index row, const double* V_mV) const;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_;
   std::vector<double> capacitance_pF_;
   CouplingCg cg_;
 };

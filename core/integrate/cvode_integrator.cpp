@@ -263,6 +263,7 @@ class ScalarPathForOneCell {
 
 void CvodeIntegrator::advance(CellSystem& system, double t_start, double t_end, StepObserver& observer) {
   const Layout layout(system);
+  system.for_each_population([](Population& pop) { pop.use_derivatives(); });  // (the map points into them)
   const StateMap map(layout, system);
   const ScalarPathForOneCell scalar_path(system);
   Context ctx;

@@ -163,6 +163,8 @@ void FixedStepIntegrator::step(CellSystem& system, double t, double t_next, Step
 void FixedStepIntegrator::advance(CellSystem& system, double t_start, double t_end,
                                   StepObserver& observer) {
   if (rule_ == Rule::rush_larsen) add_rush_larsen_tables(system);
+  // The second-order rule's half step reads a and b whole (update_from).
+  if (rule_ == Rule::rush_larsen2) system.for_each_population([](Population& pop) { pop.use_derivatives(); });
   // Times are t_start + n*dt (no accumulated round-off); the last step may be short.
   const auto steps = static_cast<long long>(std::ceil((t_end - t_start) / dt_ms_ - 1e-9));
   double t = t_start;

@@ -21,11 +21,11 @@ std::unique_ptr<Integrator> make(const SolverSpec& solver) {
 
 const std::vector<IntegratorEntry>& integrators() {
   static const std::vector<IntegratorEntry> entries = {
-      {"euler", true, make_fixed_step<FixedStepIntegrator::Rule::euler>},
-      {"rush_larsen", true, make_fixed_step<FixedStepIntegrator::Rule::rush_larsen>},
-      {"rush_larsen2", true, make_fixed_step<FixedStepIntegrator::Rule::rush_larsen2>},
-      {"cvode", false, make<CvodeIntegrator>},
-      {"adaptive", false, make<AdaptiveIntegrator>},
+      {"euler", true, false, make_fixed_step<FixedStepIntegrator::Rule::euler>},
+      {"rush_larsen", true, false, make_fixed_step<FixedStepIntegrator::Rule::rush_larsen>},
+      {"rush_larsen2", true, true, make_fixed_step<FixedStepIntegrator::Rule::rush_larsen2>},
+      {"cvode", false, true, make<CvodeIntegrator>},
+      {"adaptive", false, false, make<AdaptiveIntegrator>},
   };
   return entries;
 }
@@ -34,6 +34,12 @@ bool SolverSpec::fixed_step(const std::string& method) {
   for (const auto& entry : integrators())
     if (method == entry.name) return entry.fixed_step;
   return false;
+}
+
+bool reads_population_derivatives(const std::string& method) {
+  for (const auto& entry : integrators())
+    if (method == entry.name) return entry.reads_population_derivatives;
+  return true;
 }
 
 std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver) {

@@ -52,9 +52,16 @@ class Integrator {
 struct IntegratorEntry {
   const char* name;
   bool fixed_step;  // steps of solver.dt_ms (Euler, Rush-Larsen); else error-controlled
+  // Reads every cell's a and b from the populations' own arrays (else from
+  // each block's scratch tile only: Population::reset(false) saves them).
+  bool reads_population_derivatives;
   std::unique_ptr<Integrator> (*make)(const SolverSpec& solver);
 };
 const std::vector<IntegratorEntry>& integrators();
+
+// Whether the method's integrator reads the populations' a and b arrays
+// (true for a name that is not registered).
+bool reads_population_derivatives(const std::string& method);
 
 // The solver's method's integrator (std::invalid_argument for an unknown one).
 std::unique_ptr<Integrator> make_integrator(const SolverSpec& solver);

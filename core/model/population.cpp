@@ -17,15 +17,26 @@ void Population::rethrow_model_fault() const {
                       fault->message + " (a model must not throw; the run stops here)");
 }
 
-void Population::reset() {
+void Population::reset(bool with_derivatives) {
   const std::size_t n = size();
   y.assign(n_states() * n, 0.0);
-  a.assign(n_states() * n, 0.0);
-  b.assign(n_states() * n, 0.0);
+  if (with_derivatives) {
+    a.assign(n_states() * n, 0.0);
+    b.assign(n_states() * n, 0.0);
+  } else {
+    std::vector<double>().swap(a);
+    std::vector<double>().swap(b);
+  }
   inputs.assign(std::max<std::size_t>(1, info().inputs.size()) * n, 0.0);
   outputs.assign(info().outputs.size() * n, 0.0);
   for (std::size_t k = 0; k < n_states(); ++k)
     for (std::size_t c = 0; c < n; ++c) y[k * n + c] = initial_state[k];
+}
+
+void Population::use_derivatives() {
+  if (has_derivatives()) return;
+  a.assign(n_states() * size(), 0.0);
+  b.assign(n_states() * size(), 0.0);
 }
 
 BlockView Population::view() {
@@ -36,8 +47,8 @@ BlockView Population::view() {
   v.y = y.data();
   v.params = params.data();
   v.inputs = inputs.data();
-  v.a = a.data();
-  v.b = b.data();
+  v.a = a.empty() ? nullptr : a.data();
+  v.b = b.empty() ? nullptr : b.data();
   v.outputs = outputs.empty() ? nullptr : outputs.data();
   v.ab_stride = size();
   v.scalar_reference = scalar_reference;
@@ -55,7 +66,7 @@ void Population::evaluate(double t_ms, const AfterBlock& after, bool with_output
 void Population::evaluate_cells(std::size_t begin, std::size_t end, double t_ms, const AfterBlock& after,
                                 bool with_outputs) {
   BlockView block = view();
-  if (after) {
+  if (after || !has_derivatives()) {
     // The block's own view: cells from 0, a and b in this thread's tile.
     // (Grown, never shrunk: the populations share it, and resize() back up
     // to the larger one's size zeroed it at every block, 1.5 % of the Fig. 3

@@ -1,6 +1,8 @@
 // A Population is the block of all cells of one cell type, run by one cell
 // model: states, derivatives (a, b), inputs and outputs in structure-of-arrays
-// layout, and one parameter vector for the block.
+// layout, and one parameter vector for the block. The derivative arrays are
+// there for integrators that read them whole (CVODE, fixed step); without
+// them each block's a and b go to a scratch tile of its thread.
 #pragma once
 
 #include <algorithm>
@@ -73,8 +75,14 @@ struct Population {
   std::size_t size() const { return cells.size(); }
   std::size_t n_states() const { return info().states.size(); }
 
-  // Sizes the arrays and puts every cell at the initial state.
-  void reset();
+  // Sizes the arrays and puts every cell at the initial state; a and b only
+  // with_derivatives (else they are freed: see has_derivatives()).
+  void reset(bool with_derivatives = true);
+  // Whether a and b hold every cell's derivatives. Without them, evaluate()
+  // without `after` still writes the outputs; the derivatives are dropped.
+  bool has_derivatives() const { return a.size() == n_states() * size() && b.size() == a.size(); }
+  // Sizes a and b if they are not (for an integrator that reads them).
+  void use_derivatives();
   double& state(int k, std::size_t local) { return y[k * size() + local]; }
   double state(int k, std::size_t local) const { return y[k * size() + local]; }
   double* voltage() { return y.data() + voltage_state * size(); }
@@ -83,7 +91,8 @@ struct Population {
   // block (in parallel). With `after`, each block's a and b go to a scratch
   // tile handed to after() instead (the population's a, b are left alone, so
   // memory traffic stays that of the states), and the outputs are written
-  // only if with_outputs.
+  // only if with_outputs. Without derivative arrays (has_derivatives()), the
+  // tile is used without `after` too.
   void evaluate(double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true);
   // The same for block k alone (cells [k, k+1) x kCellsPerBlock), on the calling thread.
   void evaluate_block(std::size_t k, double t_ms, const AfterBlock& after = nullptr, bool with_outputs = true) {

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "integrate/integrator.hpp"
 #include "measure/biomarkers.hpp"
 #include "util/manifest_error.hpp"
 
@@ -120,9 +121,12 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   const double bonds = static_cast<double>(tissue.bonds.size());
   const double edges = static_cast<double>(tissue.cell_edges.size());
   e.memory.push_back({"program, libraries, plugins and threads", kProgramBytes, ""});
-  // y, a, b per state and the populations' per-cell parameters: 28.5 bytes
-  // a state (sheet 1 cm: 23.7 MB for 830,692 states).
-  e.memory.push_back({fmt::format("cell states: {:.0f}", states), 28.5 * states, "a smaller tissue"});
+  // y per state, its inputs and outputs and the populations' per-cell
+  // parameters: 12.5 bytes a state; and 16 more for a and b where the
+  // integrator reads them from the populations (CVODE, second-order
+  // Rush-Larsen). Sheet 1 cm: 23.7 MB for 830,692 states with a and b.
+  const double state_bytes = reads_population_derivatives(solver.method) ? 28.5 : 12.5;
+  e.memory.push_back({fmt::format("cell states: {:.0f}", states), state_bytes * states, "a smaller tissue"});
   // The tissue as built: its particles, bonds, cell graph and cells, with
   // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
   // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
@@ -161,13 +165,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   }
   if (system.coupler) {
     const double pairs = static_cast<double>(system.coupled_pairs.size());
-    // The Laplacian (2 entries an edge and a diagonal, 12 bytes each, in
-    // compressed rows), the coupled pairs, and the conjugate gradients' own
-    // copy of the matrix and 8 vectors of a double a cell (built with the
-    // coupler, explicit or not: coupling/coupling_cg.hpp). Sheet 1 cm:
-    // 9.4 MB, this 8.8; Fig. 3 widened (explicit): 7.6 MB, this 6.5.
+    // The Laplacian, held once, by the conjugate gradients (2 entries an
+    // edge, 12 bytes each, in slices padded to their longest row, ~ the
+    // size of compressed rows with the diagonal), the coupled pairs, and
+    // the CG's 8 vectors of a double a cell (built with the coupler,
+    // explicit or not: coupling/coupling_cg.hpp). Scale sheet 10 x 10 mm:
+    // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), 2 * matrix + 8 * pairs + 64 * cells,
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 8 * pairs + 64 * cells,
                         "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on) {

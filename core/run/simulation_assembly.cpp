@@ -109,7 +109,9 @@ void Simulation::Impl::build_populations() {
     system.where[cell] = {p, system.populations[p].cells.size()};
     system.populations[p].cells.push_back(static_cast<int>(cell));
   }
-  for (auto& pop : system.populations) pop.reset();
+  // (a and b for the whole population only for an integrator that reads them)
+  const bool derivatives = reads_population_derivatives(scene.solver.method);
+  for (auto& pop : system.populations) pop.reset(derivatives);
   system.V_mV.assign(tissue.cell_count(), 0.0);
   system.i_ext_pA.assign(tissue.cell_count(), 0.0);
 }
@@ -161,7 +163,7 @@ void Simulation::Impl::build_myofilaments() {
     Myofilament m;
     m.pop = make_population(host.type, *spec.myofilament, ModelKind::myofilament, *registry, &warnings);
     m.pop.cells = host.cells;
-    m.pop.reset();
+    m.pop.reset(reads_population_derivatives(scene.solver.method));
     m.host = static_cast<int>(p);
     m.host_ca_state = find_state(host.info(), "Ca_i");
     if (m.host_ca_state < 0)
