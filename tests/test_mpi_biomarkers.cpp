@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
-#include <sys/wait.h>
 
 #include "measure/biomarkers.hpp"
+#include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -53,22 +53,6 @@ std::vector<BeatBiomarkers> track(const std::vector<std::size_t>& cells, const s
   }
   tracker.finish();
   return beats;
-}
-
-bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
-
-// (CI runs as root, which OpenMPI refuses unless told; its own allocations
-// that it never frees are not ours to report under AddressSanitizer.)
-std::string mpirun(int ranks) {
-  return "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -n " +
-         std::to_string(ranks) + " --oversubscribe ";
-}
-
-int run(const std::string& launcher, const std::filesystem::path& scene, const std::filesystem::path& out) {
-  const std::string command = launcher + std::string(FIBRODEM_BINARY_DIR) + "/fibrodem run " + scene.string() +
-                              " --out " + out.string() + " --quiet --no-report > " + out.string() + ".txt 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 // test_mpi_tissue.cpp's sheet (0.6 x 1.5 mm, myocytes in series with
@@ -117,7 +101,7 @@ TEST_CASE("a rank's biomarker tracker measures its own cells as a tracker of eve
 }
 
 TEST_CASE("mpirun -n 2 and 3: biomarkers.csv of a split run has one process's bytes") {
-  if (!have_mpirun()) {
+  if (!testing::have_mpirun()) {
     MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
     return;
   }
@@ -131,17 +115,17 @@ TEST_CASE("mpirun -n 2 and 3: biomarkers.csv of a split run has one process's by
   std::ofstream(dir / "threads.json") << threads.dump();
   std::ofstream(dir / "pre_upstroke.json") << pre_upstroke.dump();
 
-  REQUIRE(run("", dir / "threads.json", dir / "threads_one") == 0);
+  REQUIRE(testing::run_scene("", dir / "threads.json", dir / "threads_one") == 0);
   const json one = json::parse(testing::read_file(dir / "threads_one" / "summary.json"));
   // The premise: the wave crossed the sheet and the cells repolarised.
   REQUIRE(one["cv_cm_per_s"].is_number());
   CHECK(one["mean_biomarkers"]["myocyte"]["apd90_ms"].get<double>() > 100);
-  REQUIRE(run(mpirun(3), dir / "threads.json", dir / "threads_three") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(3), dir / "threads.json", dir / "threads_three") == 0);
   for (const char* file : {"biomarkers.csv", "traces.csv"})
     CHECK(testing::read_file(dir / "threads_three" / file) == testing::read_file(dir / "threads_one" / file));
 
-  REQUIRE(run("", dir / "pre_upstroke.json", dir / "pre_upstroke_one") == 0);
-  REQUIRE(run(mpirun(2), dir / "pre_upstroke.json", dir / "pre_upstroke_two") == 0);
+  REQUIRE(testing::run_scene("", dir / "pre_upstroke.json", dir / "pre_upstroke_one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "pre_upstroke.json", dir / "pre_upstroke_two") == 0);
   CHECK(testing::read_file(dir / "pre_upstroke_two" / "biomarkers.csv") ==
         testing::read_file(dir / "pre_upstroke_one" / "biomarkers.csv"));
 }

@@ -5,31 +5,14 @@
 #include <doctest/doctest.h>
 
 #include <cstdlib>
-#include <sys/wait.h>
 
 #include "run/over_ranks.hpp"
+#include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
 
 namespace {
-
-bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
-
-// (CI runs as root, which OpenMPI refuses unless told; its own allocations
-// that it never frees are not ours to report under AddressSanitizer.)
-std::string mpirun(int ranks) {
-  return "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -n " +
-         std::to_string(ranks) + " --oversubscribe ";
-}
-
-// Runs `fibrodem ARGS` under the launcher; its output goes to `log`.
-int run_fibrodem(const std::string& launcher, const std::string& args, const std::filesystem::path& log) {
-  const std::string command = launcher + std::string(FIBRODEM_BINARY_DIR) + "/fibrodem " + args + " > " +
-                              log.string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
 
 std::size_t count_of(const std::string& text, const std::string& part) {
   std::size_t count = 0;
@@ -75,7 +58,7 @@ TEST_CASE("over ranks: every unsupported part of a scene is named") {
 }
 
 TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
-  if (!have_mpirun()) {
+  if (!testing::have_mpirun()) {
     MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
     return;
   }
@@ -84,13 +67,13 @@ TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
   m["output"]["checkpoint"] = {{"every_ms", 1}};
   std::ofstream(dir / "scene.json") << m.dump();
   const std::string out = (dir / "out").string();
-  CHECK(run_fibrodem(mpirun(2), "run " + (dir / "scene.json").string() + " --out " + out, dir / "log.txt") != 0);
+  CHECK(testing::run_fibrodem(testing::mpirun(2), "run " + (dir / "scene.json").string() + " --out " + out, dir / "log.txt") != 0);
   const std::string log = testing::read_file(dir / "log.txt");
   CHECK(count_of(log, "`fibrodem run` under mpirun with 2 ranks") == 2);  // one per rank
   CHECK_FALSE(std::filesystem::exists(dir / "out"));
 
   // The same scene on one rank runs as without mpirun.
-  REQUIRE(run_fibrodem(mpirun(1), "run " + (dir / "scene.json").string() + " --out " + out + " --quiet",
+  REQUIRE(testing::run_fibrodem(testing::mpirun(1), "run " + (dir / "scene.json").string() + " --out " + out + " --quiet",
                    dir / "one.txt") == 0);
   CHECK(json::parse(testing::read_file(dir / "out" / "summary.json"))["status"] == "completed");
 
@@ -101,7 +84,7 @@ TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
   stopped["status"] = "interrupted";
   std::ofstream(dir / "out" / "summary.json") << stopped.dump();
   const std::string summary = testing::read_file(dir / "out" / "summary.json");
-  CHECK(run_fibrodem(mpirun(2), "resume " + out, dir / "resume.txt") != 0);
+  CHECK(testing::run_fibrodem(testing::mpirun(2), "resume " + out, dir / "resume.txt") != 0);
   const std::string resume_log = testing::read_file(dir / "resume.txt");
   CHECK(count_of(resume_log, "`fibrodem resume` under mpirun with 2 ranks") == 2);
   CHECK(resume_log.find("fibrodem resume.") != std::string::npos);

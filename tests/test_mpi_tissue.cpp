@@ -6,29 +6,13 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <sys/wait.h>
 
+#include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
 
 namespace {
-
-bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
-
-// (CI runs as root, which OpenMPI refuses unless told; its own allocations
-// that it never frees are not ours to report under AddressSanitizer.)
-std::string mpirun(int ranks) {
-  return "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -n " +
-         std::to_string(ranks) + " --oversubscribe ";
-}
-
-int run(const std::string& launcher, const std::filesystem::path& scene, const std::filesystem::path& out) {
-  const std::string command = launcher + std::string(FIBRODEM_BINARY_DIR) + "/fibrodem run " + scene.string() +
-                              " --out " + out.string() + " --quiet --no-report > " + out.string() + ".txt 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
 
 // A 0.6 x 1.5 mm sheet of myocytes in series with fibroblasts (329 cells),
 // stimulated along its upper edge: a planar wave down the sheet (about
@@ -92,13 +76,13 @@ void check_agrees(const std::filesystem::path& one, const std::filesystem::path&
 }  // namespace
 
 TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one process") {
-  if (!have_mpirun()) {
+  if (!testing::have_mpirun()) {
     MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
     return;
   }
   const auto dir = testing::scratch_dir("mpi_tissue");
   std::ofstream(dir / "planar.json") << planar_wave().dump();
-  REQUIRE(run("", dir / "planar.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene("", dir / "planar.json", dir / "one") == 0);
   const json one = json::parse(testing::read_file(dir / "one" / "summary.json"));
   CHECK(one["mpi_ranks"] == 1);
   // The wave crossed the sheet and the cells repolarised (the test's premise).
@@ -106,7 +90,7 @@ TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one proces
   CHECK(one["cv_cm_per_s"].get<double>() > 50);
   CHECK(one["mean_biomarkers"]["myocyte"]["apd90_ms"].get<double>() > 100);
 
-  REQUIRE(run(mpirun(2), dir / "planar.json", dir / "two") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "planar.json", dir / "two") == 0);
   const json two = json::parse(testing::read_file(dir / "two" / "summary.json"));
   CHECK(two["mpi_ranks"] == 2);
   CHECK(two["status"] == "completed");
@@ -115,17 +99,17 @@ TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one proces
   CHECK(testing::read_file(dir / "two.txt").find("outputs: ") != std::string::npos);
 
   // The same N: the same bytes.
-  REQUIRE(run(mpirun(2), dir / "planar.json", dir / "two_again") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "planar.json", dir / "two_again") == 0);
   for (const char* file : {"biomarkers.csv", "traces.csv"})
     CHECK(testing::read_file(dir / "two_again" / file) == testing::read_file(dir / "two" / file));
 
-  REQUIRE(run(mpirun(4), dir / "planar.json", dir / "four") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(4), dir / "planar.json", dir / "four") == 0);
   CHECK(json::parse(testing::read_file(dir / "four" / "summary.json"))["mpi_ranks"] == 4);
   check_agrees(dir / "one", dir / "four");
 }
 
 TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every rank, naming each part") {
-  if (!have_mpirun()) {
+  if (!testing::have_mpirun()) {
     MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
     return;
   }
@@ -134,7 +118,7 @@ TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every ran
   m["solver"] = {{"method", "auto"}};
   m["output"]["snapshots"] = {{"every_ms", 10}};
   std::ofstream(dir / "scene.json") << m.dump();
-  CHECK(run(mpirun(2), dir / "scene.json", dir / "out") != 0);
+  CHECK(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "out") != 0);
   const std::string log = testing::read_file(dir / "out.txt");
   CHECK(log.find("solver.method \"auto\", which chose \"adaptive\"") != std::string::npos);
   CHECK(log.find("output.snapshots") != std::string::npos);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sys/wait.h>
 
+#include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -175,7 +176,7 @@ TEST_CASE("a sweep run again skips the runs completed with the same manifest and
 }
 
 TEST_CASE("mpirun -n 2 fibrodem sweep gives the same tables as a local sweep") {
-  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) {
+  if (!testing::have_mpirun()) {
     MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
     return;
   }
@@ -184,12 +185,7 @@ TEST_CASE("mpirun -n 2 fibrodem sweep gives the same tables as a local sweep") {
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",
       "grid": {"coupling.D_f_nS": [0.5, 4], "tissue.fm_ratio": [0.1, 0.5]}, "seeds": 2})";
   REQUIRE(sweep(dir / "sweep.json", dir / "local") == 0);
-  // (CI runs as root, which OpenMPI refuses unless told. Under
-  // AddressSanitizer, OpenMPI's own allocations that it never frees, made by
-  // components it unloads before exit, are not reported: they are not ours.)
-  REQUIRE(sweep(dir / "sweep.json", dir / "mpi", "",
-                "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                "mpirun -n 2 --oversubscribe ") == 0);
+  REQUIRE(sweep(dir / "sweep.json", dir / "mpi", "", testing::mpirun(2)) == 0);
   CHECK(testing::read_file(dir / "mpi.txt").find("over 2 MPI ranks") != std::string::npos);
   CHECK(testing::read_file(dir / "mpi" / "sweep.csv") == testing::read_file(dir / "local" / "sweep.csv"));
   CHECK(testing::read_file(dir / "mpi" / "sweep_stats.csv") == testing::read_file(dir / "local" / "sweep_stats.csv"));

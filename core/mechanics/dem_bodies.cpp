@@ -185,6 +185,24 @@ void DemSolver::index_particles() {
   }
 }
 
+namespace {
+
+// `parts` runs of whole bodies of about equal work, from each body's work
+// summed before it (work_before[b]: bodies [0, b)): each part's first body,
+// and the body count last.
+std::vector<std::size_t> parts_of_equal_work(const std::vector<double>& work_before, std::size_t parts) {
+  const std::size_t nb = work_before.size() - 1;
+  std::vector<std::size_t> first(parts + 1);
+  for (std::size_t k = 0; k < parts; ++k)
+    first[k] = static_cast<std::size_t>(std::lower_bound(work_before.begin(), work_before.end() - 1,
+                                                         work_before[nb] * static_cast<double>(k) / parts) -
+                                        work_before.begin());
+  first[parts] = nb;
+  return first;
+}
+
+}  // namespace
+
 // The step's fixed parts: runs of whole bodies of about equal work, so that
 // the threads, which take equal numbers of parts, finish the move loop
 // together. A body's work there: its kick, drift and fits (2.2 particles'
@@ -198,13 +216,7 @@ void DemSolver::partition_bodies() {
   std::vector<double> work_before(nb + 1, 0.0);  // work of bodies [0, b)
   for (std::size_t b = 0; b < nb; ++b)
     work_before[b + 1] = work_before[b] + kBodyWork + (body_particle_start_[b + 1] - body_particle_start_[b]);
-  part_first_body_.resize(kStepParts + 1);
-  for (std::size_t k = 0; k < kStepParts; ++k)
-    part_first_body_[k] = static_cast<std::size_t>(
-        std::lower_bound(work_before.begin(), work_before.end() - 1,
-                         work_before[nb] * static_cast<double>(k) / kStepParts) -
-        work_before.begin());
-  part_first_body_[kStepParts] = nb;
+  part_first_body_ = parts_of_equal_work(work_before, kStepParts);
 }
 
 // The force sums' parts: runs of whole bodies of about equal work there,
@@ -225,13 +237,7 @@ void DemSolver::partition_force_sums() {
     }
     work_before[b + 1] = work_before[b] + work;
   }
-  sum_part_first_body_.resize(kStepParts + 1);
-  for (std::size_t k = 0; k < kStepParts; ++k)
-    sum_part_first_body_[k] = static_cast<std::size_t>(
-        std::lower_bound(work_before.begin(), work_before.end() - 1,
-                         work_before[nb] * static_cast<double>(k) / kStepParts) -
-        work_before.begin());
-  sum_part_first_body_[kStepParts] = nb;
+  sum_part_first_body_ = parts_of_equal_work(work_before, kStepParts);
 }
 
 const std::vector<Particle>& DemSolver::particles() const {
