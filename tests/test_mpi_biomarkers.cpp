@@ -55,20 +55,8 @@ std::vector<BeatBiomarkers> track(const std::vector<std::size_t>& cells, const s
   return beats;
 }
 
-// test_mpi_tissue.cpp's sheet (0.6 x 1.5 mm, myocytes in series with
-// fibroblasts, 329 cells) stimulated along its upper edge: a planar wave
-// down the sheet (about 106 cm/s), through repolarisation (APD90 about
-// 240 ms).
-json planar_wave() {
-  return json::parse(R"({"fibrodem": 1, "name": "planar", "duration_ms": 260, "seed": 4,
-    "tissue": {"builder": "in_series", "width_mm": 0.6, "height_mm": 1.5, "fm_ratio": 0.2},
-    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "passive_fibroblast"}},
-    "coupling": {"D_f_nS": 1},
-    "stimulus": [{"target": {"y_min_frac": 0.9, "type": "myocyte"}, "start_ms": 2, "duration_ms": 2,
-                  "amplitude_pA": 8000}],
-    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
-    "output": {"traces": [{"cells": [0, 150, 300], "variables": ["V"], "every_ms": 1}]}})");
-}
+// The split-run tests' sheet, 260 ms: through repolarisation.
+json planar_wave() { return testing::split_sheet_planar_wave(260); }
 
 }  // namespace
 

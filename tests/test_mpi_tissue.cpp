@@ -14,20 +14,13 @@ using namespace fibrodem;
 
 namespace {
 
-// A 0.6 x 1.5 mm sheet of myocytes in series with fibroblasts (329 cells),
-// stimulated along its upper edge: a planar wave down the sheet (about
-// 106 cm/s), through repolarisation (APD90 about 240 ms). Traces of V and of
-// Ca_i in cells far apart (on different ranks), and of the step.
+// The split-run tests' sheet, 400 ms, tracing also the step, and Ca_i in
+// two cells far apart.
 json planar_wave() {
-  return json::parse(R"({"fibrodem": 1, "name": "planar", "duration_ms": 400, "seed": 4,
-    "tissue": {"builder": "in_series", "width_mm": 0.6, "height_mm": 1.5, "fm_ratio": 0.2},
-    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "passive_fibroblast"}},
-    "coupling": {"D_f_nS": 1},
-    "stimulus": [{"target": {"y_min_frac": 0.9, "type": "myocyte"}, "start_ms": 2, "duration_ms": 2,
-                  "amplitude_pA": 8000}],
-    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
-    "output": {"traces": [{"cells": [0, 150, 300], "variables": ["V", "dt_ms"], "every_ms": 1},
-                          {"cells": [1, 251], "variables": ["Ca_i"], "every_ms": 1}]}})");
+  json m = testing::split_sheet_planar_wave(400);
+  m["output"]["traces"] = json::parse(R"([{"cells": [0, 150, 300], "variables": ["V", "dt_ms"], "every_ms": 1},
+                                          {"cells": [1, 251], "variables": ["Ca_i"], "every_ms": 1}])");
+  return m;
 }
 
 std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& file) {

@@ -1,5 +1,6 @@
 // Helpers of the tests that start fibrodem under mpirun: whether mpirun is
-// there, its command line, and `fibrodem run` of a scene file under it.
+// there, its command line, `fibrodem run` of a scene file under it, and the
+// sheet the split-run tests share.
 #pragma once
 
 #include <sys/wait.h>
@@ -7,6 +8,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+
+#include "support/scenes.hpp"
 
 namespace fibrodem::testing {
 
@@ -34,6 +37,23 @@ inline int run_scene(const std::string& launcher, const std::filesystem::path& s
                      const std::filesystem::path& out) {
   return run_fibrodem(launcher, "run " + scene.string() + " --out " + out.string() + " --quiet --no-report",
                       out.string() + ".txt");
+}
+
+// A 0.6 x 1.5 mm sheet of myocytes in series with fibroblasts (329 cells),
+// stimulated along its upper edge: a planar wave down the sheet (about
+// 106 cm/s), through repolarisation (APD90 about 240 ms) by `duration_ms`.
+// A trace of V in cells far apart (on different ranks).
+inline json split_sheet_planar_wave(double duration_ms) {
+  json m = json::parse(R"({"fibrodem": 1, "name": "planar", "seed": 4,
+    "tissue": {"builder": "in_series", "width_mm": 0.6, "height_mm": 1.5, "fm_ratio": 0.2},
+    "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "passive_fibroblast"}},
+    "coupling": {"D_f_nS": 1},
+    "stimulus": [{"target": {"y_min_frac": 0.9, "type": "myocyte"}, "start_ms": 2, "duration_ms": 2,
+                  "amplitude_pA": 8000}],
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
+    "output": {"traces": [{"cells": [0, 150, 300], "variables": ["V"], "every_ms": 1}]}})");
+  m["duration_ms"] = duration_ms;
+  return m;
 }
 
 }  // namespace fibrodem::testing
