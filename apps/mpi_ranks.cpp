@@ -127,6 +127,15 @@ class WorldGroup final : public RankGroup {
 
   std::vector<std::string> gather_text(const std::string& mine) override { return ranks_.gather(mine); }
 
+  void gather_all(const double* mine, std::size_t count, double* every_rank) override {
+#ifdef FIBRODEM_WITH_MPI
+    MPI_Allgather(mine, static_cast<int>(count), MPI_DOUBLE, every_rank, static_cast<int>(count), MPI_DOUBLE,
+                  MPI_COMM_WORLD);
+#else
+    std::copy(mine, mine + count, every_rank);
+#endif
+  }
+
  private:
   static constexpr int kHaloTag = 17;
   const MpiRanks& ranks_;

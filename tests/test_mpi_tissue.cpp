@@ -35,13 +35,21 @@ std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& file
   return rows;
 }
 
+// The adaptive method split over ranks against one process: traces.csv's V
+// [mV] (and dt_ms) within this. The CG's sums are added in another order
+// (docs/parallel.md), so now and then a solve stops an iteration earlier
+// or later, which moves V by up to its tolerance, a thousandth of the
+// step's (1e-3 x atol 0.06 x 85 mV ~ 5e-3 mV at auto's tolerances);
+// measured: 7e-4 mV on 2 and 4 ranks. Ten solve tolerances.
+constexpr double kAdaptiveTraceTolerance = 0.05;
+
 double number(const std::string& text) { return text.empty() ? std::nan("") : std::stod(text); }
 
 // The issue's tolerances: activation times within 1e-3 ms, APD90 within
-// 0.01 ms, CV within 0.1 %; every other column of biomarkers.csv and
-// traces.csv within 1e-9 of its value (the split computes the same bits, so
-// these hold with room to spare).
-void check_agrees(const std::filesystem::path& one, const std::filesystem::path& split) {
+// 0.01 ms, CV within 0.1 %; traces.csv's columns within trace_tolerance
+// of their values; with same_steps, the same step count.
+void check_agrees(const std::filesystem::path& one, const std::filesystem::path& split, double trace_tolerance,
+                  bool same_steps) {
   const auto a = csv_rows(one / "biomarkers.csv"), b = csv_rows(split / "biomarkers.csv");
   REQUIRE(a.size() == b.size());
   REQUIRE(a.size() == 330);  // the header and a beat of every cell
@@ -58,12 +66,13 @@ void check_agrees(const std::filesystem::path& one, const std::filesystem::path&
   const json sb = json::parse(testing::read_file(split / "summary.json"));
   REQUIRE(sa["cv_cm_per_s"].is_number());
   CHECK(std::abs(sb["cv_cm_per_s"].get<double>() / sa["cv_cm_per_s"].get<double>() - 1) <= 1e-3);
-  CHECK(sb["steps"] == sa["steps"]);
+  if (same_steps) CHECK(sb["steps"] == sa["steps"]);
   const auto ta = csv_rows(one / "traces.csv"), tb = csv_rows(split / "traces.csv");
   REQUIRE(ta.size() == tb.size());
   REQUIRE(ta[0] == tb[0]);  // the same columns in the same order
   for (std::size_t r = 1; r < ta.size(); ++r)
-    for (std::size_t c = 0; c < ta[r].size(); ++c) CHECK(std::abs(number(ta[r][c]) - number(tb[r][c])) <= 1e-9);
+    for (std::size_t c = 0; c < ta[r].size(); ++c)
+      CHECK(std::abs(number(ta[r][c]) - number(tb[r][c])) <= trace_tolerance);
 }
 
 }  // namespace
@@ -87,7 +96,8 @@ TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one proces
   const json two = json::parse(testing::read_file(dir / "two" / "summary.json"));
   CHECK(two["mpi_ranks"] == 2);
   CHECK(two["status"] == "completed");
-  check_agrees(dir / "one", dir / "two");
+  // (The split computes the same bits: 1e-9 holds with room to spare.)
+  check_agrees(dir / "one", dir / "two", 1e-9, true);
   // Rank 0 alone wrote: the same files as one process.
   CHECK(testing::read_file(dir / "two.txt").find("outputs: ") != std::string::npos);
 
@@ -98,7 +108,42 @@ TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one proces
 
   REQUIRE(testing::run_scene(testing::mpirun(4), dir / "planar.json", dir / "four") == 0);
   CHECK(json::parse(testing::read_file(dir / "four" / "summary.json"))["mpi_ranks"] == 4);
-  check_agrees(dir / "one", dir / "four");
+  check_agrees(dir / "one", dir / "four", 1e-9, true);
+}
+
+TEST_CASE("mpirun -n 2 and 4: the adaptive method (solver.method auto) split over ranks agrees with one process") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_tissue_adaptive");
+  json m = testing::split_sheet_planar_wave(260);  // through repolarisation
+  m["solver"] = {{"method", "auto"}};
+  std::ofstream(dir / "planar.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "planar.json", dir / "one") == 0);
+  const json one = json::parse(testing::read_file(dir / "one" / "summary.json"));
+  // The premise: auto chose the adaptive method, whose coupling solve had
+  // work to do, and the wave crossed the sheet.
+  CHECK(testing::read_file(dir / "one" / "run.log").find("adaptive") != std::string::npos);
+  REQUIRE(one["cv_cm_per_s"].is_number());
+  CHECK(one["mean_biomarkers"]["myocyte"]["apd90_ms"].get<double>() > 100);
+
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "planar.json", dir / "two") == 0);
+  const json two = json::parse(testing::read_file(dir / "two" / "summary.json"));
+  CHECK(two["mpi_ranks"] == 2);
+  CHECK(two["status"] == "completed");
+  // (The issue's tolerances: measured 2e-13 ms of activation, 0.004 ms of
+  // APD90 and 1e-14 of CV on 2 and 4 ranks.)
+  check_agrees(dir / "one", dir / "two", kAdaptiveTraceTolerance, false);
+
+  // The same N: the same bytes.
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "planar.json", dir / "two_again") == 0);
+  for (const char* file : {"biomarkers.csv", "traces.csv"})
+    CHECK(testing::read_file(dir / "two_again" / file) == testing::read_file(dir / "two" / file));
+
+  REQUIRE(testing::run_scene(testing::mpirun(4), dir / "planar.json", dir / "four") == 0);
+  CHECK(json::parse(testing::read_file(dir / "four" / "summary.json"))["mpi_ranks"] == 4);
+  check_agrees(dir / "one", dir / "four", kAdaptiveTraceTolerance, false);
 }
 
 TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every rank, naming each part") {
@@ -108,12 +153,31 @@ TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every ran
   }
   const auto dir = testing::scratch_dir("mpi_tissue_refused");
   json m = planar_wave();
-  m["solver"] = {{"method", "auto"}};
+  m["solver"] = {{"method", "cvode"}};
   m["output"]["snapshots"] = {{"every_ms", 10}};
   std::ofstream(dir / "scene.json") << m.dump();
   CHECK(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "out") != 0);
   const std::string log = testing::read_file(dir / "out.txt");
-  CHECK(log.find("solver.method \"auto\", which chose \"adaptive\"") != std::string::npos);
+  CHECK(log.find("solver.method \"cvode\"") != std::string::npos);
   CHECK(log.find("output.snapshots") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+TEST_CASE("mpirun -n 2: fixed-step implicit coupling split over ranks agrees with one process") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_tissue_implicit");
+  json m = testing::split_sheet_planar_wave(260);
+  m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.02}};
+  m["coupling"]["scheme"] = "implicit";
+  std::ofstream(dir / "planar.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "planar.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "planar.json", dir / "two") == 0);
+  // The split solve (the adaptive method's) stops within the fixed step's
+  // tolerance, 1e-7 mV (integrate/fixed_step.hpp), of the exact solution,
+  // as one process's does: V within 1e-6 mV (measured 1.5e-9 mV). The
+  // steps are the same.
+  check_agrees(dir / "one", dir / "two", 1e-6, true);
 }

@@ -21,6 +21,42 @@ constexpr double kDriftPerIteration = 8;
 
 }  // namespace
 
+// The off-diagonal entries in slices of kSlice rows, entry k of a slice's
+// rows side by side, each row's entries in L's order.
+template <class Entries>
+void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
+  const long slices = padded_ / kSlice;
+  start_.assign(static_cast<std::size_t>(slices) + 1, 0);
+  width_.assign(static_cast<std::size_t>(slices), 0);
+  for (long s = 0; s < slices; ++s) {
+    for (long lane = 0; lane < kSlice && s * kSlice + lane < n_; ++lane) {
+      int count = 0;
+      entries(s * kSlice + lane, [&](int, double) { ++count; });
+      width_[s] = std::max(width_[s], count);
+    }
+    start_[s + 1] = start_[s] + width_[s] * kSlice;
+  }
+  column_.resize(static_cast<std::size_t>(start_[slices]));
+  weight_nS_.assign(static_cast<std::size_t>(start_[slices]), 0.0);
+  for (long s = 0; s < slices; ++s)
+    for (long lane = 0; lane < kSlice; ++lane) {
+      const long i = s * kSlice + lane;
+      long k = 0;
+      if (i < n_)
+        entries(i, [&](int j, double weight) {
+          column_[start_[s] + k * kSlice + lane] = j;
+          weight_nS_[start_[s] + k * kSlice + lane] = weight;
+          ++k;
+        });
+      for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
+    }
+  for (auto* v : {&x_, &v_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
+    v->assign(static_cast<std::size_t>(padded_ + ghosts), 0.0);
+  const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
+  chunk_dot_.assign(chunks, 0.0);
+  chunk_largest_.assign(chunks, 0.0);
+}
+
 CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitance_pF, int max_iterations)
     : n_(laplacian.rows()), max_iterations_(max_iterations) {
   if (static_cast<long>(capacitance_pF.size()) != n_)
@@ -43,35 +79,46 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
       if (column[k] == i) diagonal_nS_[i] = value[k];
     max_rate_per_ms_ = std::max(max_rate_per_ms_, diagonal_nS_[i] * inverse_capacitance_[i]);
   }
-  // The off-diagonal entries in slices of kSlice rows, entry k of a slice's
-  // rows side by side, each row's entries in L's order.
-  start_.assign(static_cast<std::size_t>(slices) + 1, 0);
-  width_.assign(static_cast<std::size_t>(slices), 0);
-  const auto off_diagonal = [&](long i) { return i < n_ ? outer[i + 1] - outer[i] - (diagonal_nS_[i] != 0) : 0; };
-  for (long s = 0; s < slices; ++s) {
-    for (long lane = 0; lane < kSlice; ++lane)
-      width_[s] = std::max<int>(width_[s], static_cast<int>(off_diagonal(s * kSlice + lane)));
-    start_[s + 1] = start_[s] + width_[s] * kSlice;
+  slice_rows(
+      [&](long i, auto&& emit) {
+        for (int e = outer[i]; e < outer[i + 1]; ++e)
+          if (column[e] != i) emit(column[e], value[e]);
+      },
+      0);
+}
+
+CouplingCg::CouplingCg(const CouplingCg& whole, const std::vector<int>& own, const std::vector<int>& ghosts,
+                       Ranks& ranks)
+    : n_(static_cast<long>(own.size())),
+      max_rate_per_ms_(whole.max_rate_per_ms_),  // the whole tissue's: the drift allowance, as every rank's
+      max_iterations_(whole.max_iterations_),
+      ranks_(&ranks) {
+  padded_ = (n_ + kSlice - 1) / kSlice * kSlice;
+  // A whole-tissue cell's column here: own cells first, ghosts past the padded rows.
+  std::vector<int> local(static_cast<std::size_t>(whole.n_), -1);
+  for (long k = 0; k < n_; ++k) local[static_cast<std::size_t>(own[k])] = static_cast<int>(k);
+  for (std::size_t g = 0; g < ghosts.size(); ++g)
+    local[static_cast<std::size_t>(ghosts[g])] = static_cast<int>(padded_ + static_cast<long>(g));
+  diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
+  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), 0.0);
+  for (long k = 0; k < n_; ++k) {
+    diagonal_nS_[k] = whole.diagonal_nS_[static_cast<std::size_t>(own[k])];
+    inverse_capacitance_[k] = whole.inverse_capacitance_[static_cast<std::size_t>(own[k])];
   }
-  column_.resize(static_cast<std::size_t>(start_[slices]));
-  weight_nS_.assign(static_cast<std::size_t>(start_[slices]), 0.0);
-  for (long s = 0; s < slices; ++s)
-    for (long lane = 0; lane < kSlice; ++lane) {
-      const long i = s * kSlice + lane;
-      long k = 0;
-      for (int e = i < n_ ? outer[i] : 0; i < n_ && e < outer[i + 1]; ++e) {
-        if (column[e] == i) continue;
-        column_[start_[s] + k * kSlice + lane] = column[e];
-        weight_nS_[start_[s] + k * kSlice + lane] = value[e];
-        ++k;
-      }
-      for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
-    }
-  for (auto* v : {&x_, &v_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
-    v->assign(static_cast<std::size_t>(padded_), 0.0);
-  const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
-  chunk_dot_.assign(chunks, 0.0);
-  chunk_largest_.assign(chunks, 0.0);
+  slice_rows(
+      [&](long k, auto&& emit) {
+        const long i = own[k], s = i / kSlice, lane = i % kSlice;
+        for (long e = 0; e < whole.width_[s]; ++e) {
+          const long at = whole.start_[s] + e * kSlice + lane;
+          const int j = whole.column_[at];
+          if (j == i) return;  // padding: the row's entries are done
+          if (local[static_cast<std::size_t>(j)] < 0)
+            throw std::logic_error(fmt::format("coupling CG over ranks: cell {} reaches cell {}, neither its "
+                                               "rank's nor a ghost", i, j));
+          emit(local[static_cast<std::size_t>(j)], whole.weight_nS_[at]);
+        }
+      },
+      static_cast<long>(ghosts.size()));
 }
 
 // f(first_row, end_row) -> Sums for each chunk of kRowsPerChunk rows (whole
@@ -97,6 +144,7 @@ CouplingCg::Sums CouplingCg::over_chunks(F&& f) {
     total.dot += chunk_dot_[c];
     total.largest = std::max(total.largest, chunk_largest_[c]);
   }
+  if (ranks_) ranks_->reduce(total.dot, total.largest);
   return total;
 }
 
@@ -148,8 +196,9 @@ std::vector<double> CouplingCg::diagonal_nS() const {
   return {diagonal_nS_.begin(), diagonal_nS_.begin() + n_};
 }
 
-CouplingCg::Sums CouplingCg::residual(const double* x, double dt_ms) {
+CouplingCg::Sums CouplingCg::residual(double* x, double dt_ms) {
   const double inverse_dt = 1.0 / dt_ms;
+  refresh_ghosts(x);
   return over_chunks([&](long first, long end) {
     Sums s;
     for (long slice = first / kSlice; slice < end / kSlice; ++slice) {
@@ -173,6 +222,7 @@ CouplingCg::Sums CouplingCg::residual(const double* x, double dt_ms) {
 }
 
 double CouplingCg::direction(double beta) {
+  refresh_ghosts(z_.data());
   return over_chunks([&](long first, long end) {
            Sums s;
            for (long slice = first / kSlice; slice < end / kSlice; ++slice) {
@@ -199,6 +249,10 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
     v_[i] = x_io[i];
     x_[i] = x_io[i] + scale * correction_[i];
     v_max = std::max(v_max, std::abs(v_[i]));
+  }
+  if (ranks_) {  // every rank's largest, for the same drift allowance and the same test of v
+    double unused = 0;
+    ranks_->reduce(unused, v_max);
   }
   double* x = x_.data();
   const double drift_per_iteration = kDriftPerIteration * kEpsilon * (1 + 2 * dt_ms * max_rate_per_ms_) * v_max;

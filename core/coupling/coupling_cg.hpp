@@ -48,6 +48,16 @@
 //
 // The slices are the coupling's only copy of L: the coupler's currents -L V
 // come from them too (row_current), each row summed in L's column order.
+//
+// Split over ranks (docs/parallel.md): a rank's CG holds its own rows of L
+// (from the whole tissue's, each row's entries in the same order), its
+// vectors its own cells then its ghosts (other ranks' cells its rows reach).
+// Before each product the ghosts' entries of the vector multiplied come from
+// their owners (Ranks::refresh_ghosts: one exchange an iteration), and every
+// dot product and max-norm is reduced over the ranks (Ranks::reduce: the
+// ranks' partial sums, each its own chunks' in chunk order, added in rank
+// order; the max exact), so that every rank takes the same decisions (its
+// iterations, its stop) and a number of ranks gives the same bits each run.
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -68,6 +78,26 @@ class CouplingCg {
 
   CouplingCg(const Laplacian& laplacian_nS, std::vector<double> capacitance_pF,
              int max_iterations = kMaxIterations);
+
+  // What a rank's CG needs of the other ranks (split over ranks, above).
+  class Ranks {
+   public:
+    virtual ~Ranks() = default;
+    // Sets a vector's ghost entries (from first_ghost(), in the order of the
+    // ghosts given to the constructor) to their owners' values of it.
+    virtual void refresh_ghosts(double* vector) = 0;
+    // Replaces this rank's partial sum by every rank's added in rank order,
+    // and its largest by every rank's largest: the same bits on every rank.
+    virtual void reduce(double& sum, double& largest) = 0;
+  };
+  // This rank's rows `own` of the whole tissue's CG (cells in increasing
+  // order), numbered 0 .. own.size()-1; the columns of other ranks' cells,
+  // `ghosts` (increasing), numbered from first_ghost(). solve() then takes
+  // and returns the own cells' potentials, in own's order; every rank calls
+  // it at the same point (it exchanges and reduces through `ranks`).
+  CouplingCg(const CouplingCg& whole, const std::vector<int>& own, const std::vector<int>& ghosts, Ranks& ranks);
+  // Where a vector's ghost entries start (split over ranks).
+  long first_ghost() const { return padded_; }
 
   // Replaces v [mV] by x, with |x - x*|_inf <= tolerance_mV (the bound
   // above). Throws std::runtime_error if that takes more than the maximum
@@ -101,12 +131,21 @@ class CouplingCg {
   Sums over_chunks(F&& f);
   // From x: r = b - A x, z = M^-1 r (setting A's diagonal and M^-1 for dt),
   // p = q = 0. Returns r.z and max |r_i| / C_i.
-  Sums residual(const double* x, double dt_ms);
+  Sums residual(double* x, double dt_ms);
   // q = A z + beta q, p = z + beta p; returns p.q.
   double direction(double beta);
   // sum[lane] = sum_j L_ij y_j over the off-diagonal entries of slice s's rows.
   void slice_product(long s, const double* y, double* sum) const;
   [[noreturn]] void fail(double dt_ms, double tolerance_mV, double bound_mV, int iterations) const;
+  // Slices rows [0, n_): entries(i, emit) calls emit(column, weight_nS) on
+  // row i's off-diagonal entries, in order. Sizes the work vectors, with
+  // `ghosts` entries past the padded rows.
+  template <class Entries>
+  void slice_rows(Entries&& entries, long ghosts);
+  // Before a product over y's ghost entries; after a pass's sums (split over ranks).
+  void refresh_ghosts(double* y) {
+    if (ranks_) ranks_->refresh_ghosts(y);
+  }
 
   long n_ = 0, padded_ = 0;  // rows, and rows rounded up to whole slices
   double max_rate_per_ms_ = 0;  // max_i L_ii / C_i
@@ -126,6 +165,7 @@ class CouplingCg {
   double last_dt_ms_ = 0;
   std::vector<double> chunk_dot_, chunk_largest_;
   Statistics statistics_;
+  Ranks* ranks_ = nullptr;  // split over ranks; null in one process
 };
 
 }  // namespace fibrodem

@@ -26,6 +26,8 @@ class GapJunctionCoupler final : public Coupler {
   std::string describe_solves() const override;
   double max_rate_per_ms() const override;
   std::vector<double> total_conductance_nS() const override;
+  // Its CG (a run split over ranks takes its rows from it).
+  const CouplingCg& solver() const { return cg_; }
 
  private:
   std::vector<double> capacitance_pF_;

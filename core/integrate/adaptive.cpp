@@ -192,8 +192,8 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
   v_global_.assign(system.cell_count(), 0.0);
   if (system.coupler) system.coupler->restart_implicit();
   solve_tolerance_mV_ = kInf;
-  for (const Buffers& buf : buffers_)
-    if (!buf.v_full.empty())
+  for (const Buffers& buf : buffers_)  // (every coupled population: split over ranks, empty ones too)
+    if (system.coupler && buf.pop->voltage_state >= 0)
       solve_tolerance_mV_ = std::min(solve_tolerance_mV_, kSolveToleranceFraction * atol_ *
                                                               buf.scale[static_cast<std::size_t>(buf.pop->voltage_state)]);
   solve_tolerance_mV_ = std::max(solve_tolerance_mV_, kSmallestSolveTolerance_mV);
@@ -232,7 +232,10 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
 }
 
 double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
-  if (system.coupler) system.gather_voltage();  // V0, for the gap currents at the start
+  if (system.coupler) {  // V0, for the gap currents at the start (and the other ranks' cells they read, if split)
+    system.gather_voltage();
+    if (system.refresh_ghost_voltages) system.refresh_ghost_voltages(system.V_mV.data());
+  }
   return history_ ? extrapolated_step(system, t, h) : midpoint_step(system, t, h);
 }
 
@@ -413,11 +416,15 @@ void AdaptiveIntegrator::advance(CellSystem& system, double t_start, double t_en
   while (t < t_end - kTimeEpsilon_ms) {
     // Land on the next stop (a stimulus edge, a sample, or the end).
     const double edge = system.stimulus.next_edge_after(t + kTimeEpsilon_ms);
-    const double stop = std::min({t_end, edge, observer.next_sample_ms()});
+    double stop = std::min({t_end, edge, observer.next_sample_ms()});
+    // Split over ranks: the earliest of every rank's (a rank without traced
+    // cells of its own has no sample times), negated for the largest.
+    if (system.largest_over_ranks) stop = -system.largest_over_ranks(-stop);
     const double wanted = std::min(h, max_step_ms_);
     const double step = std::min(on_grid(wanted), stop - t);
     const bool lands = step == stop - t;
-    const double err = try_step(system, t, step);
+    double err = try_step(system, t, step);
+    if (system.largest_over_ranks) err = system.largest_over_ranks(err);  // every rank accepts or rejects alike
     const bool accepted = err <= 1.0;
     histogram_.add(step, accepted);
     // (An accepted step had every new state in its range: try_step checked them.)

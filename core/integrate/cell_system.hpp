@@ -69,6 +69,10 @@ struct CellSystem {
   // them (ghosts) in V_mV before the explicit gap currents read it. Null in
   // one process.
   std::function<void(double* V_mV)> refresh_ghost_voltages;
+  // Split over ranks: the largest of every rank's value (an adaptive step's
+  // error, its next stop), the same on every rank, so that every rank takes
+  // the step control's decisions alike. Null in one process.
+  std::function<double(double)> largest_over_ranks;
   double last_step_ms = 0;                         // the integrator's last step (trace dt_ms)
   // Set by an integrator that checked every state against its population's
   // limits while updating it: the observer then need not scan them again

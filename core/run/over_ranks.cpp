@@ -9,12 +9,12 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const Proces
   std::vector<std::string> unsupported;
   for (const char* effect : {"mechanics", "contraction", "mechano_electric_feedback"})
     if (plan.has(effect)) unsupported.push_back(std::string("effect \"") + effect + "\"");
-  if (!SolverSpec::fixed_step(method))
+  if (!SolverSpec::fixed_step(method) && method != "adaptive")
     unsupported.push_back(scene.solver.method == "auto"
                               ? "solver.method \"auto\", which chose \"" + method +
-                                    "\" (name a fixed-step method: euler, rush_larsen, rush_larsen2)"
-                              : "solver.method \"" + method + "\" (only the fixed-step methods run split)");
-  if (plan.has("coupling") && scene.coupling.scheme == "implicit") unsupported.push_back("coupling.scheme \"implicit\"");
+                                    "\" (name \"adaptive\" or a fixed-step method: euler, rush_larsen, rush_larsen2)"
+                              : "solver.method \"" + method +
+                                    "\" (only \"adaptive\" and the fixed-step methods run split)");
   if (scene.settle.ms > 0) unsupported.push_back("settle (the coupled tissue settled before t = 0)");
   if (scene.output.checkpoint.every_ms > 0) unsupported.push_back("output.checkpoint");
   if (!scene.initial_state.from.empty()) unsupported.push_back("initial_state.from");

@@ -32,6 +32,11 @@ class RankGroup {
   // list. (Collective: every rank calls it.)
   virtual std::vector<std::vector<double>> gather(const std::vector<double>& mine) = 0;
   virtual std::vector<std::string> gather_text(const std::string& mine) = 0;
+  // Every rank receives every rank's `count` values, in rank order, in
+  // every_rank (count x size() values, the caller's: nothing is allocated).
+  // What a reduction the same on every rank needs (run/rank_reductions.hpp):
+  // each rank then adds or compares the same values in the same order.
+  virtual void gather_all(const double* mine, std::size_t count, double* every_rank) = 0;
 };
 
 }  // namespace fibrodem

@@ -1,19 +1,24 @@
 // A run split over the ranks of an mpirun (docs/parallel.md): the tissue's
 // cell graph is partitioned (every rank computes the same partition from the
-// same tissue), each rank's populations hold its own cells, the explicit gap
-// currents read the neighbours' potentials refreshed by a halo exchange, and
-// at the end rank 0 gathers the beats and traces and writes every file as
-// one process would. Each cell's update reads its own states, its stimulus
-// and its neighbours' potentials, summed in the same order as in one
-// process, so the potentials, and everything measured from them, have the
-// same bits on any number of ranks.
+// same tissue), each rank's populations hold its own cells, the gap currents
+// read the neighbours' potentials refreshed by a halo exchange, and at the
+// end rank 0 gathers the beats and traces and writes every file as one
+// process would. With a fixed step and explicit coupling each cell's update
+// reads its own states, its stimulus and its neighbours' potentials, summed
+// in the same order as in one process, so the potentials, and everything
+// measured from them, have the same bits on any number of ranks. An
+// implicit coupling solve (the adaptive method's) sums over the ranks
+// (run/coupling_over_ranks.hpp): the same bits for the same number of
+// ranks, within the solve's tolerance of one process's.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <stdexcept>
 
 #include "model/simd.hpp"
+#include "run/coupling_over_ranks.hpp"
 #include "run/over_ranks.hpp"
+#include "run/rank_reductions.hpp"
 #include "run/simulation_impl.hpp"
 #include "tissue/cell_partition.hpp"
 #include "util/json_reader.hpp"
@@ -67,11 +72,23 @@ void Simulation::Impl::split_over_ranks() {
                                    share.neighbours.size()));
 }
 
-// The explicit gap currents of this rank's cells read their ghosts' potentials.
+// The gap currents of this rank's cells read their ghosts' potentials; the
+// implicit coupling step (the adaptive method's, coupling.scheme "implicit")
+// solves this rank's rows with the others; the adaptive step control takes
+// every rank's error and stop.
 void Simulation::Impl::connect_ranks() {
-  if (!ranks || !system.coupler) return;
+  if (!ranks) return;
+  system.largest_over_ranks = [reductions = std::make_shared<RankReductions>(*ranks)](double mine) {
+    return reductions->largest(mine);
+  };
+  if (!system.coupler) return;
   halo = std::make_unique<HaloExchange>(*ranks, share);
   system.refresh_ghost_voltages = [h = halo.get()](double* V_mV) { h->refresh(V_mV); };
+  if (!system.implicit_coupling) return;
+  if (!dynamic_cast<GapJunctionCoupler*>(system.coupler.get()))
+    throw std::logic_error("split over ranks: the implicit coupling step needs the gap-junction coupler");
+  std::unique_ptr<GapJunctionCoupler> whole(static_cast<GapJunctionCoupler*>(system.coupler.release()));
+  system.coupler = std::make_unique<CouplingOverRanks>(std::move(whole), *ranks, share);
 }
 
 // The biomarker tracker: of every cell in one process; split over ranks, of
