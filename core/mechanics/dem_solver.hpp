@@ -41,6 +41,12 @@
 // viscous forces). Quasi-static loading only: the added mass slows the
 // tissue's own motion (dem_mass_scaling.cpp; docs/mechanics.md).
 //
+// Multirate (spec `multirate`; dem_multirate.cpp): the bodies whose critical
+// step is below the clumps' (the light ones: small fibroblast disks) take
+// n substeps of each step, the others (heavy) one; heavy particles are
+// interpolated over the step for the substeps' contacts, and the heavy bodies
+// get those contacts' mean force over the substeps.
+//
 // Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
 // the contact list's fits over fixed parts of the bodies of about equal work
@@ -120,6 +126,11 @@ class DemSolver final : public MechanicsSolver {
   std::size_t scaled_bodies() const { return scaled_bodies_; }
   double added_mass_fraction() const { return added_mass_fraction_; }
   double added_inertia_fraction() const { return added_inertia_fraction_; }
+  // Multirate: how many bodies take substeps, the substeps taken in all,
+  // and the light bodies' stable step [ms] (0 without multirate).
+  std::size_t light_bodies() const { return light_bodies_.size(); }
+  std::size_t substeps() const { return substeps_; }
+  double light_step_ms() const { return light_step_s_ * 1e3; }
   // Energies at the last full step [J] (unit thickness): kinetic (translation +
   // rotation) and elastic (springs of the active contacts, 1/2 F^2 / k).
   double kinetic_energy_J() const;
@@ -155,6 +166,27 @@ class DemSolver final : public MechanicsSolver {
   void compute_stable_step();
   void scale_masses();
   double scaling_target_step_s(double f) const;
+  // Multirate stepping (dem_multirate.cpp).
+  void step_multirate(double dt_s);
+  void start_multirate();
+  bool fast_contact(int p, int q) const {
+    return !blight_.empty() && (blight_[pbody_[p]] || blight_[pbody_[q]]);
+  }
+  bool fast_index(std::size_t c) const {
+    return c < bonds_.size() ? c < fast_bonds_ : c - bonds_.size() < fast_contacts_;
+  }
+  bool contact_order_less(int p1, int q1, int p2, int q2) const;
+  std::size_t order_fast_first(BondSet& set) const;
+  void partition_candidates_fast_first();
+  void index_multirate();
+  void load_multirate(const CheckpointFields& fields);
+  void move_heavy_bodies(double dt_s);
+  void light_substep(std::size_t j, std::size_t n, double h_s);
+  void forces_of_contact_range(std::size_t bond_begin, std::size_t bond_end, std::size_t contact_begin,
+                               std::size_t contact_end, double dt_s);
+  void sum_contact_class_on_body(std::size_t b, bool fast, double gx, double gy, double (&f)[3]) const;
+  StepSums multirate_step_sums(double dt_s) const;
+  void heavy_forces_and_kick(double dt_s, std::size_t n);
   // Each evolving array with its checkpoint field's name, for save and load
   // alike (Self: DemSolver or const DemSolver).
   template <class Self, class F>
@@ -212,6 +244,18 @@ class DemSolver final : public MechanicsSolver {
   double scaling_step_s_ = 0;  // mass scaling's target critical step H (0: none yet)
   std::size_t scaled_bodies_ = 0;
   double added_mass_fraction_ = 0, added_inertia_fraction_ = 0;
+  // Multirate: light bodies (1) and their list; heavy bodies with a contact
+  // to a light one (the boundary); the contacts touching a light body come
+  // first in each set (fast_bonds_, fast_contacts_ of them); the light
+  // bodies' stable step; each body's pose at the step's start (bx_start_,
+  // by_start_, br_start_), and the heavy bodies' sums of the substeps' forces.
+  std::vector<std::uint8_t> blight_;
+  std::vector<int> light_bodies_, boundary_bodies_;
+  std::vector<double> bx_start_, by_start_, br_start_, px_end_, py_end_;
+  std::vector<double> fast_fx_, fast_fy_, fast_tq_;
+  std::vector<std::pair<int, int>> candidate_scratch_;
+  std::size_t fast_bonds_ = 0, fast_contacts_ = 0, substeps_ = 0;
+  double light_step_s_ = 0;
   double time_s_ = 0;
   std::size_t steps_ = 0;
   std::array<double, 3> strain_{0, 0, 0};
