@@ -30,11 +30,15 @@
 // substep, against heavy neighbours interpolated over the step, as in
 // asynchronous multirate schemes for particle systems.
 //
-// Light and heavy are classified once, on the contacts and masses at the
-// start (mass scaling, if set, included: it makes the light bodies heavier,
-// so fewer substeps); H and h follow each contact list as the native step
-// does. The fast contacts come first in both contact sets, so a substep's
-// work is contiguous blocks. Every sum is per body in a fixed order: the same
+// Light and heavy are classified on the contacts and masses at the start
+// (mass scaling, if set, included: it makes the light bodies heavier, so
+// fewer substeps); a heavy disk whose new contacts take its critical step
+// below the clumps' becomes light at the end of that step (loose disks in
+// interstitial tissue pick up contacts as it contracts, and would otherwise
+// halve H), never back. H and h follow each contact list as the native step
+// does, H a whole number of light steps (the substeps at the light bodies'
+// full stable step) when that costs less. The fast contacts come first in
+// both contact sets, so a substep's work is contiguous blocks. Every sum is per body in a fixed order: the same
 // bits for any number of threads; nothing allocated per step.
 #include <algorithm>
 #include <cmath>
@@ -80,19 +84,69 @@ void DemSolver::start_multirate() {
       clump_crit = std::min(clump_crit, critical_step_s(mass_[b], inertia_[b], body_kt_[b], body_kr_[b]));
   if (!std::isfinite(clump_crit)) return;
   std::vector<std::uint8_t> light(nb, 0);
-  light_bodies_.clear();
   for (std::size_t b = 0; b < nb; ++b)
-    if (!bclump_[b] && !bfixed_[b] && critical_step_s(mass_[b], inertia_[b], body_kt_[b], body_kr_[b]) < clump_crit) {
-      light[b] = 1;
-      light_bodies_.push_back(static_cast<int>(b));
-    }
-  if (light_bodies_.empty()) return;
+    light[b] = !bclump_[b] && !bfixed_[b] &&
+               critical_step_s(mass_[b], inertia_[b], body_kt_[b], body_kr_[b]) < clump_crit;
+  if (std::find(light.begin(), light.end(), 1) == light.end()) return;
   blight_ = std::move(light);
-  fast_bonds_ = order_fast_first(bonds_);
-  order_fast_first(contacts_);
+  list_light_bodies();
+  fast_bonds_ = order_fast_first(bonds_, false);
+  order_fast_first(contacts_, true);
   for (auto* v : {&bx_start_, &by_start_, &br_start_, &fast_fx_, &fast_fy_, &fast_tq_}) v->assign(nb, 0.0);
   px_end_.assign(px_.size(), 0.0);
   py_end_.assign(px_.size(), 0.0);
+  index_contacts();
+  compute_stable_step();
+}
+
+void DemSolver::list_light_bodies() {
+  light_bodies_.clear();
+  for (std::size_t b = 0; b < blight_.size(); ++b)
+    if (blight_[b]) light_bodies_.push_back(static_cast<int>(b));
+}
+
+// The steps from the least critical steps of the heavy bodies, the clumps
+// and the light bodies (compute_stable_step set the step from the heavy
+// ones'): the light step; a heavy disk below the clumps marked for
+// reclassify_heavy_disks; and the step either the heavy bodies' stable one
+// (substeps a little shorter than the light step, n = ceil(H / h)) or cut
+// to a whole number of light steps, whichever costs less per ms, a contact
+// or a body counting one (interstitial tissue: cut, since the substeps are
+// most of the work; in-series, with H / h ~ 1.15: not cut).
+void DemSolver::fit_multirate_steps(double heavy_crit_s, double clump_crit_s, double light_crit_s) {
+  light_step_s_ = spec_.safety_factor * light_crit_s;
+  reclassify_pending_ = heavy_crit_s < clump_crit_s;
+  const double light_ms = light_step_s_ * 1e3, ratio = stable_step_ms_ / light_ms;
+  if (!(std::isfinite(ratio) && ratio >= 1)) return;
+  const double fast = static_cast<double>(fast_bonds_ + fast_contacts_ + light_bodies_.size());
+  const double slow = static_cast<double>(bonds_.size() + contacts_.size() + bx_.size()) - fast;
+  const double whole = std::floor(ratio);
+  const double cost_cut = (slow + fast * whole) / (whole * light_ms);
+  const double cost_heavy = (slow + fast * std::ceil(ratio)) / stable_step_ms_;
+  if (cost_cut <= cost_heavy) stable_step_ms_ = whole * light_ms;
+}
+
+// At the end of a step (every body's force complete, whichever its class):
+// the heavy disks whose critical step fell below the clumps' become light,
+// the contacts reordered, the steps set again. Rare (a disk at a time, as
+// contacts come): the only place a step may allocate.
+void DemSolver::reclassify_heavy_disks() {
+  reclassify_pending_ = false;
+  double clump_crit = std::numeric_limits<double>::infinity();
+  for (std::size_t b = 0; b < bx_.size(); ++b)
+    if (bclump_[b] && !bfixed_[b])
+      clump_crit = std::min(clump_crit, critical_step_s(mass_[b], inertia_[b], body_kt_[b], body_kr_[b]));
+  bool changed = false;
+  for (std::size_t b = 0; b < bx_.size(); ++b)
+    if (!blight_[b] && !bclump_[b] && !bfixed_[b] &&
+        critical_step_s(mass_[b], inertia_[b], body_kt_[b], body_kr_[b]) < clump_crit) {
+      blight_[b] = 1;
+      changed = true;
+    }
+  if (!changed) return;
+  list_light_bodies();
+  fast_bonds_ = order_fast_first(bonds_, false);
+  order_fast_first(contacts_, true);
   index_contacts();
   compute_stable_step();
 }
@@ -105,13 +159,21 @@ bool DemSolver::contact_order_less(int p1, int q1, int p2, int q2) const {
   return std::make_pair(p1, q1) < std::make_pair(p2, q2);
 }
 
-// A contact set's fast contacts moved first, both parts in their order;
-// returns how many are fast. (At the start and at a checkpoint's load only.)
-std::size_t DemSolver::order_fast_first(BondSet& set) const {
+// A contact set's fast contacts moved first, both parts in their order
+// (by_pairs: in contact_order_less's, which rebuild_contacts' merge needs);
+// returns how many are fast. (At the start, a reclassification and a
+// checkpoint's load.)
+std::size_t DemSolver::order_fast_first(BondSet& set, bool by_pairs) const {
   std::vector<std::size_t> order(set.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  const auto mid = std::stable_partition(order.begin(), order.end(),
-                                         [&](std::size_t k) { return fast_contact(set.p[k], set.q[k]); });
+  auto fast = [&](std::size_t k) { return fast_contact(set.p[k], set.q[k]); };
+  if (by_pairs)
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return contact_order_less(set.p[a], set.q[a], set.p[b], set.q[b]);
+    });
+  else
+    std::stable_partition(order.begin(), order.end(), fast);
+  const auto mid = std::partition_point(order.begin(), order.end(), fast);
   permute(set.p, order), permute(set.q, order), permute(set.kn, order), permute(set.ks, order);
   permute(set.m_eff, order), permute(set.ref_gap, order), permute(set.cn, order), permute(set.cs, order);
   permute(set.kb, order), permute(set.fn, order), permute(set.fs, order), permute(set.mb, order);
@@ -160,6 +222,7 @@ void DemSolver::step_multirate(double dt_s) {
     rebuild_contacts();
   add_strain(sums.strain, dt_s);
   heavy_forces_and_kick(dt_s, n);
+  if (reclassify_pending_) reclassify_heavy_disks();
   time_s_ += dt_s;
   ++steps_;
   substeps_ += n;

@@ -88,7 +88,9 @@ std::string DemSolver::report() const {
          " % of the inertia";
   if (!blight_.empty())
     r += "; multirate: " + std::to_string(light_bodies_.size()) + " light bodies at a step of " +
-         dem_number(light_step_ms()) + " ms, " + std::to_string(substeps_) + " substeps";
+         dem_number(light_step_ms()) + " ms, " + std::to_string(substeps_) + " substeps, " +
+         std::to_string(fast_bonds_ + fast_contacts_) + " of the " + std::to_string(bonds_.size() + contacts_.size()) +
+         " contacts in them";
   if (detector_)
     r += "; unbonded contacts: " + std::to_string(touching_contacts()) + " touching of " +
          std::to_string(contacts_.size()) + " listed, list built " + std::to_string(detector_->builds()) + " times";

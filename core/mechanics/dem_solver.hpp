@@ -176,7 +176,10 @@ class DemSolver final : public MechanicsSolver {
     return c < bonds_.size() ? c < fast_bonds_ : c - bonds_.size() < fast_contacts_;
   }
   bool contact_order_less(int p1, int q1, int p2, int q2) const;
-  std::size_t order_fast_first(BondSet& set) const;
+  std::size_t order_fast_first(BondSet& set, bool by_pairs) const;
+  void fit_multirate_steps(double heavy_crit_s, double clump_crit_s, double light_crit_s);
+  void reclassify_heavy_disks();
+  void list_light_bodies();
   void partition_candidates_fast_first();
   void index_multirate();
   void load_multirate(const CheckpointFields& fields);
@@ -244,7 +247,8 @@ class DemSolver final : public MechanicsSolver {
   double scaling_step_s_ = 0;  // mass scaling's target critical step H (0: none yet)
   std::size_t scaled_bodies_ = 0;
   double added_mass_fraction_ = 0, added_inertia_fraction_ = 0;
-  // Multirate: light bodies (1) and their list; heavy bodies with a contact
+  // Multirate: light bodies (1; a heavy disk whose contacts make its
+  // critical step shorter than the clumps' becomes light, never back) and their list; heavy bodies with a contact
   // to a light one (the boundary); the contacts touching a light body come
   // first in each set (fast_bonds_, fast_contacts_ of them); the light
   // bodies' stable step; each body's pose at the step's start (bx_start_,
@@ -255,6 +259,7 @@ class DemSolver final : public MechanicsSolver {
   std::vector<double> fast_fx_, fast_fy_, fast_tq_;
   std::vector<std::pair<int, int>> candidate_scratch_;
   std::size_t fast_bonds_ = 0, fast_contacts_ = 0, substeps_ = 0;
+  bool reclassify_pending_ = false;  // a heavy disk's critical step fell below the clumps
   double light_step_s_ = 0;
   double time_s_ = 0;
   std::size_t steps_ = 0;

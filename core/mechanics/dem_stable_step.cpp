@@ -47,9 +47,9 @@ void DemSolver::compute_stable_step() {
   }
   scale_masses();
   // (Multirate: the heavy and the light bodies' least critical steps apart.)
-  double tmin = std::numeric_limits<double>::infinity(), tmin_light = tmin;
+  double tmin = std::numeric_limits<double>::infinity(), tmin_light = tmin, tmin_clump = tmin;
   const bool multirate = !blight_.empty();
-#pragma omp parallel for schedule(static) reduction(min : tmin, tmin_light)
+#pragma omp parallel for schedule(static) reduction(min : tmin, tmin_light, tmin_clump)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
     double t = std::numeric_limits<double>::infinity();
@@ -59,12 +59,13 @@ void DemSolver::compute_stable_step() {
       tmin_light = std::min(tmin_light, t);
     else
       tmin = std::min(tmin, t);
+    if (bclump_[b]) tmin_clump = std::min(tmin_clump, t);
   }
-  if (multirate) light_step_s_ = spec_.safety_factor * tmin_light;
   // Bodies without contacts have no stiffness limit: cap the step (PFC also
   // bounds it kinematically), so that a lone contracting clump still moves and
   // free bodies cannot cross a contact skin between two checks of the list.
   stable_step_ms_ = std::min(spec_.safety_factor * tmin * 1e3, kLongestStep_ms);
+  if (multirate) fit_multirate_steps(tmin, tmin_clump, tmin_light);
 }
 
 }  // namespace fibrodem
