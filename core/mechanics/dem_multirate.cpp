@@ -192,21 +192,36 @@ void DemSolver::partition_candidates_fast_first() {
   candidate_pairs_.swap(candidate_scratch_);
 }
 
-// After the contacts changed: how many unbonded contacts are fast, and the
-// heavy bodies that have a fast contact (whose particles the substeps place).
+// After the contacts changed: how many unbonded contacts are fast; the
+// heavy bodies that have a fast contact (the boundary), their particles
+// that have one (which the substeps place), and each boundary body's fast
+// contacts (so a substep reads those alone).
 void DemSolver::index_multirate() {
   if (blight_.empty()) return;
   fast_contacts_ = 0;
   while (fast_contacts_ < contacts_.size() && fast_contact(contacts_.p[fast_contacts_], contacts_.q[fast_contacts_]))
     ++fast_contacts_;
   boundary_bodies_.clear();
+  boundary_particles_.clear();
+  boundary_entry_start_.assign(1, 0);
+  boundary_entry_.clear();
+  boundary_entry_particle_.clear();
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (blight_[b]) continue;
-    for (const int* e = body_contacts_.begin(b); e != body_contacts_.end(b); ++e)
-      if (fast_index(static_cast<std::size_t>(ContactIncidence::contact(*e)))) {
-        boundary_bodies_.push_back(static_cast<int>(b));
-        break;
-      }
+    for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
+      const int i = body_particle_[k];
+      const std::size_t entries_before = boundary_entry_.size();
+      for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e)
+        if (fast_index(static_cast<std::size_t>(ContactIncidence::contact(*e)))) {
+          boundary_entry_.push_back(*e);
+          boundary_entry_particle_.push_back(i);
+        }
+      if (boundary_entry_.size() > entries_before) boundary_particles_.push_back(i);
+    }
+    if (boundary_entry_.size() > static_cast<std::size_t>(boundary_entry_start_.back())) {
+      boundary_bodies_.push_back(static_cast<int>(b));
+      boundary_entry_start_.push_back(static_cast<int>(boundary_entry_.size()));
+    }
   }
 }
 
@@ -258,6 +273,7 @@ void DemSolver::light_substep(std::size_t j, std::size_t n, double h_s) {
   const bool last = j == n;
   const double w = static_cast<double>(j) / static_cast<double>(n);
   const std::size_t nlight = light_bodies_.size(), nboundary = boundary_bodies_.size();
+  const std::size_t nplaced = boundary_particles_.size();
 #pragma omp parallel
   {
 #pragma omp for schedule(static) nowait
@@ -268,15 +284,12 @@ void DemSolver::light_substep(std::size_t j, std::size_t n, double h_s) {
       place_particles_of(b);
     }
 #pragma omp for schedule(static)
-    for (std::size_t k = 0; k < nboundary; ++k) {
-      const auto b = static_cast<std::size_t>(boundary_bodies_[k]);
-      const double r = last ? br_[b] : br_start_[b] + w * (br_[b] - br_start_[b]);
-      for (int m = body_particle_start_[b]; m < body_particle_start_[b + 1]; ++m) {
-        const auto i = static_cast<std::size_t>(body_particle_[m]);
-        px_[i] = last ? px_end_[i] : px_old_[i] + w * (px_end_[i] - px_old_[i]);
-        py_[i] = last ? py_end_[i] : py_old_[i] + w * (py_end_[i] - py_old_[i]);
-        pr_[i] = r;
-      }
+    for (std::size_t k = 0; k < nplaced; ++k) {
+      const auto i = static_cast<std::size_t>(boundary_particles_[k]);
+      const auto b = static_cast<std::size_t>(pbody_[i]);
+      px_[i] = last ? px_end_[i] : px_old_[i] + w * (px_end_[i] - px_old_[i]);
+      py_[i] = last ? py_end_[i] : py_old_[i] + w * (py_end_[i] - py_old_[i]);
+      pr_[i] = last ? br_[b] : br_start_[b] + w * (br_[b] - br_start_[b]);
     }
     forces_of_contact_range(0, fast_bonds_, 0, fast_contacts_, h_s);
 #pragma omp for schedule(static) nowait
@@ -286,17 +299,30 @@ void DemSolver::light_substep(std::size_t j, std::size_t n, double h_s) {
       kick_body(b, 0.5 * h_s);
     }
 #pragma omp for schedule(static)
-    for (std::size_t k = 0; k < nboundary; ++k) {
-      const auto b = static_cast<std::size_t>(boundary_bodies_[k]);
-      const double gx = last ? bx_[b] : bx_start_[b] + w * (bx_[b] - bx_start_[b]);
-      const double gy = last ? by_[b] : by_start_[b] + w * (by_[b] - by_start_[b]);
-      double f[3];
-      sum_contact_class_on_body(b, true, gx, gy, f);
-      fast_fx_[b] += f[0];
-      fast_fy_[b] += f[1];
-      fast_tq_[b] += f[2];
-    }
+    for (std::size_t k = 0; k < nboundary; ++k) add_fast_forces_of_boundary(k, w, last);
   }
+}
+
+// Boundary body k's force and moment (about its centroid at the substep's
+// end) from its fast contacts, added to its sums over the step.
+void DemSolver::add_fast_forces_of_boundary(std::size_t k, double w, bool last) {
+  const auto b = static_cast<std::size_t>(boundary_bodies_[k]);
+  const double gx = last ? bx_[b] : bx_start_[b] + w * (bx_[b] - bx_start_[b]);
+  const double gy = last ? by_[b] : by_start_[b] + w * (by_[b] - by_start_[b]);
+  double fx = 0, fy = 0, tq = 0;
+  for (int m = boundary_entry_start_[k]; m < boundary_entry_start_[k + 1]; ++m) {
+    const int e = boundary_entry_[m];
+    const auto i = static_cast<std::size_t>(boundary_entry_particle_[m]);
+    const ContactForce& cf = contact_force_[ContactIncidence::contact(e)];
+    const bool q = ContactIncidence::is_q(e);
+    const double sign = q ? 1.0 : -1.0;
+    fx += sign * cf.fx;
+    fy += sign * cf.fy;
+    tq += cf.moment[q] + (px_[i] - gx) * sign * cf.fy - (py_[i] - gy) * sign * cf.fx;
+  }
+  fast_fx_[b] += fx;
+  fast_fy_[b] += fy;
+  fast_tq_[b] += tq;
 }
 
 // The forces of bonds [bond_begin, bond_end) and unbonded contacts

@@ -188,6 +188,7 @@ class DemSolver final : public MechanicsSolver {
   void forces_of_contact_range(std::size_t bond_begin, std::size_t bond_end, std::size_t contact_begin,
                                std::size_t contact_end, double dt_s);
   void sum_contact_class_on_body(std::size_t b, bool fast, double gx, double gy, double (&f)[3]) const;
+  void add_fast_forces_of_boundary(std::size_t k, double w, bool last);
   StepSums multirate_step_sums(double dt_s) const;
   void heavy_forces_and_kick(double dt_s, std::size_t n);
   // Each evolving array with its checkpoint field's name, for save and load
@@ -255,6 +256,10 @@ class DemSolver final : public MechanicsSolver {
   // by_start_, br_start_), and the heavy bodies' sums of the substeps' forces.
   std::vector<std::uint8_t> blight_;
   std::vector<int> light_bodies_, boundary_bodies_;
+  // The boundary's particles that touch a light body (placed each substep),
+  // and each boundary body's fast contacts (CSR over boundary_bodies_:
+  // ContactIncidence entries and the particle of each).
+  std::vector<int> boundary_particles_, boundary_entry_start_, boundary_entry_, boundary_entry_particle_;
   std::vector<double> bx_start_, by_start_, br_start_, px_end_, py_end_;
   std::vector<double> fast_fx_, fast_fy_, fast_tq_;
   std::vector<std::pair<int, int>> candidate_scratch_;
