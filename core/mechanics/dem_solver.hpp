@@ -61,7 +61,8 @@
 // (clump shapes at the cells' length ratios), dem_solver.cpp (the step and
 // its fused move loop), dem_step_inline.hpp (the per-body pieces it inlines),
 // dem_contacts.cpp (bonds and the contact list), dem_contact_forces.cpp,
-// dem_stable_step.cpp, dem_strain.cpp, dem_checkpoint.cpp.
+// dem_stable_step.cpp, dem_mass_scaling.cpp, dem_multirate.cpp (multirate
+// steps), dem_strain.cpp, dem_checkpoint.cpp.
 #pragma once
 
 #include <array>
