@@ -27,8 +27,7 @@
 // long step's ends and the fast ones each substep; here the heavy bodies move
 // once per long step on the time average of the fast forces they feel (the
 // fast force's impulse over H), and only the light bodies see them each
-// substep, against heavy neighbours interpolated over the step, as in
-// asynchronous multirate schemes for particle systems.
+// substep, against heavy neighbours interpolated over the step.
 //
 // Light and heavy are classified on the contacts and masses at the start
 // (mass scaling, if set, included: it makes the light bodies heavier, so
@@ -38,8 +37,9 @@
 // halve H), never back. H and h follow each contact list as the native step
 // does, H a whole number of light steps (the substeps at the light bodies'
 // full stable step) when that costs less. The fast contacts come first in
-// both contact sets, so a substep's work is contiguous blocks. Every sum is per body in a fixed order: the same
-// bits for any number of threads; nothing allocated per step.
+// both contact sets, so a substep's work is contiguous blocks. Every sum is
+// per body in a fixed order: the same bits for any number of threads;
+// nothing allocated per step (but in a reclassification, which is rare).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -392,8 +392,9 @@ DemSolver::StepSums DemSolver::multirate_step_sums(double dt_s) const {
                            (px_[i] - px_old_[i]) * inv_dt, (py_[i] - py_old_[i]) * inv_dt);
         }
       else
-        add_strain_terms(sum.strain, 0.5 * (bx_[b] + bx_start_[b]) - origin_x_, 0.5 * (by_[b] + by_start_[b]) - origin_y_,
-                         (bx_[b] - bx_start_[b]) * inv_dt, (by_[b] - by_start_[b]) * inv_dt);
+        add_strain_terms(sum.strain, 0.5 * (bx_[b] + bx_start_[b]) - origin_x_,
+                         0.5 * (by_[b] + by_start_[b]) - origin_y_, (bx_[b] - bx_start_[b]) * inv_dt,
+                         (by_[b] - by_start_[b]) * inv_dt);
     }
     part[k] = sum;
   }
