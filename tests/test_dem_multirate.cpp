@@ -8,7 +8,8 @@
 // the larger error of the two).
 // Also: who takes substeps and how many, that the heavy bodies' step is
 // longer than the native one, that internal forces leave the tissue's
-// momentum near zero, the same bits on one thread and two, and a checkpoint.
+// momentum near zero, the strain fitted to bodies, the same bits on one
+// thread and two, and a checkpoint.
 #include <doctest/doctest.h>
 #include <omp.h>
 
@@ -163,6 +164,18 @@ TEST_CASE("dem multirate: in-series tissue through a twitch keeps its strain wit
           " steps) against ", native.step_ms, " ms native");
   CHECK(multirate.step_ms >= native.step_ms);
   check_accepted(multirate, native);
+}
+
+TEST_CASE("dem multirate: the strain fitted to bodies holds the same bounds") {
+  // (The body fit takes each body's displacement over the step: a light
+  // body's last substep velocity is not its mean over the step.)
+  const Tissue t = interstitial_tissue();
+  DemSpec native_spec;
+  native_spec.local_damping = 0.7;
+  native_spec.strain_bodies = StrainBodies::bodies;
+  DemSpec multirate_spec = native_spec;
+  multirate_spec.multirate = true;
+  check_accepted(twitch(t, multirate_spec, 150), twitch(t, native_spec, 150));
 }
 
 TEST_CASE("dem multirate: only disks lighter than the clumps take substeps, and the step is the heavy bodies'") {
