@@ -25,6 +25,7 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
     index_contacts();
     compute_stable_step();
   }
+  if (spec_.multirate) start_multirate();
   bonded_stable_step_ms_ = stable_step_ms_;
   if (spec_.dt_ms > stable_step_ms_)
     throw std::invalid_argument("mechanics.dt_ms " + dem_number(spec_.dt_ms) + " ms exceeds the stable DEM step " +

@@ -66,8 +66,32 @@ void DemSolver::save(CheckpointFields& fields) const {
     fields.put("dem.body.mass", mass_);
     fields.put("dem.body.inertia", inertia_);
   }
+  // Multirate: the light bodies' step, set with the contact list (the
+  // substeps' state lives inside a step: nothing else to carry).
+  if (!blight_.empty()) {
+    fields.put("dem.multirate", std::vector<double>{light_step_s_, static_cast<double>(substeps_)});
+    fields.put_bytes("dem.multirate.light", blight_.data(), blight_.size());
+  }
   fields.put("dem.clock", std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, strain_[0],
                                               strain_[1], strain_[2]});
+}
+
+// The light bodies, their step and the substep count; the contacts put in the
+// multirate order (a no-op on a checkpoint written with multirate).
+void DemSolver::load_multirate(const CheckpointFields& fields) {
+  if (!fields.has("dem.multirate"))
+    throw CheckpointError("it was written without mechanics.multirate, which this run sets");
+  const auto m = fields.numbers("dem.multirate", 2);
+  if (!(m[0] > 0) || !(m[1] >= 0 && m[1] < 1e18)) throw CheckpointError("its DEM multirate state is out of range");
+  light_step_s_ = m[0];
+  substeps_ = static_cast<std::size_t>(m[1]);
+  fields.bytes("dem.multirate.light", blight_.data(), blight_.size());
+  for (std::size_t b = 0; b < blight_.size(); ++b)
+    if (blight_[b] > 1 || (blight_[b] && (bclump_[b] || bfixed_[b])))
+      throw CheckpointError("its DEM body " + std::to_string(b) + " is marked light but is a clump, fixed, or not 0/1");
+  list_light_bodies();
+  fast_bonds_ = order_fast_first(bonds_, false);
+  order_fast_first(contacts_, true);
 }
 
 void DemSolver::load(const CheckpointFields& fields) {
@@ -106,6 +130,7 @@ void DemSolver::load(const CheckpointFields& fields) {
     inv_m_[b] = 1 / mass_[b];
     inv_i_[b] = 1 / inertia_[b];
   }
+  if (!blight_.empty()) load_multirate(fields);
   index_contacts();
   out_dirty_ = true;
 }

@@ -9,12 +9,6 @@
 
 namespace fibrodem {
 
-// One block of contacts' kinematics, in and out of the law (per thread).
-struct DemSolver::BlockScratch {
-  alignas(64) double gap[kBlock], dn[kBlock], ds[kBlock], dth[kBlock], nx[kBlock], ny[kBlock];
-  alignas(64) double lp[kBlock], lq[kBlock], fn[kBlock], fs[kBlock], mt[kBlock];
-};
-
 // Forces per contact in parallel (blocks of bonds, then of contacts), then
 // their sums per body, each from its own contacts in a fixed order, and the
 // closing half kick of h_s with them (bodies in parts of equal contact work:

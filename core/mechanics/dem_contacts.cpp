@@ -59,16 +59,18 @@ void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q)
 }
 
 // A new Verlet list of unbonded contacts; a pair on the old list keeps its
-// shear force (both lists ascending, merged); the stable step follows.
+// shear force (both lists in contact_order_less's order, merged); the stable
+// step follows.
 void DemSolver::rebuild_contacts() {
   detector_->build(px_.data(), py_.data(), pr_.data(), candidate_pairs_);
+  partition_candidates_fast_first();  // (multirate only)
   const std::size_t n = candidate_pairs_.size();
   next_contacts_.resize(n);
   std::size_t old = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const auto [p, q] = candidate_pairs_[k];
     set_contact_constants(next_contacts_, k, p, q);
-    while (old < contacts_.size() && std::make_pair(contacts_.p[old], contacts_.q[old]) < candidate_pairs_[k]) ++old;
+    while (old < contacts_.size() && contact_order_less(contacts_.p[old], contacts_.q[old], p, q)) ++old;
     if (old < contacts_.size() && contacts_.p[old] == p && contacts_.q[old] == q) {
       next_contacts_.fn[k] = contacts_.fn[old];
       next_contacts_.fs[k] = contacts_.fs[old];
@@ -96,6 +98,7 @@ void DemSolver::index_contacts() {
   particle_contacts_.build(px_.size(), bonds_, contacts_);
   body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
   partition_force_sums();
+  index_multirate();
 }
 
 std::size_t DemSolver::broken_bonds() const {

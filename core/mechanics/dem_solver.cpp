@@ -16,6 +16,10 @@ void DemSolver::step(double dt_ms) {
     throw std::invalid_argument("mechanics step " + dem_number(dt_ms) + " ms refused: the stable DEM step is " +
                                 dem_number(stable_step_ms_) + " ms");
   const double dt = dt_ms * 1e-3;
+  if (!blight_.empty()) {
+    step_multirate(dt);
+    return;
+  }
   // Half kick with the forces of the present state, drift, new geometry
   // (length ratios at the end of the step), particles.
   px_old_.swap(px_);
@@ -82,6 +86,11 @@ std::string DemSolver::report() const {
     r += "; mass scaling: " + std::to_string(scaled_bodies_) + " bodies heavier, +" +
          dem_number(100 * added_mass_fraction_) + " % of the mass, +" + dem_number(100 * added_inertia_fraction_) +
          " % of the inertia";
+  if (!blight_.empty())
+    r += "; multirate: " + std::to_string(light_bodies_.size()) + " light bodies at a step of " +
+         dem_number(light_step_ms()) + " ms, " + std::to_string(substeps_) + " substeps, " +
+         std::to_string(fast_bonds_ + fast_contacts_) + " of the " + std::to_string(bonds_.size() + contacts_.size()) +
+         " contacts in them";
   if (detector_)
     r += "; unbonded contacts: " + std::to_string(touching_contacts()) + " touching of " +
          std::to_string(contacts_.size()) + " listed, list built " + std::to_string(detector_->builds()) + " times";

@@ -41,6 +41,12 @@
 // viscous forces). Quasi-static loading only: the added mass slows the
 // tissue's own motion (dem_mass_scaling.cpp; docs/mechanics.md).
 //
+// Multirate (spec `multirate`; dem_multirate.cpp): the bodies whose critical
+// step is below the clumps' (the light ones: small fibroblast disks) take
+// n substeps of each step, the others (heavy) one; heavy particles are
+// interpolated over the step for the substeps' contacts, and the heavy bodies
+// get those contacts' mean force over the substeps.
+//
 // Threads (OpenMP's present count): a step is three parallel loops. The
 // first moves each body and places its particles, summing the strain's and
 // the contact list's fits over fixed parts of the bodies of about equal work
@@ -55,7 +61,8 @@
 // (clump shapes at the cells' length ratios), dem_solver.cpp (the step and
 // its fused move loop), dem_step_inline.hpp (the per-body pieces it inlines),
 // dem_contacts.cpp (bonds and the contact list), dem_contact_forces.cpp,
-// dem_stable_step.cpp, dem_strain.cpp, dem_checkpoint.cpp.
+// dem_stable_step.cpp, dem_mass_scaling.cpp, dem_multirate.cpp (multirate
+// steps), dem_strain.cpp, dem_checkpoint.cpp.
 #pragma once
 
 #include <array>
@@ -120,6 +127,11 @@ class DemSolver final : public MechanicsSolver {
   std::size_t scaled_bodies() const { return scaled_bodies_; }
   double added_mass_fraction() const { return added_mass_fraction_; }
   double added_inertia_fraction() const { return added_inertia_fraction_; }
+  // Multirate: how many bodies take substeps, the substeps taken in all,
+  // and the light bodies' stable step [ms] (0 without multirate).
+  std::size_t light_bodies() const { return light_bodies_.size(); }
+  std::size_t substeps() const { return substeps_; }
+  double light_step_ms() const { return light_step_s_ * 1e3; }
   // Energies at the last full step [J] (unit thickness): kinetic (translation +
   // rotation) and elastic (springs of the active contacts, 1/2 F^2 / k).
   double kinetic_energy_J() const;
@@ -155,6 +167,31 @@ class DemSolver final : public MechanicsSolver {
   void compute_stable_step();
   void scale_masses();
   double scaling_target_step_s(double f) const;
+  // Multirate stepping (dem_multirate.cpp).
+  void step_multirate(double dt_s);
+  void start_multirate();
+  bool fast_contact(int p, int q) const {
+    return !blight_.empty() && (blight_[pbody_[p]] || blight_[pbody_[q]]);
+  }
+  bool fast_index(std::size_t c) const {
+    return c < bonds_.size() ? c < fast_bonds_ : c - bonds_.size() < fast_contacts_;
+  }
+  bool contact_order_less(int p1, int q1, int p2, int q2) const;
+  std::size_t order_fast_first(BondSet& set, bool by_pairs) const;
+  void fit_multirate_steps(double heavy_crit_s, double clump_crit_s, double light_crit_s);
+  void reclassify_heavy_disks();
+  void list_light_bodies();
+  void partition_candidates_fast_first();
+  void index_multirate();
+  void load_multirate(const CheckpointFields& fields);
+  void move_heavy_bodies(double dt_s);
+  void light_substep(std::size_t j, std::size_t n, double h_s);
+  void forces_of_contact_range(std::size_t bond_begin, std::size_t bond_end, std::size_t contact_begin,
+                               std::size_t contact_end, double dt_s);
+  void sum_contact_class_on_body(std::size_t b, bool fast, double gx, double gy, double (&f)[3]) const;
+  void add_fast_forces_of_boundary(std::size_t k, double w, bool last);
+  StepSums multirate_step_sums(double dt_s) const;
+  void heavy_forces_and_kick(double dt_s, std::size_t n);
   // Each evolving array with its checkpoint field's name, for save and load
   // alike (Self: DemSolver or const DemSolver).
   template <class Self, class F>
@@ -212,6 +249,24 @@ class DemSolver final : public MechanicsSolver {
   double scaling_step_s_ = 0;  // mass scaling's target critical step H (0: none yet)
   std::size_t scaled_bodies_ = 0;
   double added_mass_fraction_ = 0, added_inertia_fraction_ = 0;
+  // Multirate: light bodies (1; a heavy disk whose contacts make its
+  // critical step shorter than the clumps' becomes light, never back) and their list; heavy bodies with a contact
+  // to a light one (the boundary); the contacts touching a light body come
+  // first in each set (fast_bonds_, fast_contacts_ of them); the light
+  // bodies' stable step; each body's pose at the step's start (bx_start_,
+  // by_start_, br_start_), and the heavy bodies' sums of the substeps' forces.
+  std::vector<std::uint8_t> blight_;
+  std::vector<int> light_bodies_, boundary_bodies_;
+  // The boundary's particles that touch a light body (placed each substep),
+  // and each boundary body's fast contacts (CSR over boundary_bodies_:
+  // ContactIncidence entries and the particle of each).
+  std::vector<int> boundary_particles_, boundary_entry_start_, boundary_entry_, boundary_entry_particle_;
+  std::vector<double> bx_start_, by_start_, br_start_, px_end_, py_end_;
+  std::vector<double> fast_fx_, fast_fy_, fast_tq_;
+  std::vector<std::pair<int, int>> candidate_scratch_;
+  std::size_t fast_bonds_ = 0, fast_contacts_ = 0, substeps_ = 0;
+  bool reclassify_pending_ = false;  // a heavy disk's critical step fell below the clumps
+  double light_step_s_ = 0;
   double time_s_ = 0;
   std::size_t steps_ = 0;
   std::array<double, 3> strain_{0, 0, 0};

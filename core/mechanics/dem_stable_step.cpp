@@ -46,17 +46,26 @@ void DemSolver::compute_stable_step() {
     body_kr_[b] = kr;
   }
   scale_masses();
-  double tmin = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static) reduction(min : tmin)
+  // (Multirate: the heavy and the light bodies' least critical steps apart.)
+  double tmin = std::numeric_limits<double>::infinity(), tmin_light = tmin, tmin_clump = tmin;
+  const bool multirate = !blight_.empty();
+#pragma omp parallel for schedule(static) reduction(min : tmin, tmin_light, tmin_clump)
   for (std::size_t b = 0; b < bx_.size(); ++b) {
     if (bfixed_[b]) continue;
-    if (body_kt_[b] > 0) tmin = std::min(tmin, std::sqrt(mass_[b] / body_kt_[b]));
-    if (body_kr_[b] > 0) tmin = std::min(tmin, std::sqrt(inertia_[b] / body_kr_[b]));
+    double t = std::numeric_limits<double>::infinity();
+    if (body_kt_[b] > 0) t = std::min(t, std::sqrt(mass_[b] / body_kt_[b]));
+    if (body_kr_[b] > 0) t = std::min(t, std::sqrt(inertia_[b] / body_kr_[b]));
+    if (multirate && blight_[b])
+      tmin_light = std::min(tmin_light, t);
+    else
+      tmin = std::min(tmin, t);
+    if (bclump_[b]) tmin_clump = std::min(tmin_clump, t);
   }
   // Bodies without contacts have no stiffness limit: cap the step (PFC also
   // bounds it kinematically), so that a lone contracting clump still moves and
   // free bodies cannot cross a contact skin between two checks of the list.
   stable_step_ms_ = std::min(spec_.safety_factor * tmin * 1e3, kLongestStep_ms);
+  if (multirate) fit_multirate_steps(tmin, tmin_clump, tmin_light);
 }
 
 }  // namespace fibrodem

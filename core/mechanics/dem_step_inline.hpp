@@ -11,6 +11,12 @@
 
 namespace fibrodem {
 
+// One block of contacts' kinematics, in and out of the law (per thread).
+struct DemSolver::BlockScratch {
+  alignas(64) double gap[kBlock], dn[kBlock], ds[kBlock], dth[kBlock], nx[kBlock], ny[kBlock];
+  alignas(64) double lp[kBlock], lq[kBlock], fn[kBlock], fs[kBlock], mt[kBlock];
+};
+
 // v += (F - alpha |F| sign(v)) / m * h for each degree of freedom (PFC's
 // local damping; alpha 0: plain Newton).
 [[gnu::always_inline]] inline void DemSolver::kick_body(std::size_t b, double h_s) {
