@@ -19,7 +19,6 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const Proces
   if (scene.output.checkpoint.every_ms > 0) unsupported.push_back("output.checkpoint");
   if (!scene.initial_state.from.empty()) unsupported.push_back("initial_state.from");
   if (scene.output.reentry.on) unsupported.push_back("output.reentry");
-  if (scene.output.snapshots.every_ms > 0) unsupported.push_back("output.snapshots");
   if (resuming) unsupported.push_back("fibrodem resume");
   return unsupported;
 }

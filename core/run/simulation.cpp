@@ -26,6 +26,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
     : scene(s), options(o), registry(std::move(r)) {
   ScopeTimer timer(set_up_seconds);
   if (options.ranks && options.ranks->size() > 1) ranks = options.ranks;
+  writes_folder = !scene.output.dir.empty();
   if (ranks && ranks->rank() != 0) {  // rank 0 writes and tells
     scene.output.dir.clear();
     options.console_log = options.progress = false;

@@ -92,6 +92,12 @@ struct Simulation::Impl : StepObserver {
   RankCells share;
   std::vector<char> owned;
   std::unique_ptr<HaloExchange> halo;
+  // Every cell, rank after rank, each rank's in increasing global order: where
+  // rank 0 places the values it gathers (RankGroup::gather's order).
+  std::vector<int> cells_in_rank_order;
+  // Whether the run writes a folder (rank 0 does; the other ranks, which
+  // write nothing, still take part in the gathers of what it writes).
+  bool writes_folder = false;
   // The biomarker tracker's cells split over ranks: this rank's own, in
   // share.owned's order; their V (and dV/dt) copied there from the per-cell
   // arrays at each step (V's buffer sized when the run starts).
@@ -136,6 +142,7 @@ struct Simulation::Impl : StepObserver {
   std::unique_ptr<BiomarkerTracker> make_tracker();
   std::size_t tracked_edge(std::size_t cell_edge) const;
   const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);
+  std::vector<double> voltage_of_every_cell();
   void gather_from_ranks();
 
   // ---- checkpoints (simulation_checkpoints.cpp) ----
