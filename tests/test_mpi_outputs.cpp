@@ -1,6 +1,7 @@
 // What a run split over MPI ranks writes beyond its biomarkers and traces
 // (docs/parallel.md): output.snapshots (rank 0 gathers every cell's V at
-// each snapshot time). With a fixed step and explicit coupling a split run
+// each snapshot time) and settle (the coupled tissue stepped split before
+// t = 0). With a fixed step and explicit coupling a split run
 // computes one process's potentials bit for bit (docs/parallel.md,
 // Results), so the reference here is the same scene run in one process:
 // the same bytes.
@@ -22,6 +23,14 @@ std::set<std::string> file_names(const fs::path& dir, const std::string& prefix)
   for (const auto& entry : fs::directory_iterator(dir))
     if (entry.path().filename().string().rfind(prefix, 0) == 0) names.insert(entry.path().filename().string());
   return names;
+}
+
+// The note summary.json gives of the settle (V's range at t = 0 and its last change).
+std::string settle_note(const fs::path& run) {
+  const json summary = json::parse(testing::read_file(run / "summary.json"));
+  for (const auto& note : summary["notes"])
+    if (note.get<std::string>().rfind("settle: the coupled tissue", 0) == 0) return note.get<std::string>();
+  return "";
 }
 
 }  // namespace
@@ -56,4 +65,33 @@ TEST_CASE("mpirun -n 2: output.snapshots of a split run are one process's files"
   // The premise: the frames show a moving wave, not a tissue at rest.
   CHECK(testing::read_file(dir / "one" / "snapshot_00003.000_ms.vtp") !=
         testing::read_file(dir / "one" / "snapshot_00004.000_ms.vtp"));
+}
+
+TEST_CASE("mpirun -n 2: settle split over ranks gives one process's outputs") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_settle");
+  json m = testing::split_sheet_planar_wave(12);
+  m["output"]["traces"][0]["every_ms"] = 0.5;
+  std::ofstream(dir / "unsettled.json") << m.dump();
+  m["settle"] = {{"ms", 20}};
+  std::ofstream(dir / "settled.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "settled.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "settled.json", dir / "two") == 0);
+  REQUIRE(testing::run_scene("", dir / "unsettled.json", dir / "unsettled") == 0);
+
+  for (const char* file : {"biomarkers.csv", "traces.csv"}) {
+    INFO(file);
+    CHECK(testing::read_file(dir / "two" / file) == testing::read_file(dir / "one" / file));
+  }
+  // V's range at t = 0 and its change over the settle's last tenth, measured
+  // over every rank's cells: one process's numbers.
+  const std::string note = settle_note(dir / "one");
+  REQUIRE_FALSE(note.empty());
+  CHECK(settle_note(dir / "two") == note);
+  // The premise: the settle changed where the cells start (the fibroblasts
+  // coupled to myocytes rest below their own rest, run/simulation_settle.cpp).
+  CHECK(testing::read_file(dir / "unsettled" / "traces.csv") != testing::read_file(dir / "one" / "traces.csv"));
 }

@@ -1,8 +1,8 @@
 // What `fibrodem run` can split over the ranks of an mpirun (docs/parallel.md):
 // the electrophysiology of one tissue with the adaptive method or a
 // fixed-step one (euler, rush_larsen, rush_larsen2), explicit or implicit
-// gap-junction coupling, its biomarkers, traces of states, snapshots, maps
-// and summary. Anything else stops on every rank with the message below before anything is written, instead of
+// gap-junction coupling, settle, its biomarkers, traces of states,
+// snapshots, maps and summary. Anything else stops on every rank with the message below before anything is written, instead of
 // N processes writing one folder. (`fibrodem sweep` spreads whole runs over
 // ranks.)
 #pragma once

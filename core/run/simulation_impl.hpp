@@ -16,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -130,6 +131,12 @@ struct Simulation::Impl : StepObserver {
   void build_lookup_tables();
   void start_from_initial_state();
   void settle_tissue();
+  struct SettledRange {
+    double V_min_mV = std::numeric_limits<double>::infinity(), V_max_mV = -V_min_mV, tail_change_mV = 0;
+    long long unfinite_cell = -1;  // the first cell whose V is not finite, if any
+    double unfinite_V_mV = 0;
+  };
+  SettledRange settled_range(const std::vector<double>& V_before_tail) const;  // (simulation_settle.cpp)
   void check_explicit_stability();
   void guard_resources();
 
