@@ -97,8 +97,10 @@ struct Simulation::Impl : StepObserver {
   // rank 0 places the values it gathers (RankGroup::gather's order).
   std::vector<int> cells_in_rank_order;
   // Whether the run writes a folder (rank 0 does; the other ranks, which
-  // write nothing, still take part in the gathers of what it writes).
+  // write nothing but their parts of the checkpoints, still take part in
+  // the gathers of what it writes), and the folder, known to every rank.
   bool writes_folder = false;
+  std::filesystem::path run_folder;
   // The biomarker tracker's cells split over ranks: this rank's own, in
   // share.owned's order; their V (and dV/dt) copied there from the per-cell
   // arrays at each step (V's buffer sized when the run starts).
@@ -159,6 +161,9 @@ struct Simulation::Impl : StepObserver {
   void resume();
   void restore(const CheckpointFields& f);
   void restore_beats(const CheckpointFields& f);
+  void check_checkpoint_ranks(const FoundCheckpoint& checkpoint) const;
+  void write_rank_checkpoint(const std::filesystem::path& file, const CheckpointFields& mine, bool kill);
+  CheckpointFields read_rank_checkpoint() const;
 
   // ---- outputs and progress (simulation_outputs.cpp) ----
   void open_outputs();

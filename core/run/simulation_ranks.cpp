@@ -57,7 +57,7 @@ BeatBiomarkers unpack(const double* v) {
 // rank's share of the cells.
 void Simulation::Impl::split_over_ranks() {
   if (!ranks) return;
-  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, plan, scene.solver.method, false);
+  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, plan, scene.solver.method);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", ranks->size(), unsupported));
   const CellPartition partition = partition_cells(tissue, ranks->size());
   share = rank_cells(tissue, partition, ranks->rank());
