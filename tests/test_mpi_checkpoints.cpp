@@ -103,6 +103,29 @@ TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the out
                                                   "takes a checkpoint of a run in one process") != std::string::npos);
 }
 
+TEST_CASE("mpirun -n 2: the adaptive method split, killed and resumed on 2 ranks, writes the same outputs") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  // Its step control and coupling CG reduce over the ranks (the same bits
+  // for the same count), and it starts afresh at each checkpoint, resumed
+  // or not: the same steps.
+  const auto dir = testing::scratch_dir("mpi_checkpoints_adaptive");
+  json m = testing::split_sheet_planar_wave(30);
+  m["solver"] = {{"method", "adaptive"}};
+  m["output"]["traces"][0]["every_ms"] = 0.25;
+  m["output"]["checkpoint"] = {{"every_ms", 10}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  const std::string two = testing::mpirun(2);
+  REQUIRE(run(two, dir / "scene.json", dir / "reference") == 0);
+  const long long steps = summary_of(dir / "reference")["steps"].get<long long>();
+  REQUIRE(run(two, dir / "scene.json", dir / "killed", "step:" + std::to_string(steps * 9 / 10)) != 0);
+  REQUIRE(resume(two, dir / "killed") == 0);
+  check_same_outputs(dir / "reference", dir / "killed");
+  CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"].get<double>() >= 10);
+}
+
 TEST_CASE("mpirun -n 2: a one-process checkpoint is resumed in one process only") {
   if (!testing::have_mpirun()) {
     MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
