@@ -51,20 +51,20 @@ void print_outputs(const std::filesystem::path& dir) {
 
 // Under mpirun with several ranks, a scene they cannot share stops on every
 // rank before anything is written, instead of N processes writing one folder.
-void refuse_split_over_ranks(const std::string& command, const Scene& scene, bool resuming) {
+void refuse_split_over_ranks(const std::string& command, const Scene& scene) {
   const int ranks = MpiRanks::launched_size();
   if (ranks <= 1) return;
-  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, resuming);
+  const std::vector<std::string> unsupported = unsupported_over_ranks(scene);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks(command, ranks, unsupported));
 }
 
 // The ranks of an mpirun that splits this run's tissue (null: one process).
-std::unique_ptr<MpiRanks> split_ranks() {
+std::unique_ptr<MpiRanks> split_ranks(const std::string& command) {
   const int launched = MpiRanks::launched_size();
   if (launched <= 1) return nullptr;
   auto ranks = std::make_unique<MpiRanks>();
   if (!ranks->launched())
-    throw std::runtime_error("`fibrodem run` under mpirun with " + std::to_string(launched) +
+    throw std::runtime_error("`fibrodem " + command + "` under mpirun with " + std::to_string(launched) +
                              " ranks: this fibrodem was built without MPI, so its ranks cannot share one tissue. "
                              "Nothing was written. Run it on one rank, or build with libopenmpi-dev "
                              "(scripts/setup.sh)");
@@ -80,8 +80,8 @@ int run_command(const RunArgs& args) {
     if (scene.output.dir.empty()) scene.output.dir = "out/" + scene.name;
     scene.output.overwrite = args.overwrite;
     if (args.no_report) scene.output.report = false;
-    refuse_split_over_ranks("run", scene, false);
-    const std::unique_ptr<MpiRanks> ranks = split_ranks();
+    refuse_split_over_ranks("run", scene);
+    const std::unique_ptr<MpiRanks> ranks = split_ranks("run");
     RunOptions options;
     options.console_log = !args.quiet;
     // A progress line only for a person at a terminal, never in logs or CI.
@@ -125,26 +125,44 @@ int resume_command(const ResumeArgs& args) {
     if (status == "completed") throw ManifestError("", "the run in " + args.dir + " completed: nothing to resume");
     if (!summary.contains("manifest")) throw ManifestError("", (dir / "summary.json").string() + " has no manifest");
     Scene scene = parse_scene(summary.at("manifest"));
-    refuse_split_over_ranks("resume", scene, true);
+    refuse_split_over_ranks("resume", scene);
     if (may_use_thread_team(scene, summary.at("manifest"))) bound_openmp_spinning();
     scene.output.dir = args.dir;
     scene.output.overwrite = true;  // its own files
     if (args.no_report) scene.output.report = false;
+    // Split over ranks: as many as the checkpoint's (Simulation::resume_from
+    // refuses another count); each rank reads its own part of it.
+    const std::unique_ptr<MpiRanks> ranks = split_ranks("resume");
+    const bool tells = !ranks || ranks->rank() == 0;
     RunOptions options;
     options.console_log = !args.quiet;
     options.progress = !args.quiet && isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
+    if (ranks) options.ranks = ranks->group();
     Simulation simulation(scene, nullptr, options);
     auto search = latest_good_checkpoint(dir);
-    for (const auto& skipped : search.skipped) std::cerr << "passed over " << skipped << "\n";
+    for (const auto& skipped : search.skipped)
+      if (tells) std::cerr << "passed over " << skipped << "\n";
     if (search.found) {
-      std::cerr << "resuming " << args.dir << " (" << status << ") from " << search.found->file.string() << "\n";
+      if (tells)
+        std::cerr << "resuming " << args.dir << " (" << status << ") from " << search.found->file.string() << "\n";
       simulation.resume_from(std::move(*search.found));
-    } else {
+    } else if (tells) {
       std::cerr << "no usable checkpoint in " << args.dir << ": the run starts again from t = 0\n";
     }
-    install_interrupt_handlers();
-    simulation.run();
-    print_outputs(args.dir);
+    if (!ranks) {
+      install_interrupt_handlers();
+      simulation.run();
+      print_outputs(args.dir);
+      return 0;
+    }
+    // A rank that fails ends the job: the others would wait for it.
+    try {
+      simulation.run();
+    } catch (const std::exception& e) {
+      std::cerr << "error: rank " << ranks->rank() << " of " << ranks->size() << ": " << e.what() << "\n";
+      ranks->abort(4);
+    }
+    if (ranks->rank() == 0) print_outputs(args.dir);
     return 0;
   });
 }

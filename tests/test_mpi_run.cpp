@@ -31,33 +31,36 @@ json strand_manifest() {
 
 TEST_CASE("over ranks: every unsupported part of a scene is named") {
   json m = strand_manifest();
-  // A fixed-step method with explicit coupling, biomarkers and traces of states: split.
-  CHECK(unsupported_over_ranks(parse_scene(m), false).empty());
-  m["solver"] = {{"method", "cvode"}};
+  // A fixed-step method with explicit coupling, biomarkers, traces of
+  // states, snapshots, settle and checkpoints: split.
+  m["output"]["snapshots"] = {{"every_ms", 1}};
   m["output"]["checkpoint"] = {{"every_ms", 1}};
-  const std::vector<std::string> named = unsupported_over_ranks(parse_scene(m), true);
-  REQUIRE(named.size() == 3);
+  m["settle"] = {{"ms", 10}};
+  CHECK(unsupported_over_ranks(parse_scene(m)).empty());
+  m["solver"] = {{"method", "cvode"}};
+  m["output"]["reentry"] = {{"every_ms", 1}};
+  const std::vector<std::string> named = unsupported_over_ranks(parse_scene(m));
+  REQUIRE(named.size() == 2);
   CHECK(named[0] == "solver.method \"cvode\" (only \"adaptive\" and the fixed-step methods run split)");
-  CHECK(named[1] == "output.checkpoint");
-  CHECK(named[2] == "fibrodem resume");
+  CHECK(named[1] == "output.reentry");
   const std::string message = refusal_over_ranks("run", 3, named);
   CHECK(message.find("`fibrodem run` under mpirun with 3 ranks") != std::string::npos);
-  CHECK(message.find("output.checkpoint; fibrodem resume") != std::string::npos);
+  CHECK(message.find("run split); output.reentry") != std::string::npos);
   CHECK(message.find("mpirun -n 3 fibrodem sweep") != std::string::npos);
   // auto chooses the adaptive method for a tissue (integrate/method_choice.hpp),
   // which runs split, as does the implicit coupling of a fixed step.
   json automatic = strand_manifest();
   automatic["tissue"]["cells"] = 40;
   automatic["solver"] = {{"method", "auto"}};
-  CHECK(unsupported_over_ranks(parse_scene(automatic), false).empty());
+  CHECK(unsupported_over_ranks(parse_scene(automatic)).empty());
   // On 16 cells or fewer it chooses CVODE, which does not.
   automatic["tissue"]["cells"] = 6;
-  const std::vector<std::string> chosen = unsupported_over_ranks(parse_scene(automatic), false);
+  const std::vector<std::string> chosen = unsupported_over_ranks(parse_scene(automatic));
   REQUIRE(chosen.size() == 1);
   CHECK(chosen[0].find("solver.method \"auto\", which chose \"cvode\" (name \"adaptive\"") == 0);
   json implicit = strand_manifest();
   implicit["coupling"] = {{"scheme", "implicit"}};
-  CHECK(unsupported_over_ranks(parse_scene(implicit), false).empty());
+  CHECK(unsupported_over_ranks(parse_scene(implicit)).empty());
 }
 
 TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
@@ -67,7 +70,7 @@ TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
   }
   const auto dir = testing::scratch_dir("mpi_run_refused");
   json m = strand_manifest();
-  m["output"]["checkpoint"] = {{"every_ms", 1}};
+  m["solver"] = {{"method", "cvode"}};
   std::ofstream(dir / "scene.json") << m.dump();
   const std::string out = (dir / "out").string();
   CHECK(testing::run_fibrodem(testing::mpirun(2), "run " + (dir / "scene.json").string() + " --out " + out, dir / "log.txt") != 0);
@@ -90,6 +93,6 @@ TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
   CHECK(testing::run_fibrodem(testing::mpirun(2), "resume " + out, dir / "resume.txt") != 0);
   const std::string resume_log = testing::read_file(dir / "resume.txt");
   CHECK(count_of(resume_log, "`fibrodem resume` under mpirun with 2 ranks") == 2);
-  CHECK(resume_log.find("fibrodem resume.") != std::string::npos);
+  CHECK(resume_log.find("methods run split). Nothing was written") != std::string::npos);
   CHECK(testing::read_file(dir / "out" / "summary.json") == summary);
 }

@@ -32,6 +32,10 @@ fs::path checkpoint_path(const fs::path& run_dir, double t_ms) {
   return run_dir / kFolder / fmt::format("t_{:012d}us{}", std::llround(t_ms * 1000.0), kSuffix);
 }
 
+fs::path rank_checkpoint_path(const fs::path& checkpoint, int rank) {
+  return checkpoint.parent_path() / (checkpoint.stem().string() + ".rank" + std::to_string(rank) + kSuffix);
+}
+
 std::vector<fs::path> list_checkpoints(const fs::path& run_dir) {
   std::vector<fs::path> files;
   std::error_code ec;
@@ -48,7 +52,17 @@ void prune_checkpoints(const fs::path& run_dir, int keep) {
   for (const auto& entry : fs::directory_iterator(run_dir / kFolder, ec))
     if (entry.path().extension() == ".tmp") fs::remove(entry.path(), ec);
   const auto files = list_checkpoints(run_dir);
-  for (std::size_t i = static_cast<std::size_t>(std::max(keep, 1)); i < files.size(); ++i) fs::remove(files[i]);
+  std::vector<std::string> removed;  // their stems, t_<time>us
+  for (std::size_t i = static_cast<std::size_t>(std::max(keep, 1)); i < files.size(); ++i) {
+    fs::remove(files[i]);
+    removed.push_back(files[i].stem().string() + ".rank");
+  }
+  if (removed.empty()) return;
+  for (const auto& entry : fs::directory_iterator(run_dir / kFolder, ec)) {
+    const std::string name = entry.path().filename().string();
+    for (const auto& stem : removed)
+      if (name.rfind(stem, 0) == 0) fs::remove(entry.path(), ec);
+  }
 }
 
 void clear_checkpoints(const fs::path& run_dir) {

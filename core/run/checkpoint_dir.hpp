@@ -12,9 +12,14 @@
 namespace fibrodem {
 
 std::filesystem::path checkpoint_path(const std::filesystem::path& run_dir, double t_ms);
+// A run split over MPI ranks (docs/parallel.md): rank r > 0's part of the
+// checkpoint `checkpoint` (checkpoint_path's), beside it:
+// t_<time in us>us.rank<r>.ckpt. list_checkpoints does not list these;
+// prune_checkpoints removes them with their checkpoint.
+std::filesystem::path rank_checkpoint_path(const std::filesystem::path& checkpoint, int rank);
 // The checkpoint files of a run, newest (latest time) first.
 std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& run_dir);
-// Removes all but the newest `keep`.
+// Removes all but the newest `keep` (and the rank parts of those removed).
 void prune_checkpoints(const std::filesystem::path& run_dir, int keep);
 // Removes them all (a new run into a folder that held another).
 void clear_checkpoints(const std::filesystem::path& run_dir);

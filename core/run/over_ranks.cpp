@@ -4,8 +4,7 @@
 
 namespace fibrodem {
 
-std::vector<std::string> unsupported_over_ranks(const Scene& scene, const ProcessPlan& plan, const std::string& method,
-                                                bool resuming) {
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, const ProcessPlan& plan, const std::string& method) {
   std::vector<std::string> unsupported;
   for (const char* effect : {"mechanics", "contraction", "mechano_electric_feedback"})
     if (plan.has(effect)) unsupported.push_back(std::string("effect \"") + effect + "\"");
@@ -15,21 +14,17 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const Proces
                                     "\" (name \"adaptive\" or a fixed-step method: euler, rush_larsen, rush_larsen2)"
                               : "solver.method \"" + method +
                                     "\" (only \"adaptive\" and the fixed-step methods run split)");
-  if (scene.settle.ms > 0) unsupported.push_back("settle (the coupled tissue settled before t = 0)");
-  if (scene.output.checkpoint.every_ms > 0) unsupported.push_back("output.checkpoint");
   if (!scene.initial_state.from.empty()) unsupported.push_back("initial_state.from");
   if (scene.output.reentry.on) unsupported.push_back("output.reentry");
-  if (scene.output.snapshots.every_ms > 0) unsupported.push_back("output.snapshots");
-  if (resuming) unsupported.push_back("fibrodem resume");
   return unsupported;
 }
 
-std::vector<std::string> unsupported_over_ranks(const Scene& scene, bool resuming) {
+std::vector<std::string> unsupported_over_ranks(const Scene& scene) {
   const Tissue tissue = scene.tissue->build(scene.seed);
   const ProcessPlan plan = plan_processes(scene, tissue);
   const std::string method =
       scene.solver.method == "auto" ? choose_method(scene.solver, tissue.cell_count()).solver.method : scene.solver.method;
-  return unsupported_over_ranks(scene, plan, method, resuming);
+  return unsupported_over_ranks(scene, plan, method);
 }
 
 std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported) {

@@ -26,6 +26,8 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
     : scene(s), options(o), registry(std::move(r)) {
   ScopeTimer timer(set_up_seconds);
   if (options.ranks && options.ranks->size() > 1) ranks = options.ranks;
+  run_folder = scene.output.dir;
+  writes_folder = !run_folder.empty();
   if (ranks && ranks->rank() != 0) {  // rank 0 writes and tells
     scene.output.dir.clear();
     options.console_log = options.progress = false;
@@ -74,8 +76,6 @@ void Simulation::Impl::run() {
   if (status != "set up")
     throw std::logic_error("Simulation::run: this simulation has run already (status \"" + status +
                            "\"); make a new Simulation to run the scene again");
-  if (ranks && resume_point)
-    throw std::runtime_error(refusal_over_ranks("resume", ranks->size(), {"fibrodem resume"}));
   started = last_progress = last_flush = std::chrono::steady_clock::now();
   status = "running";
   try {
@@ -279,7 +279,10 @@ Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> regis
 Simulation::~Simulation() = default;
 
 void Simulation::run() { impl_->run(); }
-void Simulation::resume_from(FoundCheckpoint checkpoint) { impl_->resume_point = std::move(checkpoint); }
+void Simulation::resume_from(FoundCheckpoint checkpoint) {
+  impl_->check_checkpoint_ranks(checkpoint);
+  impl_->resume_point = std::move(checkpoint);
+}
 const Tissue& Simulation::tissue() const { return impl_->tissue; }
 const ProcessPlan& Simulation::processes() const { return impl_->plan; }
 const std::vector<BeatBiomarkers>& Simulation::biomarkers() const { return impl_->beats; }

@@ -54,7 +54,9 @@ class Simulation {
   void run();
   // Makes run() continue from a checkpoint of this scene written into its
   // output folder (fibrodem resume): states, trackers, traces and files are
-  // taken back to the checkpoint's time. Call before run().
+  // taken back to the checkpoint's time. Call before run(). A checkpoint
+  // written over another number of MPI ranks than this run's (one process:
+  // 1) is refused here, with CheckpointError naming both counts.
   void resume_from(FoundCheckpoint checkpoint);
 
   const Tissue& tissue() const;

@@ -271,6 +271,10 @@ void Simulation::Impl::start_from_initial_state() {
   const std::string path = "initial_state.from";
   try {
     const FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
+    if (found.fields.has("run.mpi_ranks"))  // (its cells are rank 0's share only)
+      throw CheckpointError(fmt::format("checkpoint {} was written by a run split over {} MPI ranks; initial_state.from "
+                                        "takes a checkpoint of a run in one process",
+                                        found.file.string(), found.fields.integer("run.mpi_ranks")));
     try {
       load_cell_states(system, found.fields, false);
     } catch (const CheckpointError& e) {

@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 void Simulation::Impl::plan_checkpoints() {
   checkpoint_every_ms = scene.output.checkpoint.every_ms;
   if (checkpoint_every_ms <= 0) return;
-  if (scene.output.dir.empty()) {
+  if (!writes_folder) {  // (every rank of a split run knows rank 0's folder)
     checkpoint_every_ms = 0;
     return;
   }
@@ -33,7 +33,7 @@ void Simulation::Impl::plan_checkpoints() {
   }
   plan.notes.push_back(fmt::format("checkpoints every {:g} ms, the newest {} kept, in {}", checkpoint_every_ms,
                                    scene.output.checkpoint.keep,
-                                   (fs::path(scene.output.dir) / "checkpoints").string()));
+                                   (run_folder / "checkpoints").string()));
   if (const char* kill = std::getenv("FIBRODEM_TEST_KILL")) {
     long long n = 0;
     if (std::sscanf(kill, "step:%lld", &n) == 1) kill_at_step = n;
@@ -61,14 +61,24 @@ CheckpointFields Simulation::Impl::checkpoint_fields(double t) {
 }
 
 // Every output up to t on disk first (pictures included), then the state.
+// Split over ranks, each rank's own cells, trackers, traces and beats:
+// rank r > 0 writes them to its part (rank_checkpoint_path), rank 0 to the
+// checkpoint itself, last, with the rank count.
 void Simulation::Impl::write_checkpoint(double t) {
   ScopeTimer timer(output_seconds);
   writer.finish();
-  const fs::path file = checkpoint_path(out, t);
+  const fs::path file = checkpoint_path(run_folder, t);
   fs::create_directories(file.parent_path());
   ++checkpoints_written;
   const bool kill = checkpoints_written == kill_in_checkpoint;
-  write_checkpoint_file(file, checkpoint_fields(t), [kill] {
+  CheckpointFields fields = checkpoint_fields(t);
+  if (ranks) {
+    fields.put_integer("run.mpi_ranks", ranks->size());
+    fields.put_integer("run.mpi_rank", ranks->rank());
+    write_rank_checkpoint(file, fields, kill);
+    if (ranks->rank() != 0) return;
+  }
+  write_checkpoint_file(file, fields, [kill] {
     if (kill) std::raise(SIGKILL);
   });
   prune_checkpoints(out, scene.output.checkpoint.keep);
@@ -77,14 +87,64 @@ void Simulation::Impl::write_checkpoint(double t) {
   write_summary(out, summary());
 }
 
+// Rank r > 0 writes its part; every rank then waits for every part (rank 0
+// gathers a word from each once written), so that the checkpoint rank 0
+// writes after exists only with every part whole beside it.
+void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const CheckpointFields& mine, bool kill) {
+  const int rank = ranks->rank();
+  if (rank != 0) {
+    write_checkpoint_file(rank_checkpoint_path(file, rank), mine, [kill] {
+      if (kill) std::raise(SIGKILL);
+    });
+  }
+  ranks->gather({static_cast<double>(rank)});
+}
+
+// The number of ranks a checkpoint was written over (1: one process, whose
+// checkpoints carry no count) must be this run's: each rank holds its own
+// cells' states, cut by a partition that depends on the count.
+void Simulation::Impl::check_checkpoint_ranks(const FoundCheckpoint& checkpoint) const {
+  const long long written = checkpoint.fields.has("run.mpi_ranks") ? checkpoint.fields.integer("run.mpi_ranks") : 1;
+  const long long here = ranks ? ranks->size() : 1;
+  if (written == here) return;
+  auto over = [](long long n) {
+    return n == 1 ? std::string("in one process") : "split over " + std::to_string(n) + " MPI ranks";
+  };
+  throw CheckpointError(fmt::format(
+      "checkpoint {} was written by a run {}; this resume runs {}: resume it {} (the same number of ranks: "
+      "each rank's part holds its own cells)",
+      checkpoint.file.string(), over(written), over(here),
+      written == 1 ? std::string("without mpirun (or with mpirun -n 1)") : fmt::format("with mpirun -n {}", written)));
+}
+
+// Rank r > 0's part of the checkpoint resumed from (rank 0's is the
+// checkpoint itself): of the same time, written by this rank.
+CheckpointFields Simulation::Impl::read_rank_checkpoint() const {
+  const CheckpointFields& common = resume_point->fields;
+  const fs::path file = rank_checkpoint_path(resume_point->file, ranks->rank());
+  CheckpointFields part;
+  try {
+    part = read_checkpoint_file(file);
+  } catch (const CheckpointError& e) {
+    throw CheckpointError(fmt::format("checkpoint {}: rank {}'s part cannot be read: {}", resume_point->file.string(),
+                                      ranks->rank(), e.what()));
+  }
+  if (part.integer("run.mpi_rank") != ranks->rank() || part.integer("run.mpi_ranks") != ranks->size() ||
+      part.number("run.time_ms") != common.number("run.time_ms"))
+    throw CheckpointError(fmt::format("{} is not rank {} of {}'s part of the checkpoint at t = {:g} ms", file.string(),
+                                      ranks->rank(), ranks->size(), common.number("run.time_ms")));
+  return part;
+}
+
 void Simulation::Impl::resume() {
   try {
-    restore(resume_point->fields);
+    if (ranks && ranks->rank() != 0) restore(read_rank_checkpoint());
+    else restore(resume_point->fields);
   } catch (const CheckpointError& e) {
     throw CheckpointError("checkpoint " + resume_point->file.string() + " does not fit this run: " + e.what());
   }
   for (const auto& skipped : resume_point->skipped) log->warn("resume: passed over {}", skipped);
-  resumed_from = {{"file", fs::relative(resume_point->file, out).string()}, {"time_ms", start_ms}};
+  resumed_from = {{"file", fs::relative(resume_point->file, run_folder).string()}, {"time_ms", start_ms}};
   log->info("resumed from checkpoint {} at t = {:g} ms", resume_point->file.string(), start_ms);
 }
 
@@ -103,7 +163,8 @@ void Simulation::Impl::restore(const CheckpointFields& f) {
   restore_beats(f);
   load_cell_states(system, f, true);
   tracker->load(f);
-  traces.load(f, out.empty() ? fs::path() : out / "traces.csv");
+  // (Split over ranks, traces.csv is written whole at the end.)
+  traces.load(f, out.empty() || ranks ? fs::path() : out / "traces.csv");
   if (!out.empty())
     biomarkers_csv = CsvWriter::resume(out / "biomarkers.csv", static_cast<std::uintmax_t>(f.integer("run.biomarkers_csv_bytes")));
   if (mechanics) mechanics->restore(f, start_ms);

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,6 +93,14 @@ struct Simulation::Impl : StepObserver {
   RankCells share;
   std::vector<char> owned;
   std::unique_ptr<HaloExchange> halo;
+  // Every cell, rank after rank, each rank's in increasing global order: where
+  // rank 0 places the values it gathers (RankGroup::gather's order).
+  std::vector<int> cells_in_rank_order;
+  // Whether the run writes a folder (rank 0 does; the other ranks, which
+  // write nothing but their parts of the checkpoints, still take part in
+  // the gathers of what it writes), and the folder, known to every rank.
+  bool writes_folder = false;
+  std::filesystem::path run_folder;
   // The biomarker tracker's cells split over ranks: this rank's own, in
   // share.owned's order; their V (and dV/dt) copied there from the per-cell
   // arrays at each step (V's buffer sized when the run starts).
@@ -124,6 +133,12 @@ struct Simulation::Impl : StepObserver {
   void build_lookup_tables();
   void start_from_initial_state();
   void settle_tissue();
+  struct SettledRange {
+    double V_min_mV = std::numeric_limits<double>::infinity(), V_max_mV = -V_min_mV, tail_change_mV = 0;
+    long long unfinite_cell = -1;  // the first cell whose V is not finite, if any
+    double unfinite_V_mV = 0;
+  };
+  SettledRange settled_range(const std::vector<double>& V_before_tail) const;  // (simulation_settle.cpp)
   void check_explicit_stability();
   void guard_resources();
 
@@ -136,6 +151,7 @@ struct Simulation::Impl : StepObserver {
   std::unique_ptr<BiomarkerTracker> make_tracker();
   std::size_t tracked_edge(std::size_t cell_edge) const;
   const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);
+  std::vector<double> voltage_of_every_cell();
   void gather_from_ranks();
 
   // ---- checkpoints (simulation_checkpoints.cpp) ----
@@ -145,6 +161,9 @@ struct Simulation::Impl : StepObserver {
   void resume();
   void restore(const CheckpointFields& f);
   void restore_beats(const CheckpointFields& f);
+  void check_checkpoint_ranks(const FoundCheckpoint& checkpoint) const;
+  void write_rank_checkpoint(const std::filesystem::path& file, const CheckpointFields& mine, bool kill);
+  CheckpointFields read_rank_checkpoint() const;
 
   // ---- outputs and progress (simulation_outputs.cpp) ----
   void open_outputs();

@@ -116,18 +116,26 @@ void Simulation::Impl::write_biomarker_row(const BeatBiomarkers& b) {
 }
 
 
+// Split over ranks, every rank takes part (rank 0 gathers every cell's V)
+// and rank 0 draws the snapshot as one process would.
 void Simulation::Impl::snapshot_if_due(double t) {
   const SnapshotSpec& snap = scene.output.snapshots;
-  if (out.empty() || snap.every_ms <= 0) return;
+  if (!writes_folder || snap.every_ms <= 0) return;
   const double next = snap.from_ms + static_cast<double>(snapshots_taken) * snap.every_ms;
   if (t >= next - kTimeEpsilon_ms) {
+    ++snapshots_taken;
+    std::vector<double> every_cell;
+    if (ranks) {
+      every_cell = voltage_of_every_cell();
+      if (ranks->rank() != 0) return;
+    }
     // Drawn on the writer's thread while the run goes on.
     // (The tissue itself is shared with the frame, not copied: the writer
     // finishes before the simulation, and so the tissue, goes.)
     const std::shared_ptr<const Tissue> built(std::shared_ptr<void>(), &tissue);
-    auto frame = std::make_shared<SnapshotFrame>(take_snapshot(t, snap, built, mechanics_solver(), system.V_mV));
+    auto frame = std::make_shared<SnapshotFrame>(
+        take_snapshot(t, snap, built, mechanics_solver(), ranks ? every_cell : system.V_mV));
     write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.output.vtk_format, scene.name, *frame); });
-    ++snapshots_taken;
   }
 }
 

@@ -57,12 +57,16 @@ BeatBiomarkers unpack(const double* v) {
 // rank's share of the cells.
 void Simulation::Impl::split_over_ranks() {
   if (!ranks) return;
-  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, plan, scene.solver.method, false);
+  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, plan, scene.solver.method);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", ranks->size(), unsupported));
   const CellPartition partition = partition_cells(tissue, ranks->size());
   share = rank_cells(tissue, partition, ranks->rank());
   owned.assign(tissue.cell_count(), 0);
   for (int cell : share.owned) owned[static_cast<std::size_t>(cell)] = 1;
+  cells_in_rank_order.clear();
+  cells_in_rank_order.reserve(tissue.cell_count());
+  for (int r = 0; r < ranks->size(); ++r)
+    for (int cell : partition.cells_of(r)) cells_in_rank_order.push_back(cell);
   const std::vector<std::size_t> sizes = partition.sizes();
   plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
@@ -164,6 +168,28 @@ void Simulation::Impl::refuse_traced_outputs() const {
                               "\"" + var + "\" is an output of model " + pop.info().name +
                                   ", which a run split over MPI ranks cannot trace yet (states can be traced)");
       }
+}
+
+// V of every cell, by tissue number, on rank 0 (each rank's own cells'
+// values gathered, their bytes unchanged); empty on the other ranks.
+// Collective: every rank calls it at the same time. (At snapshot times,
+// not every step.)
+std::vector<double> Simulation::Impl::voltage_of_every_cell() {
+  std::vector<double> mine(share.owned.size());
+  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = system.V_mV[static_cast<std::size_t>(share.owned[i])];
+  const std::vector<std::vector<double>> by_rank = ranks->gather(mine);
+  if (ranks->rank() != 0) return {};
+  std::vector<double> V(tissue.cell_count(), 0.0);
+  std::size_t k = 0;
+  for (const auto& values : by_rank)
+    for (double v : values) {
+      if (k == cells_in_rank_order.size()) break;
+      V[static_cast<std::size_t>(cells_in_rank_order[k++])] = v;
+    }
+  if (k != cells_in_rank_order.size())
+    throw std::logic_error(fmt::format("split over ranks: rank 0 gathered V of {} cells, not the tissue's {}", k,
+                                       cells_in_rank_order.size()));
+  return V;
 }
 
 // Rank 0 takes every rank's beats (in one process's order: by beat, then

@@ -1,0 +1,151 @@
+// Checkpoints of a run split over MPI ranks and `mpirun -n N fibrodem
+// resume` (docs/parallel.md, docs/reference/outputs.md): each rank writes
+// its own cells' part, rank 0 the checkpoint with the rank count, last. A
+// split run killed (SIGKILL, every rank at the same step, or halfway
+// through writing a rank's part) and resumed on as many ranks writes the
+// same traces.csv and biomarkers.csv as the run never stopped; another
+// rank count is refused, naming both. The reference is the uninterrupted
+// run, and, since a fixed-step explicit run split over ranks computes one
+// process's potentials bit for bit, one process's resumed run too.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "support/mpi_launch.hpp"
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+namespace fs = std::filesystem;
+
+namespace {
+
+json summary_of(const fs::path& dir) { return json::parse(testing::read_file(dir / "summary.json")); }
+
+// `fibrodem run` of the scene under the launcher, killed as FIBRODEM_TEST_KILL
+// says (empty: not killed).
+int run(const std::string& launcher, const fs::path& scene, const fs::path& out, const std::string& kill = "") {
+  return testing::run_scene((kill.empty() ? "" : "FIBRODEM_TEST_KILL=" + kill + " ") + launcher, scene, out);
+}
+
+// `fibrodem resume out` under the launcher; its output in out.resume.txt.
+int resume(const std::string& launcher, const fs::path& out) {
+  return testing::run_fibrodem(launcher, "resume --quiet --no-report " + out.string(), out.string() + ".resume.txt");
+}
+
+void check_same_outputs(const fs::path& reference, const fs::path& resumed) {
+  const std::string traces = testing::read_file(reference / "traces.csv");
+  REQUIRE(traces.size() > 1000);
+  CHECK(testing::read_file(resumed / "traces.csv") == traces);
+  CHECK(testing::read_file(resumed / "biomarkers.csv") == testing::read_file(reference / "biomarkers.csv"));
+  const json a = summary_of(reference), b = summary_of(resumed);
+  CHECK(b["status"] == "completed");
+  CHECK(b["steps"] == a["steps"]);
+}
+
+}  // namespace
+
+TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the outputs of one never stopped") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_checkpoints");
+  // The wave crosses the sheet within its first 4 ms; 30 ms of rush_larsen
+  // at 0.01 ms is 3000 steps, checkpoints at 10 and 20 ms (steps 1000 and 2000).
+  json m = testing::split_sheet_planar_wave(30);
+  m["output"]["traces"][0]["every_ms"] = 0.25;
+  m["output"]["checkpoint"] = {{"every_ms", 10}, {"keep", 1}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  const std::string two = testing::mpirun(2);
+
+  REQUIRE(run(two, dir / "scene.json", dir / "reference") == 0);
+  REQUIRE(summary_of(dir / "reference")["steps"] == 3000);
+
+  // Killed at step 2500, after the checkpoint at 20 ms.
+  REQUIRE(run(two, dir / "scene.json", dir / "killed", "step:2500") != 0);
+  REQUIRE(summary_of(dir / "killed")["status"] == "running");
+  const fs::path checkpoints = dir / "killed" / "checkpoints";
+  CHECK(fs::exists(checkpoints / "t_000000020000us.ckpt"));
+  CHECK(fs::exists(checkpoints / "t_000000020000us.rank1.ckpt"));
+  CHECK_FALSE(fs::exists(checkpoints / "t_000000010000us.rank1.ckpt"));  // pruned with its checkpoint (keep 1)
+  const std::string killed_summary = testing::read_file(dir / "killed" / "summary.json");
+
+  // In one process, or on 3 ranks: refused, naming both counts, the folder as it was.
+  CHECK(resume("", dir / "killed") != 0);
+  std::string log = testing::read_file(dir / "killed.resume.txt");
+  CHECK(log.find("was written by a run split over 2 MPI ranks; this resume runs in one process: resume it with "
+                 "mpirun -n 2") != std::string::npos);
+  CHECK(resume(testing::mpirun(3), dir / "killed") != 0);
+  log = testing::read_file(dir / "killed.resume.txt");
+  CHECK(log.find("split over 2 MPI ranks; this resume runs split over 3 MPI ranks") != std::string::npos);
+  CHECK(testing::read_file(dir / "killed" / "summary.json") == killed_summary);
+
+  REQUIRE(resume(two, dir / "killed") == 0);
+  check_same_outputs(dir / "reference", dir / "killed");
+  CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"] == 20);
+  CHECK(summary_of(dir / "killed")["mpi_ranks"] == 2);
+
+  // Killed halfway through writing rank 1's part of the second checkpoint:
+  // rank 0 had not written the checkpoint, so the resume takes the first.
+  REQUIRE(run(two, dir / "scene.json", dir / "killed_writing", "checkpoint:2") != 0);
+  CHECK_FALSE(fs::exists(dir / "killed_writing" / "checkpoints" / "t_000000020000us.ckpt"));
+  REQUIRE(resume(two, dir / "killed_writing") == 0);
+  check_same_outputs(dir / "reference", dir / "killed_writing");
+  CHECK(summary_of(dir / "killed_writing")["resumed_from"]["time_ms"] == 10);
+
+  // initial_state.from takes one process's checkpoint: a split one (rank 0's cells only) is refused.
+  json from = testing::split_sheet_planar_wave(5);
+  from["initial_state"] = {{"from", (dir / "killed").string()}};
+  std::ofstream(dir / "from.json") << from.dump();
+  CHECK(run("", dir / "from.json", dir / "from") != 0);
+  CHECK(testing::read_file(dir / "from.txt").find("was written by a run split over 2 MPI ranks; initial_state.from "
+                                                  "takes a checkpoint of a run in one process") != std::string::npos);
+}
+
+TEST_CASE("mpirun -n 2: the adaptive method split, killed and resumed on 2 ranks, writes the same outputs") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  // Its step control and coupling CG reduce over the ranks (the same bits
+  // for the same count), and it starts afresh at each checkpoint, resumed
+  // or not: the same steps.
+  const auto dir = testing::scratch_dir("mpi_checkpoints_adaptive");
+  json m = testing::split_sheet_planar_wave(30);
+  m["solver"] = {{"method", "adaptive"}};
+  m["output"]["traces"][0]["every_ms"] = 0.25;
+  m["output"]["checkpoint"] = {{"every_ms", 10}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  const std::string two = testing::mpirun(2);
+  REQUIRE(run(two, dir / "scene.json", dir / "reference") == 0);
+  const long long steps = summary_of(dir / "reference")["steps"].get<long long>();
+  REQUIRE(run(two, dir / "scene.json", dir / "killed", "step:" + std::to_string(steps * 9 / 10)) != 0);
+  REQUIRE(resume(two, dir / "killed") == 0);
+  check_same_outputs(dir / "reference", dir / "killed");
+  CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"].get<double>() >= 10);
+}
+
+TEST_CASE("mpirun -n 2: a one-process checkpoint is resumed in one process only") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_checkpoints_one");
+  json m = testing::split_sheet_planar_wave(20);
+  m["output"]["traces"][0]["every_ms"] = 0.25;
+  m["output"]["checkpoint"] = {{"every_ms", 10}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(run(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
+  REQUIRE(run("", dir / "scene.json", dir / "killed", "step:1500") != 0);
+  const std::string killed_summary = testing::read_file(dir / "killed" / "summary.json");
+
+  CHECK(resume(testing::mpirun(2), dir / "killed") != 0);
+  CHECK(testing::read_file(dir / "killed.resume.txt")
+            .find("was written by a run in one process; this resume runs split over 2 MPI ranks: resume it "
+                  "without mpirun") != std::string::npos);
+  CHECK(testing::read_file(dir / "killed" / "summary.json") == killed_summary);
+  // Resumed in one process: the 2-rank run's bytes (one process's, bit for bit).
+  REQUIRE(resume("", dir / "killed") == 0);
+  check_same_outputs(dir / "two", dir / "killed");
+}

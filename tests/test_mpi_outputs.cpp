@@ -1,0 +1,97 @@
+// What a run split over MPI ranks writes beyond its biomarkers and traces
+// (docs/parallel.md): output.snapshots (rank 0 gathers every cell's V at
+// each snapshot time) and settle (the coupled tissue stepped split before
+// t = 0). With a fixed step and explicit coupling a split run
+// computes one process's potentials bit for bit (docs/parallel.md,
+// Results), so the reference here is the same scene run in one process:
+// the same bytes.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "support/mpi_launch.hpp"
+#include "support/scenes.hpp"
+
+using namespace fibrodem;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::set<std::string> file_names(const fs::path& dir, const std::string& prefix) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().filename().string().rfind(prefix, 0) == 0) names.insert(entry.path().filename().string());
+  return names;
+}
+
+// The note summary.json gives of the settle (V's range at t = 0 and its last change).
+std::string settle_note(const fs::path& run) {
+  const json summary = json::parse(testing::read_file(run / "summary.json"));
+  for (const auto& note : summary["notes"])
+    if (note.get<std::string>().rfind("settle: the coupled tissue", 0) == 0) return note.get<std::string>();
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("mpirun -n 2: output.snapshots of a split run are one process's files") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_snapshots");
+  // The wave starts at 2 ms and crosses the sheet's 1.5 mm in about 1.4 ms
+  // (106 cm/s): the frames at 3 and 4 ms catch it mid-sheet, where V
+  // differs from cell to cell (a cell placed wrong would show).
+  json m = testing::split_sheet_planar_wave(5);
+  m["output"]["snapshots"] = {{"every_ms", 1}, {"from_ms", 2}, {"png", true}, {"vtk", true}};
+  m["output"]["vtk_format"] = "xml";
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "scene.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
+  CHECK(json::parse(testing::read_file(dir / "two" / "summary.json"))["mpi_ranks"] == 2);
+
+  const std::set<std::string> frames = file_names(dir / "one", "snapshot_");
+  // 2, 3, 4 and 5 ms, each a PNG and a VTK XML file.
+  REQUIRE(frames.size() == 8);
+  CHECK(frames.count("snapshot_00003.000_ms.vtp") == 1);
+  CHECK(file_names(dir / "two", "snapshot_") == frames);
+  for (const auto& name : frames) {
+    INFO(name);
+    CHECK(testing::read_file(dir / "two" / name) == testing::read_file(dir / "one" / name));
+  }
+  CHECK(testing::read_file(dir / "two" / "snapshots.pvd") == testing::read_file(dir / "one" / "snapshots.pvd"));
+  // The premise: the frames show a moving wave, not a tissue at rest.
+  CHECK(testing::read_file(dir / "one" / "snapshot_00003.000_ms.vtp") !=
+        testing::read_file(dir / "one" / "snapshot_00004.000_ms.vtp"));
+}
+
+TEST_CASE("mpirun -n 2: settle split over ranks gives one process's outputs") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_settle");
+  json m = testing::split_sheet_planar_wave(12);
+  m["output"]["traces"][0]["every_ms"] = 0.5;
+  std::ofstream(dir / "unsettled.json") << m.dump();
+  m["settle"] = {{"ms", 20}};
+  std::ofstream(dir / "settled.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "settled.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "settled.json", dir / "two") == 0);
+  REQUIRE(testing::run_scene("", dir / "unsettled.json", dir / "unsettled") == 0);
+
+  for (const char* file : {"biomarkers.csv", "traces.csv"}) {
+    INFO(file);
+    CHECK(testing::read_file(dir / "two" / file) == testing::read_file(dir / "one" / file));
+  }
+  // V's range at t = 0 and its change over the settle's last tenth, measured
+  // over every rank's cells: one process's numbers.
+  const std::string note = settle_note(dir / "one");
+  REQUIRE_FALSE(note.empty());
+  CHECK(settle_note(dir / "two") == note);
+  // The premise: the settle changed where the cells start (the fibroblasts
+  // coupled to myocytes rest below their own rest, run/simulation_settle.cpp).
+  CHECK(testing::read_file(dir / "unsettled" / "traces.csv") != testing::read_file(dir / "one" / "traces.csv"));
+}
