@@ -15,8 +15,10 @@
 #include <vector>
 
 #include "coupling/gap_junction.hpp"
+#include "support/coupling_reference.hpp"
 
 using namespace fibrodem;
+using namespace fibrodem::test;
 
 namespace {
 
@@ -54,43 +56,6 @@ std::vector<double> potentials(std::size_t n) {
   std::vector<double> V;
   for (std::size_t i = 0; i < n; ++i) V.push_back(i % 7 < 3 ? 20.0 - static_cast<double>(i % 5) : -84.0 + 0.3 * static_cast<double>(i % 11));
   return V;
-}
-
-// L [nS] built densely from the tissue's edges (seed paper eq. 4-5: D_m
-// between two myocytes, D_f for a pair with a fibroblast), the reference.
-Eigen::MatrixXd dense_laplacian(const Tissue& tissue, double D_m_nS, double D_f_nS) {
-  const auto n = static_cast<Eigen::Index>(tissue.cell_count());
-  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
-  for (const auto& edge : tissue.cell_edges) {
-    const bool both_myocytes =
-        tissue.type[edge.first] == CellType::myocyte && tissue.type[edge.second] == CellType::myocyte;
-    const double g = both_myocytes ? D_m_nS : D_f_nS;
-    L(edge.first, edge.first) += g;
-    L(edge.second, edge.second) += g;
-    L(edge.first, edge.second) -= g;
-    L(edge.second, edge.first) -= g;
-  }
-  return L;
-}
-
-// x = (C/dt + L)^-1 (C/dt) V by a dense LDLT (Eigen), the reference.
-std::vector<double> direct_solve(const Eigen::MatrixXd& L, const std::vector<double>& C, const std::vector<double>& V,
-                                 double dt_ms) {
-  const auto n = static_cast<Eigen::Index>(V.size());
-  Eigen::MatrixXd A = L;
-  Eigen::VectorXd b(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    A(i, i) += C[static_cast<std::size_t>(i)] / dt_ms;
-    b(i) = C[static_cast<std::size_t>(i)] / dt_ms * V[static_cast<std::size_t>(i)];
-  }
-  const Eigen::VectorXd x = A.ldlt().solve(b);
-  return {x.data(), x.data() + n};
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double most = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) most = std::max(most, std::abs(a[i] - b[i]));
-  return most;
 }
 
 }  // namespace

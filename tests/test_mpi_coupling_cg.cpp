@@ -17,11 +17,13 @@
 #include <vector>
 
 #include "coupling/gap_junction.hpp"
+#include "support/coupling_reference.hpp"
 #include "run/coupling_over_ranks.hpp"
 #include "tissue/cell_partition.hpp"
 #include "tissue/rank_cells.hpp"
 
 using namespace fibrodem;
+using test::max_difference;
 
 namespace {
 
@@ -123,22 +125,10 @@ std::vector<double> potentials(std::size_t n) {
   return V;
 }
 
-// x = (C/dt + L)^-1 (C/dt) V by a dense LDLT (Eigen), the reference.
+// The reference: (C/dt + L)^-1 (C/dt) V, dense.
 std::vector<double> direct_solve(const Tissue& tissue, const std::vector<double>& C, const std::vector<double>& V,
                                  double dt_ms) {
-  const auto n = static_cast<Eigen::Index>(V.size());
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
-  for (const auto& [i, j] : tissue.cell_edges) {
-    const double g = tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte ? kD_m_nS : kD_f_nS;
-    A(i, i) += g, A(j, j) += g, A(i, j) -= g, A(j, i) -= g;
-  }
-  Eigen::VectorXd b(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    A(i, i) += C[static_cast<std::size_t>(i)] / dt_ms;
-    b(i) = C[static_cast<std::size_t>(i)] / dt_ms * V[static_cast<std::size_t>(i)];
-  }
-  const Eigen::VectorXd x = A.ldlt().solve(b);
-  return {x.data(), x.data() + n};
+  return test::direct_solve(test::dense_laplacian(tissue, kD_m_nS, kD_f_nS), C, V, dt_ms);
 }
 
 struct SplitSolve {
@@ -177,12 +167,6 @@ SplitSolve solve_split(int ranks, bool drop_halo, double dt_ms, double tolerance
   for (auto& thread : threads) thread.join();
   CHECK(all.layouts_agree);
   return result;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double most = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) most = std::max(most, std::abs(a[i] - b[i]));
-  return most;
 }
 
 }  // namespace
