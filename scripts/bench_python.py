@@ -1,5 +1,5 @@
 """The Python module's cost per simulate_cell call beyond the integration
-(issue 20: at most 1 ms). The overhead of a call is its time less the run's
+(the target: at most 1 ms). The overhead of a call is its time less the run's
 own (Simulation::run: the steps and their observers): argument checks, the
 manifest and its checks, the cell's set-up, the results as numpy arrays.
 Measured twice: in wall time, and in CPU time (process CPU time of the call

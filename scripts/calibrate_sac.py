@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""How the colman variant brocklehurst2022_tissue's one parameter was found
-(issue 19, part 2): bisection on g_SAC_nS_per_pF (colman2013 + I_SAC, each
+"""How the colman variant brocklehurst2022_tissue's one parameter was found:
+bisection on g_SAC_nS_per_pF (colman2013 + I_SAC, each
 candidate settled at rest for 60 s with cells.myocyte.settle) until the mean
 myocyte RMP (V at the stimulus onset) of the seed paper's in-series tissue at
 F-M 0.11, D_f 0.3 nS is -65.2 mV (Fig. 4c). The tissue is examples/

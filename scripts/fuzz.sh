@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzing (issue "Nothing lost"): builds the libFuzzer targets with clang,
+# Fuzzing: builds the libFuzzer targets with clang,
 # AddressSanitizer and UndefinedBehaviorSanitizer into build-asan/
 # (scripts/asan_build.sh, shared with scripts/sanitize.sh), then runs
 # each for RUNS inputs (default 100000), replaying its seed corpus first:

@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# The seed paper's results, reproduced (issue "Sweeps that scale past one
-# machine", part 5; issue 19, part 5): runs every sweep of examples/paper/ (5
+# The seed paper's results, reproduced: runs every sweep of examples/paper/ (5
 # tissue seeds per point) into out/paper/, the electrophysiology sweeps of
 # Figs. 4 and 6 again with the myocyte variant brocklehurst2022_tissue into
 # out/paper/brocklehurst2022_tissue/, then writes docs/paper/README.md and its

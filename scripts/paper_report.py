@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
-"""docs/paper/README.md from the paper sweeps' outputs (issue "Sweeps that scale
-past one machine", part 5; issue 19, part 5): for every value the seed paper
+"""docs/paper/README.md from the paper sweeps' outputs: for every value the seed paper
 states in its text (examples/paper/paper_values.csv, each with its quote),
 fibrodem's mean and 95 % confidence interval over the tissue seeds
 (sweep_stats.csv of the sweep that reproduces that panel) with the default

@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer (issue
-# "Nothing lost"): builds everything with clang into build-asan/
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer: builds everything with clang into build-asan/
 # (scripts/asan_build.sh, shared with scripts/fuzz.sh) and runs ctest there, with any ctest options given (e.g. -R or -E to pick tests).
 # Leaks inside fontconfig (Cairo's font cache, not fibrodem's) are
 # suppressed (tests/lsan.supp); anything else fails the test.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The threaded paths under ThreadSanitizer (issue "Nothing lost"): builds
+# The threaded paths under ThreadSanitizer: builds
 # fibrodem with clang -fsanitize=thread into build-tsan/ and runs the tests
 # that share work between threads: the OpenMP loops over blocks of cells and
 # DEM contacts (each run on 1, 2 and 3 threads), the sweep's worker threads,

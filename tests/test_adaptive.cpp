@@ -1,6 +1,6 @@
-// solver.method "adaptive" (issue "Speed II"): error-controlled second-order
+// solver.method "adaptive": error-controlled second-order
 // Rush-Larsen with the coupling implicit. Exact solutions where there are
-// some, CVODE at tight tolerance elsewhere, and the hard cases of the issue.
+// some, CVODE at tight tolerance elsewhere, and the hard cases (stiff fibroblast coupling, stimulus edges).
 #include <doctest/doctest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // The adaptive method's step where nothing happens, and what solver.method
-// "auto" delivers against what it is asked (issue "Speed IV"): steps as long
+// "auto" delivers against what it is asked: steps as long
 // as the error control and the stops (samples, stimulus edges) allow, and an
 // APD90 error within solver.accuracy against a tight CVODE reference.
 #include <doctest/doctest.h>

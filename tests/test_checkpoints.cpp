@@ -1,5 +1,5 @@
-// Checkpoints and resume (issue "Nothing lost", part 2) and starting a scene
-// from another run's state (part 3): a run killed with SIGKILL at any moment
+// Checkpoints and resume, and starting a scene
+// from another run's state: a run killed with SIGKILL at any moment
 // and resumed with `fibrodem resume` writes the same bytes to traces.csv and
 // biomarkers.csv as a run never stopped.
 #include <doctest/doctest.h>

@@ -1,4 +1,4 @@
-// The three integrators agree on each model (issue: CVODE at tight tolerance
+// The three integrators agree on each model (CVODE at tight tolerance
 // against Rush-Larsen at 0.005 ms and forward Euler at 0.001 ms, APD90 within
 // 1 ms), on a myocyte coupled to a fibroblast so that both cell models are
 // exercised by an action potential.

@@ -45,7 +45,7 @@ constexpr double kAdaptiveTraceTolerance = 0.05;
 
 double number(const std::string& text) { return text.empty() ? std::nan("") : std::stod(text); }
 
-// The issue's tolerances: activation times within 1e-3 ms, APD90 within
+// The tolerances a split run is held to: activation times within 1e-3 ms, APD90 within
 // 0.01 ms, CV within 0.1 %; traces.csv's columns within trace_tolerance
 // of their values; with same_steps, the same step count.
 void check_agrees(const std::filesystem::path& one, const std::filesystem::path& split, double trace_tolerance,
@@ -132,7 +132,7 @@ TEST_CASE("mpirun -n 2 and 4: the adaptive method (solver.method auto) split ove
   const json two = json::parse(testing::read_file(dir / "two" / "summary.json"));
   CHECK(two["mpi_ranks"] == 2);
   CHECK(two["status"] == "completed");
-  // (The issue's tolerances: measured 2e-13 ms of activation, 0.004 ms of
+  // (Measured: 2e-13 ms of activation, 0.004 ms of
   // APD90 and 1e-14 of CV on 2 and 4 ranks.)
   check_agrees(dir / "one", dir / "two", kAdaptiveTraceTolerance, false);
 

@@ -1,6 +1,6 @@
 // Ending a run early on SIGINT or SIGTERM: the handler only records the
 // signal; the simulation sees it at the end of the step in progress and stops
-// there with every output flushed, status "interrupted" (issue "Nothing lost").
+// there with every output flushed, status "interrupted".
 #pragma once
 
 #include <csignal>

@@ -1,5 +1,4 @@
-// Memory and output size of a scene, estimated before it runs (issue "Nothing
-// lost", resource guard): a scene that would not fit in the machine's memory
+// Memory and output size of a scene, estimated before it runs: a scene that would not fit in the machine's memory
 // or on the output disk is refused with the estimate and what to change.
 #pragma once
 

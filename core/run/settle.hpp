@@ -1,7 +1,7 @@
 // cells.TYPE.settle: before t = 0, each cell type's ionic model runs alone (one
 // uncoupled cell, its variant, parameters and initial_state overrides), at
 // rest or paced, and every cell of the type starts from where it ends: a
-// modified model starts from its own rest, not off it (issue 19). Integrated
+// modified model starts from its own rest, not off it. Integrated
 // with CVODE (rtol 1e-6, atol 1e-8). The settled states are cached by
 // everything that determines them (model, version, variant, parameters,
 // initial states, settle spec), in FIBRODEM_CACHE_DIR, else

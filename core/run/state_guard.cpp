@@ -14,8 +14,8 @@ namespace fibrodem {
 namespace {
 
 // A blow-up at a step this many times below the stability estimate is
-// blamed on the model: the case was 300x; 10x leaves no doubt that
-// an explicit scheme is stable there.
+// blamed on the model: 10x leaves no doubt that an explicit scheme is stable
+// there.
 constexpr double kModelBlameFactor = 10;
 
 std::string plugin_file(const PluginRegistry& registry, const Population& pop) {

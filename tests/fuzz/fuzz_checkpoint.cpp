@@ -1,4 +1,4 @@
-// libFuzzer target: the checkpoint reader (issue "Nothing lost", fuzzing).
+// libFuzzer target: the checkpoint reader.
 // An input is a checkpoint's payload (its fields); the target gives it a
 // valid header and checksum, so that mutations reach the field parser and the
 // loaders behind it (a file with a wrong checksum is refused before either,

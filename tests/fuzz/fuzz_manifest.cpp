@@ -1,5 +1,5 @@
-// libFuzzer target: the manifest reader and command-line overrides (issue
-// "Nothing lost", fuzzing). Every rejection must be a ManifestError naming
+// libFuzzer target: the manifest reader and command-line overrides.
+// Every rejection must be a ManifestError naming
 // the path (a clear error), never a crash, a hang, a leak or another
 // exception. An input that is a JSON object is read as a manifest; any other
 // input is read as lines of `--set` overrides (PATH=VALUE) applied to a small

@@ -1,4 +1,4 @@
-// libFuzzer target: the sweep file reader (issue "Nothing lost", fuzzing):
+// libFuzzer target: the sweep file reader:
 // the sweep object, its `set` and `grid`, and every point's manifest as the
 // sweep would run it, read into a scene. Every rejection must be a
 // ManifestError naming the path, never a crash, a hang, a leak or another
