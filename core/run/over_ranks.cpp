@@ -15,7 +15,6 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const Proces
                               : "solver.method \"" + method +
                                     "\" (only \"adaptive\" and the fixed-step methods run split)");
   if (!scene.initial_state.from.empty()) unsupported.push_back("initial_state.from");
-  if (scene.output.reentry.on) unsupported.push_back("output.reentry");
   return unsupported;
 }
 
