@@ -127,6 +127,17 @@ class WorldGroup final : public RankGroup {
 
   std::vector<std::string> gather_text(const std::string& mine) override { return ranks_.gather(mine); }
 
+  void gather_into(const double* mine, std::size_t count, double* every_rank, const int* counts,
+                   const int* offsets) override {
+#ifdef FIBRODEM_WITH_MPI
+    MPI_Gatherv(mine, static_cast<int>(count), MPI_DOUBLE, every_rank, counts, offsets, MPI_DOUBLE, 0,
+                MPI_COMM_WORLD);
+#else
+    (void)counts;
+    std::copy(mine, mine + count, every_rank + (offsets ? offsets[0] : 0));
+#endif
+  }
+
   void gather_all(const double* mine, std::size_t count, double* every_rank) override {
 #ifdef FIBRODEM_WITH_MPI
     MPI_Allgather(mine, static_cast<int>(count), MPI_DOUBLE, every_rank, static_cast<int>(count), MPI_DOUBLE,

@@ -6,11 +6,15 @@
 // same traces.csv and biomarkers.csv as the run never stopped; another
 // rank count is refused, naming both. The reference is the uninterrupted
 // run, and, since a fixed-step explicit run split over ranks computes one
-// process's potentials bit for bit, one process's resumed run too.
+// process's potentials bit for bit, one process's resumed run too. A
+// one-process checkpoint named by initial_state.from starts a split run as
+// it starts one process's (each rank takes its own cells' states).
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
 
 #include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
@@ -148,4 +152,59 @@ TEST_CASE("mpirun -n 2: a one-process checkpoint is resumed in one process only"
   // Resumed in one process: the 2-rank run's bytes (one process's, bit for bit).
   REQUIRE(resume("", dir / "killed") == 0);
   check_same_outputs(dir / "two", dir / "killed");
+}
+
+namespace {
+
+// traces.csv's row at time t_ms, without its time column (empty if none).
+std::string trace_row_at(const std::string& csv, double t_ms) {
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);  // the header
+  while (std::getline(lines, line))
+    if (std::stod(line.substr(0, line.find(','))) == t_ms) return line.substr(line.find(','));
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("mpirun -n 2: initial_state.from a one-process checkpoint gives one process's outputs") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_initial_state");
+  // The source's checkpoint at 3 ms catches the stimulated edge (stimulus
+  // 2-4 ms) on its way up while the rest of the sheet is at rest: the cells'
+  // states differ from cell to cell, so a state given to the wrong cell
+  // would show.
+  json source = testing::split_sheet_planar_wave(6);
+  source["output"]["checkpoint"] = {{"every_ms", 3}};
+  std::ofstream(dir / "source.json") << source.dump();
+  REQUIRE(run("", dir / "source.json", dir / "source") == 0);
+  REQUIRE(run(testing::mpirun(2), dir / "source.json", dir / "source_two") == 0);
+
+  json branch = testing::split_sheet_planar_wave(6);
+  branch["output"]["traces"][0]["every_ms"] = 0.25;
+  branch["initial_state"] = {{"from", (dir / "source").string()}, {"time_ms", 3}};
+  std::ofstream(dir / "branch.json") << branch.dump();
+  REQUIRE(run("", dir / "branch.json", dir / "one") == 0);
+  REQUIRE(run(testing::mpirun(2), dir / "branch.json", dir / "two") == 0);
+  CHECK(summary_of(dir / "two")["mpi_ranks"] == 2);
+  CHECK(summary_of(dir / "two")["notes"].dump().find("initial_state: the cells' states of") != std::string::npos);
+  check_same_outputs(dir / "one", dir / "two");
+  // The independent reference: the branch's first sample (t = 0) is the
+  // source's at 3 ms, to the bit (the traced cells lie on both ranks).
+  const std::string at_3_ms = trace_row_at(testing::read_file(dir / "source" / "traces.csv"), 3);
+  REQUIRE_FALSE(at_3_ms.empty());
+  CHECK(trace_row_at(testing::read_file(dir / "two" / "traces.csv"), 0) == at_3_ms);
+
+  // A checkpoint written split over ranks holds rank 0's cells only: refused, naming it.
+  json from_split = branch;
+  from_split["initial_state"]["from"] = (dir / "source_two").string();
+  std::ofstream(dir / "from_split.json") << from_split.dump();
+  CHECK(run(testing::mpirun(2), dir / "from_split.json", dir / "from_split") != 0);
+  CHECK(testing::read_file(dir / "from_split.txt").find("was written by a run split over 2 MPI ranks") !=
+        std::string::npos);
+  CHECK((!fs::exists(dir / "from_split") || fs::is_empty(dir / "from_split")));
 }

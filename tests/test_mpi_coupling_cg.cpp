@@ -65,6 +65,9 @@ class ThreadRanks {
       throw std::logic_error("not used");
     }
     std::vector<std::string> gather_text(const std::string&) override { throw std::logic_error("not used"); }
+    void gather_into(const double*, std::size_t, double*, const int*, const int*) override {
+      throw std::logic_error("not used");
+    }
 
    private:
     ThreadRanks& all_;

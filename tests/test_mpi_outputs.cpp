@@ -1,7 +1,8 @@
 // What a run split over MPI ranks writes beyond its biomarkers and traces
 // (docs/parallel.md): output.snapshots (rank 0 gathers every cell's V at
-// each snapshot time) and settle (the coupled tissue stepped split before
-// t = 0). With a fixed step and explicit coupling a split run
+// each snapshot time), output.reentry (rank 0 gathers every cell's V at
+// each sample and measures at the end) and settle (the coupled tissue
+// stepped split before t = 0). With a fixed step and explicit coupling a split run
 // computes one process's potentials bit for bit (docs/parallel.md,
 // Results), so the reference here is the same scene run in one process:
 // the same bytes.
@@ -94,4 +95,49 @@ TEST_CASE("mpirun -n 2: settle split over ranks gives one process's outputs") {
   // The premise: the settle changed where the cells start (the fibroblasts
   // coupled to myocytes rest below their own rest, run/simulation_settle.cpp).
   CHECK(testing::read_file(dir / "unsettled" / "traces.csv") != testing::read_file(dir / "one" / "traces.csv"));
+}
+
+TEST_CASE("mpirun -n 2: output.reentry of a split run is one process's") {
+  if (!testing::have_mpirun()) {
+    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
+    return;
+  }
+  const auto dir = testing::scratch_dir("mpi_reentry");
+  // Samples every 0.125 ms on the 0.01 ms step: every other sample lies
+  // halfway through a step, so the interpolation between a step's ends is
+  // exercised as well as the samples on a step's end. tau_ms is a whole
+  // multiple of every_ms (docs/arrhythmia.md). By 8 ms the wave (stimulus at
+  // 2 ms) has activated every myocyte (checked below), so the beat maps hold
+  // activation times that differ from cell to cell.
+  json m = testing::split_sheet_planar_wave(8);
+  m["output"]["reentry"] = {{"every_ms", 0.125}, {"from_ms", 0.5}, {"tau_ms", 1}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "scene.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
+
+  const json one = json::parse(testing::read_file(dir / "one" / "summary.json"));
+  const json two = json::parse(testing::read_file(dir / "two" / "summary.json"));
+  CHECK(two["mpi_ranks"] == 2);
+  REQUIRE(one.contains("reentry"));
+  REQUIRE(two.contains("reentry"));
+  CHECK(two["reentry"].dump() == one["reentry"].dump());
+  // The premise: the wave was sampled (a beat map drawn from its
+  // activations, every myocyte reached, at times spread over milliseconds).
+  CHECK(one["reentry"]["beat_maps_drawn"].get<int>() >= 1);
+  const json& beat = one["reentry"]["beats"][0];
+  CHECK(beat["reached"] == beat["counted"]);
+  CHECK(beat["last_activation_ms"].get<double>() - beat["first_activation_ms"].get<double>() > 1);
+
+  std::set<std::string> files = file_names(dir / "one", "activation_beat_");
+  CHECK(!files.empty());
+  for (const char* name : {"phase_singularities.csv", "dominant_frequency_map.png", "reentry_maps.vtk"})
+    files.insert(name);
+  for (const auto& name : files) {
+    INFO(name);
+    REQUIRE(fs::exists(dir / "one" / name));
+    CHECK(testing::read_file(dir / "two" / name) == testing::read_file(dir / "one" / name));
+  }
+  // V at the samples as the maps hold it: a cell placed wrong, or a sample
+  // taken at another time on one rank, would show in the activation times.
+  CHECK(file_names(dir / "two", "activation_beat_") == file_names(dir / "one", "activation_beat_"));
 }

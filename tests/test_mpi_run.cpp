@@ -32,20 +32,22 @@ json strand_manifest() {
 TEST_CASE("over ranks: every unsupported part of a scene is named") {
   json m = strand_manifest();
   // A fixed-step method with explicit coupling, biomarkers, traces of
-  // states, snapshots, settle and checkpoints: split.
+  // states, snapshots, re-entry, settle and checkpoints: split.
   m["output"]["snapshots"] = {{"every_ms", 1}};
+  m["output"]["reentry"] = {{"every_ms", 1}};
   m["output"]["checkpoint"] = {{"every_ms", 1}};
   m["settle"] = {{"ms", 10}};
   CHECK(unsupported_over_ranks(parse_scene(m)).empty());
   m["solver"] = {{"method", "cvode"}};
-  m["output"]["reentry"] = {{"every_ms", 1}};
+  m["cells"]["myocyte"] = {{"model", "colman"}, {"myofilament", "rice"}};
+  m["effects"] = {"electrophysiology", "coupling", "contraction"};
   const std::vector<std::string> named = unsupported_over_ranks(parse_scene(m));
   REQUIRE(named.size() == 2);
-  CHECK(named[0] == "solver.method \"cvode\" (only \"adaptive\" and the fixed-step methods run split)");
-  CHECK(named[1] == "output.reentry");
+  CHECK(named[0] == "effect \"contraction\"");
+  CHECK(named[1] == "solver.method \"cvode\" (only \"adaptive\" and the fixed-step methods run split)");
   const std::string message = refusal_over_ranks("run", 3, named);
   CHECK(message.find("`fibrodem run` under mpirun with 3 ranks") != std::string::npos);
-  CHECK(message.find("run split); output.reentry") != std::string::npos);
+  CHECK(message.find("effect \"contraction\"; solver.method \"cvode\"") != std::string::npos);
   CHECK(message.find("mpirun -n 3 fibrodem sweep") != std::string::npos);
   // auto chooses the adaptive method for a tissue (integrate/method_choice.hpp),
   // which runs split, as does the implicit coupling of a fixed step.

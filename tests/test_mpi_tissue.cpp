@@ -154,12 +154,13 @@ TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every ran
   const auto dir = testing::scratch_dir("mpi_tissue_refused");
   json m = planar_wave();
   m["solver"] = {{"method", "cvode"}};
-  m["output"]["reentry"] = {{"every_ms", 10}};
+  m["cells"]["myocyte"]["myofilament"] = "rice";
+  m["effects"] = {"electrophysiology", "coupling", "contraction"};
   std::ofstream(dir / "scene.json") << m.dump();
   CHECK(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "out") != 0);
   const std::string log = testing::read_file(dir / "out.txt");
   CHECK(log.find("solver.method \"cvode\"") != std::string::npos);
-  CHECK(log.find("output.reentry") != std::string::npos);
+  CHECK(log.find("effect \"contraction\"") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir / "out"));
 }
 

@@ -48,7 +48,15 @@ void save_cell_states(const CellSystem& system, CheckpointFields& fields) {
   fields.put("cells.last_step_ms", system.last_step_ms);
 }
 
-void check_same_cells(const CellSystem& system, const CheckpointFields& fields) {
+namespace {
+
+std::string other_cells(const std::string& p) {
+  return "its " + p + "cells are not this scene's (another tissue: builder, size, seed?)";
+}
+
+// check_same_cells; with same_cells false, all but each population's cells
+// being the checkpoint's (a rank's share: load_own_cell_states checks them).
+void check_checkpoint_fits(const CellSystem& system, const CheckpointFields& fields, bool same_cells) {
   const long long count = fields.integer("cells.count");
   if (count != static_cast<long long>(system.cell_count()))
     throw CheckpointError("its tissue has " + std::to_string(count) + " cells, this scene's has " +
@@ -64,9 +72,43 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields) 
     if (fields.text(p + "states") != state_names(pop))
       throw CheckpointError("its " + p + "states are (" + fields.text(p + "states") + "), model " + pop.info().name +
                             " " + pop.info().version + " has (" + state_names(pop) + ")");
-    if (fields.ints(p + "cells") != pop.cells)
-      throw CheckpointError("its " + p + "cells are not this scene's (another tissue: builder, size, seed?)");
+    if (same_cells && fields.ints(p + "cells") != pop.cells) throw CheckpointError(other_cells(p));
   });
+}
+
+// The states of the population's cells taken from the checkpoint's y of the
+// same population (state-major, as Population::y, over the checkpoint's
+// cells), each cell's column found by its number.
+void pick_own_states(Population& pop, const std::string& p, const CheckpointFields& fields, std::size_t tissue_cells) {
+  const std::vector<int> whole_cells = fields.ints(p + "cells");
+  const std::size_t whole = whole_cells.size(), states = pop.n_states();
+  const std::vector<double> y = fields.numbers(p + "y", static_cast<long long>(states * whole));
+  std::vector<long long> column(tissue_cells, -1);  // the checkpoint's column of each cell of the tissue
+  for (std::size_t j = 0; j < whole; ++j) {
+    const int cell = whole_cells[j];
+    if (cell < 0 || static_cast<std::size_t>(cell) >= tissue_cells) throw CheckpointError(other_cells(p));
+    column[static_cast<std::size_t>(cell)] = static_cast<long long>(j);
+  }
+  const std::size_t own = pop.size();
+  for (std::size_t i = 0; i < own; ++i) {
+    const long long j = column[static_cast<std::size_t>(pop.cells[i])];
+    if (j < 0) throw CheckpointError(other_cells(p));
+    for (std::size_t k = 0; k < states; ++k) pop.y[k * own + i] = y[k * whole + static_cast<std::size_t>(j)];
+  }
+}
+
+}  // namespace
+
+void check_same_cells(const CellSystem& system, const CheckpointFields& fields) {
+  check_checkpoint_fits(system, fields, true);
+}
+
+void load_own_cell_states(CellSystem& system, const CheckpointFields& fields) {
+  check_checkpoint_fits(system, fields, false);
+  for (auto& pop : system.populations) pick_own_states(pop, prefix_of(pop, false), fields, system.cell_count());
+  for (auto& m : system.myofilaments) pick_own_states(m.pop, prefix_of(m.pop, true), fields, system.cell_count());
+  system.voltage_fresh = false;
+  system.gather_voltage();
 }
 
 void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything) {

@@ -20,4 +20,12 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields);
 // a new run started from them).
 void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything);
 
+// The states alone (a new run started from them) of a system that holds
+// some of the tissue's cells (a rank's share of a run split over ranks) from
+// a checkpoint of the whole tissue (a run in one process): each population's
+// cells' states picked out of the checkpoint's by cell number. Throws
+// CheckpointError as check_same_cells does, and when a population's cell is
+// not among the checkpoint's.
+void load_own_cell_states(CellSystem& system, const CheckpointFields& fields);
+
 }  // namespace fibrodem

@@ -14,8 +14,6 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const Proces
                                     "\" (name \"adaptive\" or a fixed-step method: euler, rush_larsen, rush_larsen2)"
                               : "solver.method \"" + method +
                                     "\" (only \"adaptive\" and the fixed-step methods run split)");
-  if (!scene.initial_state.from.empty()) unsupported.push_back("initial_state.from");
-  if (scene.output.reentry.on) unsupported.push_back("output.reentry");
   return unsupported;
 }
 

@@ -1,8 +1,11 @@
 // What `fibrodem run` can split over the ranks of an mpirun (docs/parallel.md):
 // the electrophysiology of one tissue with the adaptive method or a
 // fixed-step one (euler, rush_larsen, rush_larsen2), explicit or implicit
-// gap-junction coupling, settle, its biomarkers, traces of states,
-// snapshots, maps, summary and checkpoints (resumed on as many ranks). Anything else stops on every rank with the message below before anything is written, instead of
+// gap-junction coupling, settle, initial_state.from (a one-process
+// checkpoint), its biomarkers, traces of states,
+// snapshots, re-entry, maps, summary and checkpoints (resumed on as many
+// ranks). Anything else stops on every rank with the message below before
+// anything is written, instead of
 // N processes writing one folder. (`fibrodem sweep` spreads whole runs over
 // ranks.)
 #pragma once

@@ -32,6 +32,13 @@ class RankGroup {
   // list. (Collective: every rank calls it.)
   virtual std::vector<std::vector<double>> gather(const std::vector<double>& mine) = 0;
   virtual std::vector<std::string> gather_text(const std::string& mine) = 0;
+  // Rank 0 receives counts[r] values from each rank r into every_rank from
+  // offsets[r] (the caller's buffer: nothing is allocated); each rank sends
+  // its `count`. Only rank 0 reads counts and offsets and writes every_rank.
+  // What a gather repeated during the run needs (output.reentry's samples).
+  // (Collective: every rank calls it.)
+  virtual void gather_into(const double* mine, std::size_t count, double* every_rank, const int* counts,
+                           const int* offsets) = 0;
   // Every rank receives every rank's `count` values, in rank order, in
   // every_rank (count x size() values, the caller's: nothing is allocated).
   // What a reduction the same on every rank needs (run/rank_reductions.hpp):

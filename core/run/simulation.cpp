@@ -157,6 +157,9 @@ void Simulation::Impl::release_run_buffers() {
   std::vector<double>().swap(own_dVdt);
   reentry_frames = VoltageFrames();
   std::vector<double>().swap(V_previous);
+  std::vector<double>().swap(reentry_own_V);
+  std::vector<double>().swap(reentry_gathered_V);
+  std::vector<double>().swap(reentry_frame_V);
 #if defined(__GLIBC__)
   malloc_trim(0);  // freed pages back to the system: the peak RSS is the stepping's
 #endif

@@ -276,7 +276,9 @@ void Simulation::Impl::start_from_initial_state() {
                                         "takes a checkpoint of a run in one process",
                                         found.file.string(), found.fields.integer("run.mpi_ranks")));
     try {
-      load_cell_states(system, found.fields, false);
+      // Split over ranks, each rank takes its own cells' states out of the whole tissue's.
+      if (ranks) load_own_cell_states(system, found.fields);
+      else load_cell_states(system, found.fields, false);
     } catch (const CheckpointError& e) {
       throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());
     }

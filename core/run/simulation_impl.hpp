@@ -86,6 +86,10 @@ struct Simulation::Impl : StepObserver {
   std::vector<double> V_previous;
   long long reentry_next_sample = 0;  // index k of the next sample time from_ms + k every_ms
   json reentry_measured;
+  // Split over ranks: this rank's cells' V at a sample (share.owned's
+  // order), and on rank 0 every cell's as gathered (rank order) and as the
+  // frame (by tissue number); sized when the sampling starts.
+  std::vector<double> reentry_own_V, reentry_gathered_V, reentry_frame_V;
   // A run split over ranks (RunOptions::ranks with more than one; else
   // null): this rank's cells (`owned`, per global cell) and their ghosts,
   // and the halo exchange of the ghosts' potentials (simulation_ranks.cpp).
@@ -96,6 +100,9 @@ struct Simulation::Impl : StepObserver {
   // Every cell, rank after rank, each rank's in increasing global order: where
   // rank 0 places the values it gathers (RankGroup::gather's order).
   std::vector<int> cells_in_rank_order;
+  // Each rank's cell count, and where its cells start in cells_in_rank_order
+  // (RankGroup::gather_into's counts and offsets).
+  std::vector<int> rank_cell_counts, rank_cell_offsets;
   // Whether the run writes a folder (rank 0 does; the other ranks, which
   // write nothing but their parts of the checkpoints, still take part in
   // the gathers of what it writes), and the folder, known to every rank.
@@ -175,6 +182,7 @@ struct Simulation::Impl : StepObserver {
   void snapshot_if_due(double t);
   void start_reentry_sampling(double t);
   void sample_reentry_if_due(double t_old, double t_new);
+  void add_reentry_frame_over_ranks(double t, const double* w);
   void measure_reentry();
   void write_file(std::function<void()> job);
   void reclaim_writer_core();

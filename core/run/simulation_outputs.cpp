@@ -147,11 +147,19 @@ void Simulation::Impl::start_reentry_sampling(double t) {
   reentry_frames = VoltageFrames(tissue.cell_count());
   system.gather_voltage();
   V_previous = system.V_mV;
+  if (ranks) {
+    reentry_own_V.assign(share.owned.size(), 0.0);
+    if (ranks->rank() == 0) {
+      reentry_gathered_V.assign(tissue.cell_count(), 0.0);
+      reentry_frame_V.assign(tissue.cell_count(), 0.0);
+    }
+  }
   const auto& spec = scene.output.reentry;
   // The first sample at or after t (a resumed run measures from where it resumed).
   reentry_next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
   if (std::abs(t - (spec.from_ms + static_cast<double>(reentry_next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
-    reentry_frames.add(t, system.V_mV);
+    if (ranks) add_reentry_frame_over_ranks(t, nullptr);
+    else reentry_frames.add(t, system.V_mV);
     ++reentry_next_sample;
   }
 }
@@ -165,6 +173,10 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
     ++reentry_next_sample;
     if (next < t_old - kTimeEpsilon_ms) continue;  // before a resumed run's start
     const double w = t_new > t_old ? std::clamp((next - t_old) / (t_new - t_old), 0.0, 1.0) : 1.0;
+    if (ranks) {
+      add_reentry_frame_over_ranks(next, &w);
+      continue;
+    }
     std::vector<double> V(system.V_mV.size());
     for (std::size_t c = 0; c < V.size(); ++c) V[c] = V_previous[c] + w * (system.V_mV[c] - V_previous[c]);
     reentry_frames.add(next, V);
@@ -172,9 +184,34 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
   V_previous = system.V_mV;
 }
 
-// summary.json's "reentry", phase_singularities.csv and the re-entry maps, from the samples.
+// Split over ranks, each rank's cells' V at a sample (interpolated with
+// weight *w, or V at the step's end without one), gathered on rank 0 into
+// the frame one process would add (the same arithmetic on the same values:
+// the same bits). Every rank steps to the same times (a fixed step, or the
+// adaptive step control's agreed steps and stops), so every rank comes here
+// for the same samples, in the same order: the gather is collective.
+void Simulation::Impl::add_reentry_frame_over_ranks(double t, const double* w) {
+  const int* cells = share.owned.data();
+  const double* V = system.V_mV.data();
+  const double* V_before = V_previous.data();
+  for (std::size_t i = 0; i < reentry_own_V.size(); ++i) {
+    const auto c = static_cast<std::size_t>(cells[i]);
+    reentry_own_V[i] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
+  }
+  ranks->gather_into(reentry_own_V.data(), reentry_own_V.size(), reentry_gathered_V.data(), rank_cell_counts.data(),
+                     rank_cell_offsets.data());
+  if (ranks->rank() != 0) return;
+  for (std::size_t k = 0; k < cells_in_rank_order.size(); ++k)
+    reentry_frame_V[static_cast<std::size_t>(cells_in_rank_order[k])] = reentry_gathered_V[k];
+  reentry_frames.add(t, reentry_frame_V);
+}
+
+// summary.json's "reentry", phase_singularities.csv and the re-entry maps,
+// from the samples (split over ranks: on rank 0, which holds them and every
+// beat).
 void Simulation::Impl::measure_reentry() {
   if (!scene.output.reentry.on) return;
+  if (ranks && ranks->rank() != 0) return;
   const auto& spec = scene.output.reentry;
   const ReentrySettings settings{.every_ms = spec.every_ms, .from_ms = spec.from_ms, .tau_ms = spec.tau_ms,
                                  .V_star_mV = spec.V_star_mV, .link_mm = spec.link_mm, .f_min_hz = spec.f_min_hz,

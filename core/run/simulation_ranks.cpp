@@ -68,6 +68,12 @@ void Simulation::Impl::split_over_ranks() {
   for (int r = 0; r < ranks->size(); ++r)
     for (int cell : partition.cells_of(r)) cells_in_rank_order.push_back(cell);
   const std::vector<std::size_t> sizes = partition.sizes();
+  rank_cell_counts.assign(sizes.size(), 0);
+  rank_cell_offsets.assign(sizes.size(), 0);
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    rank_cell_counts[r] = static_cast<int>(sizes[r]);
+    if (r > 0) rank_cell_offsets[r] = rank_cell_offsets[r - 1] + rank_cell_counts[r - 1];
+  }
   plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
                                    ranks->size(), *std::min_element(sizes.begin(), sizes.end()),
