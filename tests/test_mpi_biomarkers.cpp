@@ -89,10 +89,7 @@ TEST_CASE("a rank's biomarker tracker measures its own cells as a tracker of eve
 }
 
 TEST_CASE("mpirun -n 2 and 3: biomarkers.csv of a split run has one process's bytes") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_biomarkers");
   // Onset RMP measured on the step's threads (2 a rank: each thread's share
   // of the rank's cells), and pre-upstroke RMP measured whole.

@@ -50,10 +50,7 @@ void check_same_outputs(const fs::path& reference, const fs::path& resumed) {
 }  // namespace
 
 TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the outputs of one never stopped") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_checkpoints");
   // The wave crosses the sheet within its first 4 ms; 30 ms of rush_larsen
   // at 0.01 ms is 3000 steps, checkpoints at 10 and 20 ms (steps 1000 and 2000).
@@ -108,10 +105,7 @@ TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the out
 }
 
 TEST_CASE("mpirun -n 2: the adaptive method split, killed and resumed on 2 ranks, writes the same outputs") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   // Its step control and coupling CG reduce over the ranks (the same bits
   // for the same count), and it starts afresh at each checkpoint, resumed
   // or not: the same steps.
@@ -131,10 +125,7 @@ TEST_CASE("mpirun -n 2: the adaptive method split, killed and resumed on 2 ranks
 }
 
 TEST_CASE("mpirun -n 2: a one-process checkpoint is resumed in one process only") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_checkpoints_one");
   json m = testing::split_sheet_planar_wave(20);
   m["output"]["traces"][0]["every_ms"] = 0.25;
@@ -169,10 +160,7 @@ std::string trace_row_at(const std::string& csv, double t_ms) {
 }  // namespace
 
 TEST_CASE("mpirun -n 2: initial_state.from a one-process checkpoint gives one process's outputs") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_initial_state");
   // The source's checkpoint at 3 ms catches the stimulated edge (stimulus
   // 2-4 ms) on its way up while the rest of the sheet is at rest: the cells'

@@ -37,10 +37,7 @@ std::string settle_note(const fs::path& run) {
 }  // namespace
 
 TEST_CASE("mpirun -n 2: output.snapshots of a split run are one process's files") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_snapshots");
   // The wave starts at 2 ms and crosses the sheet's 1.5 mm in about 1.4 ms
   // (106 cm/s): the frames at 3 and 4 ms catch it mid-sheet, where V
@@ -69,10 +66,7 @@ TEST_CASE("mpirun -n 2: output.snapshots of a split run are one process's files"
 }
 
 TEST_CASE("mpirun -n 2: settle split over ranks gives one process's outputs") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_settle");
   json m = testing::split_sheet_planar_wave(12);
   m["output"]["traces"][0]["every_ms"] = 0.5;
@@ -98,10 +92,7 @@ TEST_CASE("mpirun -n 2: settle split over ranks gives one process's outputs") {
 }
 
 TEST_CASE("mpirun -n 2: output.reentry of a split run is one process's") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_reentry");
   // Samples every 0.125 ms on the 0.01 ms step: every other sample lies
   // halfway through a step, so the interpolation between a step's ends is

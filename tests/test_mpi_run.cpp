@@ -66,10 +66,7 @@ TEST_CASE("over ranks: every unsupported part of a scene is named") {
 }
 
 TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_run_refused");
   json m = strand_manifest();
   m["solver"] = {{"method", "cvode"}};

@@ -78,10 +78,7 @@ void check_agrees(const std::filesystem::path& one, const std::filesystem::path&
 }  // namespace
 
 TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one process") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_tissue");
   std::ofstream(dir / "planar.json") << planar_wave().dump();
   REQUIRE(testing::run_scene("", dir / "planar.json", dir / "one") == 0);
@@ -112,10 +109,7 @@ TEST_CASE("mpirun -n 2 and 4: one tissue split over ranks agrees with one proces
 }
 
 TEST_CASE("mpirun -n 2 and 4: the adaptive method (solver.method auto) split over ranks agrees with one process") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_tissue_adaptive");
   json m = testing::split_sheet_planar_wave(260);  // through repolarisation
   m["solver"] = {{"method", "auto"}};
@@ -147,10 +141,7 @@ TEST_CASE("mpirun -n 2 and 4: the adaptive method (solver.method auto) split ove
 }
 
 TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every rank, naming each part") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_tissue_refused");
   json m = planar_wave();
   m["solver"] = {{"method", "cvode"}};
@@ -165,10 +156,7 @@ TEST_CASE("mpirun -n 2: a scene the split does not cover is refused on every ran
 }
 
 TEST_CASE("mpirun -n 2: fixed-step implicit coupling split over ranks agrees with one process") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_tissue_implicit");
   json m = testing::split_sheet_planar_wave(260);
   m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.02}};

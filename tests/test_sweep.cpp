@@ -176,10 +176,7 @@ TEST_CASE("a sweep run again skips the runs completed with the same manifest and
 }
 
 TEST_CASE("mpirun -n 2 fibrodem sweep gives the same tables as a local sweep") {
-  if (!testing::have_mpirun()) {
-    MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    return;
-  }
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("sweep_mpi");
   std::ofstream(dir / "base.json") << seeded_manifest().dump();
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",

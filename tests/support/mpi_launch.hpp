@@ -15,6 +15,16 @@ namespace fibrodem::testing {
 
 inline bool have_mpirun() { return std::system("command -v mpirun > /dev/null 2>&1") == 0; }
 
+// Ends the test case, saying so, where this machine has no mpirun (the
+// split-run tests need Open MPI's launcher; scripts/setup.sh installs it).
+#define FIBRODEM_SKIP_WITHOUT_MPIRUN()                                          \
+  do {                                                                        \
+    if (!::fibrodem::testing::have_mpirun()) {                                \
+      MESSAGE("skipped: mpirun not found (scripts/setup.sh installs openmpi-bin)"); \
+      return;                                                                 \
+    }                                                                         \
+  } while (0)
+
 // (CI runs as root, which OpenMPI refuses unless told; its own allocations
 // that it never frees are not ours to report under AddressSanitizer.)
 inline std::string mpirun(int ranks) {
