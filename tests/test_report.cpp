@@ -57,10 +57,10 @@ TEST_CASE("report pieces: a CSV cut short by a kill is read up to its last whole
   CHECK(table->skipped_rows == 1);
   CHECK(table->numbers(1)[1] == -79.5);
   CHECK(!read_csv_table(dir / "missing.csv"));
-  CHECK(parse_trace_column("Ca_i_12").variable == "Ca_i");
-  CHECK(parse_trace_column("Ca_i_12").cell == 12);
-  CHECK(parse_trace_column("eps_xx").cell == -1);
-  CHECK(parse_trace_column("dt_ms").variable == "dt_ms");
+  CHECK(parse_trace_heading("Ca_i_12").variable == "Ca_i");
+  CHECK(parse_trace_heading("Ca_i_12").cell == 12);
+  CHECK(parse_trace_heading("eps_xx").cell == -1);
+  CHECK(parse_trace_heading("dt_ms").variable == "dt_ms");
 }
 
 TEST_CASE("report pieces: thinning keeps each bucket's extremes, in time order") {

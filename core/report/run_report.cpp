@@ -54,7 +54,7 @@ RunFolder read_folder(const fs::path& dir) {
   std::set<int> traced_cells;  // whose type the traces' legend names
   if (f.traces)
     for (const auto& column : f.traces->header)
-      if (const int cell = parse_trace_column(column).cell; cell >= 0) traced_cells.insert(cell);
+      if (const int cell = parse_trace_heading(column).cell; cell >= 0) traced_cells.insert(cell);
   f.biomarkers = digest_biomarkers_csv(dir / "biomarkers.csv", traced_cells);
   if (std::ifstream in(dir / "summary.json"); !in || !fs::is_regular_file(dir / "summary.json", error)) {
     f.summary_problem = "no summary.json: the run never started, or this is not a run's folder";

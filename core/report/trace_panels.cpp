@@ -6,7 +6,7 @@
 
 namespace fibrodem {
 
-TraceColumn parse_trace_column(const std::string& name) {
+TraceHeading parse_trace_heading(const std::string& name) {
   const std::size_t underscore = name.rfind('_');
   if (underscore == std::string::npos || underscore + 1 == name.size()) return {name, -1};
   const std::string tail = name.substr(underscore + 1);
@@ -49,7 +49,7 @@ std::vector<PlotPanel> trace_panels(const CsvTable& traces, const std::map<int, 
   std::map<std::string, std::size_t> left_out;
   for (std::size_t c = 0; c < traces.header.size(); ++c) {
     if (c == *time_column) continue;
-    const TraceColumn column = parse_trace_column(traces.header[c]);
+    const TraceHeading column = parse_trace_heading(traces.header[c]);
     if (!panel_of.count(column.variable)) {
       panel_of[column.variable] = panels.size();
       const auto unit = units.find(column.variable);

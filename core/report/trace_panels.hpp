@@ -12,13 +12,13 @@
 
 namespace fibrodem {
 
-// A column name VAR_CELL split into the variable and the cell (-1: a
+// A traces.csv heading VAR_CELL split into the variable and the cell (-1: a
 // tissue-wide column such as eps_xx or dt_ms).
-struct TraceColumn {
+struct TraceHeading {
   std::string variable;
   int cell = -1;
 };
-TraceColumn parse_trace_column(const std::string& name);
+TraceHeading parse_trace_heading(const std::string& name);
 
 // Most series a panel overlays (one colour each); the rest are left out and
 // the panel's title says how many.

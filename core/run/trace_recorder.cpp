@@ -72,7 +72,12 @@ void TraceRecorder::add_cell_columns(const TraceBlock& spec, CellSystem& system,
         continue;
       }
       const auto [p, local] = system.where[cell];
-      TraceColumn col{var, cell, p, local, false, false, -1};
+      TraceColumn col;
+      col.variable = var;
+      col.cell = cell;
+      col.population = p;
+      col.local = local;
+      col.index = -1;  // not found yet
       if (!find_column(system.populations[p], col))
         for (std::size_t m = 0; m < system.myofilaments.size(); ++m)
           if (system.myofilaments[m].host == p && find_column(system.myofilaments[m].pop, col)) {
