@@ -8,6 +8,7 @@
 #include <cstring>
 #include <set>
 
+#include "model/plugin_probe.hpp"
 #include "model/plugin_registry.hpp"
 #include "model/simd.hpp"
 
@@ -15,20 +16,7 @@ namespace fibrodem {
 
 namespace {
 
-// A value no model computes: a quiet NaN with a payload of our own. An entry
-// that still holds it after evaluate() was never written.
-constexpr std::uint64_t kPoisonBits = 0x7ff8dead0000beefULL;
-double poison() {
-  double v;
-  std::memcpy(&v, &kPoisonBits, sizeof v);
-  return v;
-}
-bool is_poison(double v) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  return bits == kPoisonBits;
-}
-bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+using namespace plugin_probe;
 
 PluginCheck named(const std::string& name) {
   PluginCheck check;
@@ -37,90 +25,6 @@ PluginCheck named(const std::string& name) {
 }
 
 std::string num(double v) { return fmt::format("{:.6g}", v); }
-
-// A block of cells in structure-of-arrays layout, as the core lays it out.
-struct Probe {
-  const CellModel& model;
-  const ModelInfo& info;
-  std::size_t n;
-  std::vector<double> params, y, a, b, inputs, outputs;
-
-  Probe(const CellModel& m, std::size_t cells, const std::vector<double>& parameters,
-        const std::vector<double>& initial, double input0)
-      : model(m), info(m.info()), n(cells), params(parameters) {
-    y.resize(info.states.size() * n);
-    for (std::size_t k = 0; k < info.states.size(); ++k)
-      for (std::size_t c = 0; c < n; ++c) y[k * n + c] = initial[k];
-    inputs.assign(std::max<std::size_t>(1, info.inputs.size()) * n, 0.0);
-    std::fill(inputs.begin(), inputs.begin() + static_cast<long>(n), input0);
-    a.assign(info.states.size() * n, poison());
-    b = a;
-    outputs.assign(info.outputs.size() * n, poison());
-  }
-  double& state(std::size_t k, std::size_t c) { return y[k * n + c]; }
-  double rate(std::size_t k, std::size_t c) const { return a[k * n + c] + b[k * n + c] * y[k * n + c]; }
-  void poison_results() {
-    std::fill(a.begin(), a.end(), poison());
-    std::fill(b.begin(), b.end(), poison());
-    std::fill(outputs.begin(), outputs.end(), poison());
-  }
-  void evaluate(std::size_t begin, std::size_t end, bool scalar, bool skip_voltage_only = false, double t_ms = 0) {
-    BlockView v;
-    v.begin = begin;
-    v.end = end;
-    v.stride = v.ab_stride = n;
-    v.y = y.data();
-    v.params = params.data();
-    v.inputs = inputs.data();
-    v.a = a.data();
-    v.b = b.data();
-    v.outputs = outputs.empty() ? nullptr : outputs.data();
-    v.skip_voltage_only_gates = skip_voltage_only;
-    v.scalar_reference = scalar;
-    model.evaluate(v, t_ms);
-  }
-  void evaluate_all(bool scalar = false) { evaluate(0, n, scalar); }
-};
-
-// The default parameters and initial state, then each variant on top of them.
-struct Setting {
-  std::string label;
-  std::vector<double> params, initial;
-};
-
-std::vector<Setting> settings_of(const ModelInfo& info) {
-  Setting base{"defaults", {}, {}};
-  for (const auto& p : info.parameters) base.params.push_back(p.default_value);
-  for (const auto& s : info.states) base.initial.push_back(s.initial);
-  if (info.variants.empty()) return {base};
-  std::vector<Setting> out;
-  for (const VariantInfo& v : info.variants) {
-    Setting s = base;
-    s.label = "variant '" + v.name + "'";
-    for (const auto& [name, value] : v.parameters)
-      for (std::size_t k = 0; k < info.parameters.size(); ++k)
-        if (info.parameters[k].name == name) s.params[k] = value;
-    for (const auto& [name, value] : v.initial_state)
-      for (std::size_t k = 0; k < info.states.size(); ++k)
-        if (info.states[k].name == name) s.initial[k] = value;
-    out.push_back(std::move(s));
-  }
-  return out;
-}
-
-// Input 0 at rest: no external current for an ionic model, a diastolic
-// 0.1 uM Ca_i for a myofilament model.
-double rest_input(const ModelInfo& info) { return info.kind == ModelKind::myofilament ? 1e-4 : 0.0; }
-
-bool ionic(const ModelInfo& info) { return info.kind == ModelKind::ionic && info.voltage_state >= 0; }
-
-// Another value of state k within its bounds, clearly different.
-double moved(const StateInfo& s, double value) {
-  double next = s.gate ? (value < 0.5 ? value + 0.3 : value - 0.3) : (value != 0 ? 1.5 * value : 0.1);
-  next = std::clamp(next, s.lower, s.upper);
-  if (next == value) next = std::clamp(value != 0 ? 0.5 * value : -0.1, s.lower, s.upper);
-  return next;
-}
 
 // The rules of a model's kind that a run checks at set-up (run/population_setup.cpp).
 std::vector<std::string> contract_problems(const ModelInfo& info) {
