@@ -23,9 +23,9 @@ MechanicsCoupling::MechanicsCoupling(const Tissue& tissue, const DemSpec& spec) 
 
 // A cell step of the adaptive method may span many DEM steps: each takes the
 // lengths at its own end.
-void MechanicsCoupling::advance(double t, const CellSystem& system) {
+void MechanicsCoupling::advance(double t, const std::vector<double>& length_ratio_by_cell) {
   const auto start = std::chrono::steady_clock::now();
-  length_ratio_to_ = system.stretch_by_cell();
+  length_ratio_to_ = length_ratio_by_cell;
   const double span = t - length_ratio_from_ms_;
   for (double h = solver_->step_ms(); time_ms_ + h <= t + kTimeEpsilon_ms; h = solver_->step_ms()) {
     const double w = span > 0 ? std::clamp((time_ms_ + h - length_ratio_from_ms_) / span, 0.0, 1.0) : 1.0;

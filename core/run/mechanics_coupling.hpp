@@ -22,7 +22,11 @@ class MechanicsCoupling {
   MechanicsCoupling(const Tissue& tissue, const DemSpec& spec);
 
   // Mechanics at its own step up to t_ms (the end of a cell step).
-  void advance(double t_ms, const CellSystem& system);
+  void advance(double t_ms, const CellSystem& system) { advance(t_ms, system.stretch_by_cell()); }
+  // The same from every cell's length relative to rest at t_ms (by tissue
+  // number): what a run split over ranks gathers on rank 0
+  // (run/mechanics_over_ranks.hpp).
+  void advance(double t_ms, const std::vector<double>& length_ratio_by_cell);
 
   // The coupling's state and the solver's, for a checkpoint at the cells'
   // time; restore() throws CheckpointError if the mechanics' time does not

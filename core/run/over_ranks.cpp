@@ -4,10 +4,8 @@
 
 namespace fibrodem {
 
-std::vector<std::string> unsupported_over_ranks(const Scene& scene, const ProcessPlan& plan, const std::string& method) {
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, const std::string& method) {
   std::vector<std::string> unsupported;
-  for (const char* effect : {"mechanics", "contraction", "mechano_electric_feedback"})
-    if (plan.has(effect)) unsupported.push_back(std::string("effect \"") + effect + "\"");
   if (!SolverSpec::fixed_step(method) && method != "adaptive")
     unsupported.push_back(scene.solver.method == "auto"
                               ? "solver.method \"auto\", which chose \"" + method +
@@ -18,11 +16,9 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const Proces
 }
 
 std::vector<std::string> unsupported_over_ranks(const Scene& scene) {
+  if (scene.solver.method != "auto") return unsupported_over_ranks(scene, scene.solver.method);
   const Tissue tissue = scene.tissue->build(scene.seed);
-  const ProcessPlan plan = plan_processes(scene, tissue);
-  const std::string method =
-      scene.solver.method == "auto" ? choose_method(scene.solver, tissue.cell_count()).solver.method : scene.solver.method;
-  return unsupported_over_ranks(scene, plan, method);
+  return unsupported_over_ranks(scene, choose_method(scene.solver, tissue.cell_count()).solver.method);
 }
 
 std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported) {

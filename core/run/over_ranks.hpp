@@ -1,11 +1,12 @@
 // What `fibrodem run` can split over the ranks of an mpirun (docs/parallel.md):
 // the electrophysiology of one tissue with the adaptive method or a
 // fixed-step one (euler, rush_larsen, rush_larsen2), explicit or implicit
-// gap-junction coupling, settle, initial_state.from (a one-process
-// checkpoint), its biomarkers, traces of states,
-// snapshots, re-entry, maps, summary and checkpoints (resumed on as many
-// ranks). Anything else stops on every rank with the message below before
-// anything is written, instead of
+// gap-junction coupling, contraction, mechano-electric feedback and the
+// mechanics (the DEM stepped on rank 0: run/mechanics_over_ranks.hpp),
+// settle, initial_state.from (a one-process checkpoint), its biomarkers,
+// traces of states and strain, snapshots, re-entry, maps, summary and
+// checkpoints (resumed on as many ranks). Anything else (CVODE) stops on
+// every rank with the message below before anything is written, instead of
 // N processes writing one folder. (`fibrodem sweep` spreads whole runs over
 // ranks.)
 #pragma once
@@ -22,9 +23,9 @@ namespace fibrodem {
 // Each part of the scene that a run over several ranks cannot take, as a
 // phrase naming it and where the manifest asks for it; empty: it can run
 // split. `method` is the solver's method once "auto" has chosen.
-std::vector<std::string> unsupported_over_ranks(const Scene& scene, const ProcessPlan& plan, const std::string& method);
-// The same from the scene alone (builds its tissue: which effects it needs
-// and what "auto" chooses follow from it).
+std::vector<std::string> unsupported_over_ranks(const Scene& scene, const std::string& method);
+// The same from the scene alone (builds its tissue when solver.method is
+// "auto": what it chooses follows from the cell count).
 std::vector<std::string> unsupported_over_ranks(const Scene& scene);
 
 // The error every rank stops with: the command, the rank count, what is

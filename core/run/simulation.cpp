@@ -229,7 +229,10 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   sample_reentry_if_due(t_old, t_new);
   auto measured = Clock::now();
   measurement_seconds += std::chrono::duration<double>(measured - start).count();
-  if (mechanics) {
+  if (mechanics_over_ranks) {
+    mechanics_over_ranks->advance(t_new, system, mechanics.get());  // (rank 0's mechanics times itself)
+    measured = Clock::now();
+  } else if (mechanics) {
     mechanics->advance(t_new, system);  // times itself
     measured = Clock::now();
   }

@@ -237,10 +237,15 @@ void Simulation::Impl::build_coupling() {
   }
 }
 // DEM tissue mechanics: cells' lengths from their myofilaments drive it;
-// nothing flows back to the cells.
+// nothing flows back to the cells. Split over ranks, rank 0 alone keeps
+// it (built on every rank: a spec it refuses stops every rank alike).
 void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
+  if (!ranks) return;
+  mechanics_over_ranks =
+      std::make_unique<MechanicsOverRanks>(*ranks, share.owned, cells_in_rank_order, rank_cell_counts, rank_cell_offsets);
+  if (ranks->rank() != 0) mechanics.reset();
 }
 
 // solver.lookup_tables: a table of the voltage_only gates' rates per ionic

@@ -31,6 +31,7 @@
 #include "run/checkpoint_dir.hpp"
 #include "run/halo_exchange.hpp"
 #include "run/mechanics_coupling.hpp"
+#include "run/mechanics_over_ranks.hpp"
 #include "run/resource_estimate.hpp"
 #include "run/run_clock.hpp"
 #include "run/simulation.hpp"
@@ -62,7 +63,8 @@ struct Simulation::Impl : StepObserver {
   double wall_s = 0;
   long long steps = 0;
   long long snapshots_taken = 0;
-  std::unique_ptr<MechanicsCoupling> mechanics;
+  std::unique_ptr<MechanicsCoupling> mechanics;  // split over ranks: rank 0's only
+  std::unique_ptr<MechanicsOverRanks> mechanics_over_ranks;  // split over ranks, with mechanics
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
   double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
   std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)

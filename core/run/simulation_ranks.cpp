@@ -57,7 +57,7 @@ BeatBiomarkers unpack(const double* v) {
 // rank's share of the cells.
 void Simulation::Impl::split_over_ranks() {
   if (!ranks) return;
-  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, plan, scene.solver.method);
+  const std::vector<std::string> unsupported = unsupported_over_ranks(scene, scene.solver.method);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", ranks->size(), unsupported));
   const CellPartition partition = partition_cells(tissue, ranks->size());
   share = rank_cells(tissue, partition, ranks->rank());
@@ -145,16 +145,20 @@ const double* Simulation::Impl::tracked(const double* per_cell, std::vector<doub
 }
 
 // output.traces as this rank records it: its own cells only (a cell that
-// does not exist stays, for the same error on every rank).
+// does not exist stays, for the same error on every rank), and the strain
+// on rank 0 only, which steps the mechanics (run/mechanics_over_ranks.hpp).
 Scene Simulation::Impl::scene_of_own_traces() const {
   Scene own = scene;
-  for (auto& block : own.output.traces.blocks)
+  const bool strain_elsewhere = plan.has("mechanics") && ranks->rank() != 0;
+  for (auto& block : own.output.traces.blocks) {
+    if (strain_elsewhere) std::erase_if(block.variables, is_strain_variable);
     block.cells.erase(std::remove_if(block.cells.begin(), block.cells.end(),
                                      [&](int cell) {
                                        return cell >= 0 && static_cast<std::size_t>(cell) < tissue.cell_count() &&
                                               !owns(static_cast<std::size_t>(cell));
                                      }),
                       block.cells.end());
+  }
   return own;
 }
 

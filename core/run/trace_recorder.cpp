@@ -203,6 +203,8 @@ void TraceRecorder::merge(const TraceSpec& spec, const std::vector<std::string>&
       std::getline(fields, step, '\t');
       c.cell = std::stoi(cell);
       c.step = step == "1";
+      for (int k = 0; k < 3; ++k)  // (rank 0's, which steps the mechanics)
+        if (c.variable == kStrainNames[k]) c.strain = k;
       columns.push_back(c);
     }
     if (columns.empty()) continue;
@@ -214,7 +216,8 @@ void TraceRecorder::merge(const TraceSpec& spec, const std::vector<std::string>&
       found.emplace(columns[k].name(), std::make_pair(columns[k], std::vector<double>(from, from + static_cast<long>(count))));
     }
   }
-  // One process's order: dt_ms, then each block's cells' variables, each once.
+  // One process's order: the strain, dt_ms, then each block's cells'
+  // variables, each once.
   columns_.clear();
   samples_.clear();
   auto take = [&](const std::string& name) {
@@ -224,6 +227,7 @@ void TraceRecorder::merge(const TraceSpec& spec, const std::vector<std::string>&
     samples_.push_back(std::move(it->second.second));
     found.erase(it);
   };
+  for (const char* strain : kStrainNames) take(strain);
   take(kStepVariable);
   for (const auto& block : spec.blocks)
     for (int cell : block.cells)

@@ -58,9 +58,10 @@ class TraceRecorder {
   void sample(double t, CellSystem& system, const MechanicsSolver* mechanics);
 
   // A run split over ranks (docs/parallel.md): each rank records the columns
-  // of its own cells (and dt_ms); rank 0 merges them at the end. What a rank
-  // sends: its columns as text (a line "variable\tcell\tunit\tstep" each) and
-  // its samples as numbers (the times, then each column's samples).
+  // of its own cells (and dt_ms; rank 0, which steps the mechanics, the
+  // strain too); rank 0 merges them at the end. What a rank sends: its
+  // columns as text (a line "variable\tcell\tunit\tstep" each) and its
+  // samples as numbers (the times, then each column's samples).
   std::string packed_columns() const;
   std::vector<double> packed_samples() const;
   // Rank 0: every rank's packed columns and samples (in rank order) taken as

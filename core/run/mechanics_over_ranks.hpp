@@ -1,0 +1,44 @@
+// The DEM of a run split over ranks (docs/parallel.md): rank 0 steps the
+// whole tissue's mechanics. At the end of every cell step each rank sends
+// its own cells' lengths relative to rest (SL / SL_rest, from their
+// myofilaments) to rank 0, which places them by tissue number and advances
+// the mechanics with them: the values, in the order, one process hands its
+// DEM. Nothing goes back: the DEM drives nothing in the cells (their
+// stretch-activated current reads each cell's own sarcomere length,
+// integrate/cell_system.hpp), so the other ranks only send.
+#pragma once
+
+#include <vector>
+
+#include "integrate/cell_system.hpp"
+#include "run/mechanics_coupling.hpp"
+#include "run/rank_group.hpp"
+
+namespace fibrodem {
+
+class MechanicsOverRanks {
+ public:
+  // `owned`: this rank's cells (increasing tissue numbers);
+  // `cells_in_rank_order`, `counts`, `offsets`: every rank's cells, rank
+  // after rank, as RankGroup::gather_into places them (read on rank 0
+  // only). Every argument must outlive this. Buffers are made here, once.
+  MechanicsOverRanks(RankGroup& ranks, const std::vector<int>& owned, const std::vector<int>& cells_in_rank_order,
+                     const std::vector<int>& counts, const std::vector<int>& offsets);
+
+  // Collective (every rank at the end of the same step): the cells' lengths
+  // at t_ms to rank 0, whose `mechanics` then steps up to t_ms (null on the
+  // other ranks, which return once their values are sent).
+  void advance(double t_ms, const CellSystem& system, MechanicsCoupling* mechanics);
+
+ private:
+  RankGroup& ranks_;
+  const std::vector<int>& owned_;
+  const std::vector<int>& cells_in_rank_order_;
+  const std::vector<int>& counts_;
+  const std::vector<int>& offsets_;
+  std::vector<double> own_ratio_;      // this rank's cells, in owned_'s order
+  std::vector<double> gathered_;       // rank 0: every cell, rank after rank
+  std::vector<double> ratio_by_cell_;  // rank 0: every cell, by tissue number
+};
+
+}  // namespace fibrodem
