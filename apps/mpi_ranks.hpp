@@ -1,21 +1,24 @@
 // The ranks of an MPI launch (`mpirun -n N fibrodem sweep ...`), or one rank
 // when fibrodem was not launched by mpirun or was built without MPI (OpenMPI
 // from Debian, found at configure time). A sweep spreads its runs over the
-// ranks; rank 0 gathers their results and writes the tables.
+// ranks; rank 0 gathers their results and writes the tables. MPI itself is
+// in the MPI module (apps/mpi_world.hpp), opened only under mpirun.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "apps/mpi_world.hpp"
 #include "run/rank_group.hpp"
 
 namespace fibrodem::cli {
 
 class MpiRanks {
  public:
-  MpiRanks();  // MPI_Init when launched by mpirun (its environment says so)
-  ~MpiRanks();
+  // MPI_Init, through the MPI module, when launched by mpirun (its
+  // environment says so). Throws std::runtime_error if the module is missing.
+  MpiRanks();  ~MpiRanks();
   MpiRanks(const MpiRanks&) = delete;
   MpiRanks& operator=(const MpiRanks&) = delete;
 
@@ -27,7 +30,7 @@ class MpiRanks {
   // environment; MpiRanks marks it).
   static int launched_size();
 
-  bool launched() const { return launched_; }
+  bool launched() const { return world_ != nullptr; }
   int rank() const { return rank_; }
   int size() const { return size_; }
   int on_this_host() const { return local_size_; }  // ranks sharing this machine's cores
@@ -41,7 +44,7 @@ class MpiRanks {
   [[noreturn]] void abort(int exit_code) const;
 
  private:
-  bool launched_ = false;
+  std::unique_ptr<MpiWorld> world_;  // null: not launched by mpirun, or a build without MPI
   int rank_ = 0, size_ = 1, local_size_ = 1;
 };
 

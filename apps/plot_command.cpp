@@ -1,5 +1,5 @@
 // `fibrodem plot SPEC.json --out FILE.png`: line plots from a JSON description,
-// drawn by the same Cairo plotter as the sweeps and benchmarks (io/plot_png), so
+// drawn by the same Cairo plotter as the sweeps and benchmarks (io/plot_png.hpp), so
 // scripts (scripts/paper_report.py) get plots without a Python plotting package.
 //   {"title": "...", "columns": 2, "width_px": 1200, "height_px": 800,
 //    "panels": [{"title", "x_label", "y_label", "log_x": false, "log_y": false,

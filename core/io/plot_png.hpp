@@ -5,7 +5,8 @@
 // optional error bars, and optional dashed horizontal guide lines (e.g. error
 // thresholds).
 // Points that cannot be drawn (non-finite, or <= 0 on a log axis) are left
-// out, and a series' line is broken there.
+// out, and a series' line is broken there. Drawn by the drawing module,
+// opened on the first plot (io/drawing.hpp).
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,5 @@
 // The plots of io/plot_png as SVG text, for inline use in an HTML report: the
-// same drawing (io/plot_draw) on Cairo's SVG surface, written to memory.
+// same drawing (modules/drawing/plot_draw.hpp) on Cairo's SVG surface, written to memory.
 #pragma once
 
 #include <string>

@@ -2,6 +2,7 @@
 // cell's type (as the seed paper's Fig. 2: myocytes blue, fibroblasts green)
 // or, given one value per cell (e.g. membrane potential), by a colour map
 // with a colour bar showing its range.
+// Drawn by the drawing module, opened on the first picture (io/drawing.hpp).
 #pragma once
 
 #include <filesystem>

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 
 #include "binding.hpp"
+#include "util/runtime_module.hpp"
 
 #ifndef FIBRODEM_CLI_DIR
 #error "FIBRODEM_CLI_DIR (the folder of the fibrodem executable) must be defined by the build"
@@ -27,6 +28,8 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "fibrodem's core library (use the fibrodem package, not this module)";
   m.attr("version") = FIBRODEM_VERSION;
   m.attr("cli_dir") = FIBRODEM_CLI_DIR;
+  // The drawing module is built beside the command line (modules/).
+  fibrodem::add_module_directory(FIBRODEM_CLI_DIR);
   fibrodem::python::bind_errors(m);
   fibrodem::python::bind_scene(m);
   fibrodem::python::bind_run(m);

@@ -232,13 +232,22 @@ json integral_numbers_as_integers(const json& value) {
   return out;
 }
 
+// The valijson form of a schema, built on its first use only (as
+// schema_document: a run never needs the sweep file's).
+const valijson::Schema& parsed_schema(SchemaKind kind) {
+  if (kind == SchemaKind::manifest) {
+    static const std::unique_ptr<valijson::Schema> manifest = parse_schema(schema_document(SchemaKind::manifest));
+    return *manifest;
+  }
+  static const std::unique_ptr<valijson::Schema> sweep = parse_schema(schema_document(SchemaKind::sweep));
+  return *sweep;
+}
+
 }  // namespace
 
 void check_against_schema(SchemaKind kind, const json& given) {
-  static const std::unique_ptr<valijson::Schema> manifest = parse_schema(schema_document(SchemaKind::manifest));
-  static const std::unique_ptr<valijson::Schema> sweep = parse_schema(schema_document(SchemaKind::sweep));
   const json document = integral_numbers_as_integers(given);
-  if (valid(kind == SchemaKind::manifest ? *manifest : *sweep, document)) return;
+  if (valid(parsed_schema(kind), document)) return;
   const json& root = schema_document(kind);
   if (auto p = find_problem(root, root, document, "")) throw ManifestError(p->path, p->what + " (" + schema_kind_name(kind) + " schema)");
   throw ManifestError("", std::string("does not satisfy the ") + schema_kind_name(kind) + " schema");

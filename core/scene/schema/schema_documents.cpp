@@ -12,10 +12,15 @@ SchemaKind schema_kind_named(const std::string& name) {
   throw std::invalid_argument("no schema named \"" + name + "\" (expected \"manifest\" or \"sweep\")");
 }
 
+// Each schema is parsed on its first use only: a run reads a manifest and
+// never needs the sweep file's schema (a parse costs start-up time).
 const json& schema_document(SchemaKind kind) {
-  static const json manifest = json::parse(schema_text(SchemaKind::manifest));
+  if (kind == SchemaKind::manifest) {
+    static const json manifest = json::parse(schema_text(SchemaKind::manifest));
+    return manifest;
+  }
   static const json sweep = json::parse(schema_text(SchemaKind::sweep));
-  return kind == SchemaKind::manifest ? manifest : sweep;
+  return sweep;
 }
 
 const json& resolve_schema_ref(const json& root, const json& node) {

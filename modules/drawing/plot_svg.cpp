@@ -1,14 +1,13 @@
-#include "io/plot_svg.hpp"
-
 #include <cairo-svg.h>
 #include <cairo.h>
 
 #include <memory>
 #include <stdexcept>
 
-#include "io/plot_draw.hpp"
+#include "cairo_drawing.hpp"
+#include "plot_draw.hpp"
 
-namespace fibrodem {
+namespace fibrodem::cairo {
 
 namespace {
 
@@ -64,4 +63,4 @@ std::string plot_svg(const std::vector<PlotPanel>& panels, const PlotOptions& op
   return scalable_root(std::move(svg), options);
 }
 
-}  // namespace fibrodem
+}  // namespace fibrodem::cairo

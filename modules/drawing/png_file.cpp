@@ -1,4 +1,4 @@
-#include "io/png_file.hpp"
+#include "png_file.hpp"
 
 #include <png.h>
 #include <zlib.h>
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace fibrodem {
+namespace fibrodem::cairo {
 
 namespace {
 
@@ -131,4 +131,4 @@ std::string png_bytes(cairo_surface_t* image) {
   return bytes;
 }
 
-}  // namespace fibrodem
+}  // namespace fibrodem::cairo

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-namespace fibrodem {
+namespace fibrodem::cairo {
 
 // Throws std::runtime_error naming the file if it cannot be written.
 void write_png_file(cairo_surface_t* image, const std::filesystem::path& file);
@@ -17,4 +17,4 @@ void write_png_file(cairo_surface_t* image, const std::filesystem::path& file);
 // The same PNG as bytes in memory (a picture embedded in a page).
 std::string png_bytes(cairo_surface_t* image);
 
-}  // namespace fibrodem
+}  // namespace fibrodem::cairo

@@ -1,5 +1,5 @@
-#include "io/tissue_picture.hpp"
-#include "io/png_file.hpp"
+#include "cairo_drawing.hpp"
+#include "png_file.hpp"
 
 #include <cairo.h>
 
@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace fibrodem {
+namespace fibrodem::cairo {
 namespace {
 
 struct Rgb {
@@ -81,12 +81,10 @@ std::string format_value(double v) {
 
 }  // namespace
 
-void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
-                      const std::vector<double>* values, const PictureOptions& options) {
-  if (values && values->size() != tissue.cell_count())
-    throw std::runtime_error("write_tissue_png: " + std::to_string(values->size()) +
-                             " values for " + std::to_string(tissue.cell_count()) + " cells");
-  auto b = tissue.bounds_um();
+void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_um,
+                      const std::filesystem::path& file, const std::vector<double>* values,
+                      const PictureOptions& options) {
+  auto b = bounds_um;
   if (!(b[1] > b[0])) b[0] -= 1, b[1] += 1;
   if (!(b[3] > b[2])) b[2] -= 1, b[3] += 1;
   const double scale = options.pixels_per_um > 0 ? options.pixels_per_um
@@ -216,4 +214,4 @@ void write_tissue_png(const Tissue& tissue, const std::filesystem::path& file,
   write_png_file(surface.get(), file);
 }
 
-}  // namespace fibrodem
+}  // namespace fibrodem::cairo
