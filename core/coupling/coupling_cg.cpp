@@ -50,7 +50,7 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
         });
       for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
     }
-  for (auto* v : {&x_, &v_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
+  for (auto* v : {&x_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
     v->assign(static_cast<std::size_t>(padded_ + ghosts), 0.0);
   const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
   chunk_dot_.assign(chunks, 0.0);
@@ -196,7 +196,7 @@ std::vector<double> CouplingCg::diagonal_nS() const {
   return {diagonal_nS_.begin(), diagonal_nS_.begin() + n_};
 }
 
-CouplingCg::Sums CouplingCg::residual(double* x, double dt_ms) {
+CouplingCg::Sums CouplingCg::residual(const double* v, double* x, double dt_ms) {
   const double inverse_dt = 1.0 / dt_ms;
   refresh_ghosts(x);
   return over_chunks([&](long first, long end) {
@@ -209,7 +209,8 @@ CouplingCg::Sums CouplingCg::residual(double* x, double dt_ms) {
         const double C_over_dt = inverse_capacitance_[i] > 0 ? inverse_dt / inverse_capacitance_[i] : 0.0;
         a_diagonal_[i] = C_over_dt + diagonal_nS_[i];
         inverse_diagonal_[i] = a_diagonal_[i] > 0 ? 1.0 / a_diagonal_[i] : 0.0;
-        const double r = C_over_dt * (v_[i] - x[i]) - (sum[lane] + diagonal_nS_[i] * x[i]);
+        const double v_i = i < n_ ? v[i] : 0.0;  // (padding: 0)
+        const double r = C_over_dt * (v_i - x[i]) - (sum[lane] + diagonal_nS_[i] * x[i]);
         r_[i] = r;
         z_[i] = inverse_diagonal_[i] * r;
         p_[i] = q_[i] = 0;
@@ -245,10 +246,11 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
   // The start: v plus the last solve's correction x - v, scaled to this dt.
   const double scale = last_dt_ms_ > 0 ? dt_ms / last_dt_ms_ : 0.0;
   double v_max = 0;
+  // (v stays in x_io, untouched until the solve is done.)
+  const double* v = x_io;
   for (long i = 0; i < n_; ++i) {
-    v_[i] = x_io[i];
-    x_[i] = x_io[i] + scale * correction_[i];
-    v_max = std::max(v_max, std::abs(v_[i]));
+    x_[i] = v[i] + scale * correction_[i];
+    v_max = std::max(v_max, std::abs(v[i]));
   }
   if (ranks_) {  // every rank's largest, for the same drift allowance and the same test of v
     double unused = 0;
@@ -256,7 +258,7 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
   }
   double* x = x_.data();
   const double drift_per_iteration = kDriftPerIteration * kEpsilon * (1 + 2 * dt_ms * max_rate_per_ms_) * v_max;
-  Sums s = residual(x, dt_ms);
+  Sums s = residual(v, x, dt_ms);
   double rz = s.dot, bound = dt_ms * s.largest;
   int iterations = 0, since_restart = 0;
   while (std::isfinite(rz) && std::isfinite(v_max)) {  // else a NaN or infinite v: the caller's to see
@@ -287,7 +289,7 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
     // the tolerance, the bound from the true residual; CG restarts from it if
     // that is still above the tolerance.
     if (since_restart * drift_per_iteration <= 0.1 * tolerance_mV) break;
-    s = residual(x, dt_ms);
+    s = residual(v, x, dt_ms);
     rz = s.dot;
     bound = dt_ms * s.largest;
     since_restart = 0;
@@ -295,7 +297,7 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
   }
   if (std::isfinite(rz)) {
     for (long i = 0; i < n_; ++i) {
-      correction_[i] = x_[i] - v_[i];
+      correction_[i] = x_[i] - v[i];
       x_io[i] = x_[i];
     }
     last_dt_ms_ = dt_ms;

@@ -129,9 +129,9 @@ class CouplingCg {
   };
   template <class F>
   Sums over_chunks(F&& f);
-  // From x: r = b - A x, z = M^-1 r (setting A's diagonal and M^-1 for dt),
+  // From x and the right-hand side's v (n_ rows): r = b - A x, z = M^-1 r (setting A's diagonal and M^-1 for dt),
   // p = q = 0. Returns r.z and max |r_i| / C_i.
-  Sums residual(double* x, double dt_ms);
+  Sums residual(const double* v, double* x, double dt_ms);
   // q = A z + beta q, p = z + beta p; returns p.q.
   double direction(double beta);
   // sum[lane] = sum_j L_ij y_j over the off-diagonal entries of slice s's rows.
@@ -156,10 +156,10 @@ class CouplingCg {
   std::vector<int> width_, column_;
   std::vector<double> weight_nS_;
   std::vector<double> diagonal_nS_, inverse_capacitance_;  // L_ii, 1/C_i
-  // Work vectors of padded_ rows, sized once: the iterate x, v, r,
+  // Work vectors of padded_ rows, sized once: the iterate x, r,
   // z = M^-1 r, the search direction p, q = A p, A's diagonal and M^-1 for
-  // the present dt.
-  std::vector<double> x_, v_, r_, z_, p_, q_, a_diagonal_, inverse_diagonal_;
+  // the present dt (v is the caller's, which solve() writes only at its end).
+  std::vector<double> x_, r_, z_, p_, q_, a_diagonal_, inverse_diagonal_;
   // The last solve's x - v and dt (the next solve starts from v plus it).
   std::vector<double> correction_;
   double last_dt_ms_ = 0;

@@ -33,7 +33,11 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
 // (L exists whole only while the CG slices it.)
 GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, double D_f_nS,
                                        std::vector<double> capacitance_pF)
-    : capacitance_pF_(std::move(capacitance_pF)), cg_(laplacian_of(tissue, D_m_nS, D_f_nS), capacitance_pF_) {}
+    : cg_(laplacian_of(tissue, D_m_nS, D_f_nS), capacitance_pF), max_rate_per_ms_(0.0) {
+  const std::vector<double> total = total_conductance_nS();
+  for (std::size_t i = 0; i < total.size(); ++i)
+    max_rate_per_ms_ = std::max(max_rate_per_ms_, 2.0 * total[i] / capacitance_pF[i]);
+}
 
 void GapJunctionCoupler::add_current(const double* V, double* i_ext) const {
   for_each_cell(cg_.rows(), [&](long row) { i_ext[row] += cg_.row_current(row, V); });
@@ -51,11 +55,6 @@ std::string GapJunctionCoupler::describe_solves() const { return cg_.describe_st
 
 std::vector<double> GapJunctionCoupler::total_conductance_nS() const { return cg_.diagonal_nS(); }
 
-double GapJunctionCoupler::max_rate_per_ms() const {
-  const std::vector<double> total = total_conductance_nS();
-  double rate = 0.0;
-  for (std::size_t i = 0; i < total.size(); ++i) rate = std::max(rate, 2.0 * total[i] / capacitance_pF_[i]);
-  return rate;
-}
+double GapJunctionCoupler::max_rate_per_ms() const { return max_rate_per_ms_; }
 
 }  // namespace fibrodem

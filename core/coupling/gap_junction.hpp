@@ -30,8 +30,8 @@ class GapJunctionCoupler final : public Coupler {
   const CouplingCg& solver() const { return cg_; }
 
  private:
-  std::vector<double> capacitance_pF_;
   CouplingCg cg_;
+  double max_rate_per_ms_;  // (from the capacitances, which the CG keeps only as 1/C)
 };
 
 }  // namespace fibrodem

@@ -175,10 +175,23 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     Buffers buf;
     buf.pop = &pop;
     buf.start.resize(pop.y.size());
-    for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(pop.y.size(), 0.0);
-    if (system.coupler && pop.voltage_state >= 0)
-      for (auto* v : {&buf.F_last, &buf.v_half, &buf.v_full}) v->assign(pop.size(), 0.0);
+    const bool coupled = system.coupler && pop.voltage_state >= 0;
+    if (coupled)
+      buf.F_last.assign(pop.size(), 0.0);
     const auto& states = pop.info().states;
+    // The table's gates: their forms are the table's at V, whenever evaluate()
+    // fills them (not when a Rush-Larsen integrator advances them itself).
+    std::vector<bool> tabulated(states.size(), false);
+    if (pop.table && !pop.table_advances_gates && pop.voltage_state >= 0) {
+      buf.table = std::make_shared<const VoltageTable>(pop.table->rows());
+      for (int k : buf.table->gates()) tabulated[static_cast<std::size_t>(k)] = true;
+    }
+    int rows = 0;
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      const bool potential = coupled && static_cast<int>(k) == pop.voltage_state;
+      buf.form_row.push_back(tabulated[k] || potential ? -1 : rows++);
+    }
+    for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(static_cast<std::size_t>(rows) * pop.size(), 0.0);
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
       buf.scale.push_back(states[k].gate || magnitude == 0 ? 1.0 : magnitude);
@@ -208,20 +221,41 @@ AdaptiveIntegrator::Buffers& AdaptiveIntegrator::buffers_of(const Population& po
 
 // Calls each_row(row, k, buffers, offset) on the rows of a block's states,
 // and potential(population, row, offset, count) on a coupled population's
-// potential instead.
+// potential instead. With forms_needed, a tabulated gate's row reads the
+// form at the start saved in buf.start from the table (the potential there
+// is the one evaluate() filled it from, so the form is the same to the bit),
+// into a tile of the thread: before any row writes a new start. Without, its
+// a_start, b_start are that tile, written and never read.
 template <class EachRow, class Potential>
-void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row,
-                                  Potential&& potential) {
+void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool coupled, bool forms_needed,
+                                  EachRow&& each_row, Potential&& potential) {
   Buffers& buf = buffers_of(pop);
   const std::size_t n = pop.size();
   const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
   const auto& states = pop.info().states;
+  // a then b of each state, kCellsPerBlock a row (grown, never shrunk: no allocation once grown)
+  thread_local std::vector<double> forms;
+  if (forms.size() < 2 * states.size() * kCellsPerBlock) forms.resize(2 * states.size() * kCellsPerBlock);
+  if (buf.table && forms_needed) {
+    BlockView at_start = block;
+    at_start.y = buf.start.data() + offset;
+    at_start.a = forms.data();
+    at_start.b = forms.data() + states.size() * kCellsPerBlock;
+    at_start.ab_stride = kCellsPerBlock;
+    at_start.begin = 0;
+    buf.table->fill(at_start, pop.voltage_state);
+  }
   for (std::size_t k = 0; k < states.size(); ++k) {
     const std::size_t at = k * n + offset;
+    const int form_row = buf.form_row[k];
+    double* a_start = form_row >= 0 ? buf.a_last.data() + static_cast<std::size_t>(form_row) * n + offset
+                                    : forms.data() + k * kCellsPerBlock;
+    double* b_start = form_row >= 0 ? buf.b_last.data() + static_cast<std::size_t>(form_row) * n + offset
+                                    : forms.data() + (states.size() + k) * kCellsPerBlock;
     const Row row{pop.y.data() + at,
                   buf.start.data() + at,
-                  buf.a_last.data() + at,
-                  buf.b_last.data() + at,
+                  a_start,
+                  b_start,
                   buf.first_order.empty() ? nullptr : buf.first_order.data() + at,
                   block.a + k * block.ab_stride,
                   block.b + k * block.ab_stride,
@@ -244,48 +278,47 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   const double t_stim = t + 0.5 * h, theta = 0.5 * h;
   const bool coupled = system.coupler != nullptr;
   // Stage 1: gates and other states to the midpoint (and the first-order full
-  // step); for V the right-hand sides V0 + theta F0 and V0 - theta K V0.
+  // step); for V the right-hand side V0 + theta F0.
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     for_rows(
-        pop, block, coupled,
+        pop, block, coupled, false,
         [&](const Row& row, std::size_t, Buffers&, std::size_t) {
           keep_linear_forms(row, block.end);
           first_stage(row, block.end, h);
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
           Buffers& buf = buffers_of(p);
-          const double* gap = gap_current(system, p, offset, count);
+          const int* cells = p.cells.data() + offset;
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
             row.start[c] = V0;
             buf.F_last[offset + c] = F0;
-            buf.v_half[offset + c] = V0 + theta * F0;
-            buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF;
+            v_global_[cells[c]] = V0 + theta * F0;
           }
         });
   });
   if (coupled) {
-    solve(system, theta, &Buffers::v_half);  // V_half
+    solve(system, theta);  // V_half
     for (Buffers& buf : buffers_) {
       Population& pop = *buf.pop;
       if (pop.voltage_state < 0) continue;
       const std::size_t n = pop.size(), row = static_cast<std::size_t>(pop.voltage_state) * n;
       for (std::size_t c = 0; c < n; ++c) {
         const double V_half = v_global_[pop.cells[c]];
-        pop.y[row + c] = V_half;
-        // Crank-Nicolson with F at the start: V1's first-order companion
-        // (in v_half, its solve done).
-        buf.v_half[c] = 2 * V_half - buf.start[row + c];
-        if (!buf.first_order.empty()) buf.first_order[row + c] = buf.v_half[c];
+        pop.y[row + c] = V_half;  // (until solve_potential, which takes V1's first-order companion from it)
+        if (!buf.first_order.empty()) buf.first_order[row + c] = 2 * V_half - buf.start[row + c];
       }
     }
   }
-  // Stage 2: the full step from the midpoint's linear forms.
+  // Stage 2: the full step from the midpoint's linear forms; for V the
+  // right-hand side V0 - theta K V0 + h F_mid (the gap currents at V0, which
+  // system.V_mV still holds: an implicit coupling is never gathered in
+  // evaluate()).
   std::atomic<double> error{0.0};
   system.evaluate(t_stim, t + theta, [&](Population& pop, const BlockView& block) {
     double block_error = 0;
     for_rows(
-        pop, block, coupled,
+        pop, block, coupled, true,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
           // Stage 1's choice, from the start's slopes.
           const bool first_exponential = pop.info().states[k].gate || has_slope(row.b_start, block.end);
@@ -294,8 +327,12 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
                                                  pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
-          double* v_full = buffers_of(p).v_full.data() + offset;
-          for (std::size_t c = 0; c < count; ++c) v_full[c] += h * (row.a[c] + row.b[c] * row.y[c]);
+          const double* gap = gap_current(system, p, offset, count);
+          const int* cells = p.cells.data() + offset;
+          for (std::size_t c = 0; c < count; ++c) {
+            const double explicit_part = row.start[c] + theta * gap[c] / p.capacitance_pF;
+            v_global_[cells[c]] = explicit_part + h * (row.a[c] + row.b[c] * row.y[c]);
+          }
         });
     atomic_max(error, block_error);
   });
@@ -309,7 +346,7 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     double block_error = 0;
     for_rows(
-        pop, block, coupled,
+        pop, block, coupled, true,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
           block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, rtol_, atol_ * buf.scale[k],
                                                                pop.lower_limit_of(k), pop.upper_limit_of(k)));
@@ -321,12 +358,13 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
           Buffers& buf = buffers_of(p);
           const double atol = atol_ * buf.scale[static_cast<std::size_t>(p.voltage_state)];
           const double* gap = gap_current(system, p, offset, count);
+          const int* cells = p.cells.data() + offset;
           for (std::size_t c = 0; c < count; ++c) {
             const double V0 = row.y[c], F0 = row.a[c] + row.b[c] * V0;
             const double F_mid = F0 + omega * (F0 - buf.F_last[offset + c]);
             row.start[c] = V0;
             buf.F_last[offset + c] = F0;
-            buf.v_full[offset + c] = V0 + theta * gap[c] / p.capacitance_pF + h * F_mid;
+            v_global_[cells[c]] = V0 + theta * gap[c] / p.capacitance_pF + h * F_mid;
             block_error = std::max(block_error, h * std::abs(F_mid - F0) / (rtol_ * std::abs(V0) + atol));
           }
         });
@@ -335,21 +373,19 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
   return coupled ? solve_potential(system, theta, error.load(), false) : error.load();
 }
 
-void AdaptiveIntegrator::solve(CellSystem& system, double theta, std::vector<double> Buffers::*rhs) {
-  for (const Buffers& buf : buffers_)
-    if (!(buf.*rhs).empty())
-      for (std::size_t c = 0; c < buf.pop->size(); ++c) v_global_[buf.pop->cells[c]] = (buf.*rhs)[c];
+void AdaptiveIntegrator::solve(CellSystem& system, double theta) {
   const auto start = std::chrono::steady_clock::now();
   system.coupler->implicit_step(v_global_.data(), theta, solve_tolerance_mV_);
   system.seconds[CellSystem::kCoupling] +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// V1 from (I + theta K) V1 = v_full, into the populations; the largest of
-// `error` and V's own (against the first-order companion in v_half, if
-// with_companion), inf if V left its range.
+// V1 from (I + theta K) V1 = rhs (in v_global_), into the populations; the
+// largest of `error` and V's own (if with_companion, against the first-order
+// companion 2 V_half - V0, V_half still in the populations), inf if V left
+// its range.
 double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, double error, bool with_companion) {
-  solve(system, theta, &Buffers::v_full);
+  solve(system, theta);
   for (Buffers& buf : buffers_) {
     Population& pop = *buf.pop;
     if (pop.voltage_state < 0) continue;
@@ -358,10 +394,12 @@ double AdaptiveIntegrator::solve_potential(CellSystem& system, double theta, dou
     const double atol = atol_ * buf.scale[k];
     for (std::size_t c = 0; c < n; ++c) {
       const double V1 = v_global_[pop.cells[c]];
+      if (with_companion) {
+        const double companion = 2 * pop.y[k * n + c] - buf.start[k * n + c];
+        error = std::max(error, std::abs(V1 - companion) / (rtol_ * std::abs(V1) + atol));
+      }
       pop.y[k * n + c] = V1;
       if (!(V1 >= lo && V1 <= hi)) error = kInf;
-      if (with_companion)
-        error = std::max(error, std::abs(V1 - buf.v_half[c]) / (rtol_ * std::abs(V1) + atol));
     }
   }
   return error;

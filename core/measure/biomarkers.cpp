@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -19,10 +18,11 @@ BiomarkerTracker::BiomarkerTracker(std::vector<CellType> types, std::vector<doub
       on_beat_(std::move(on_beat)), cells_(types_.size()), v_prev_(types_.size()), dvdt_max_(types_.size()),
       peak_(types_.size()), rmp_(types_.size()) {}
 
-void BiomarkerTracker::mirror(std::size_t c) {
-  dvdt_max_[c] = cells_[c].dvdt_max;
-  peak_[c] = cells_[c].peak;
-  rmp_[c] = cells_[c].rmp;
+void BiomarkerTracker::reset_cell(std::size_t c, double rmp_mV) {
+  cells_[c] = Cell{};
+  rmp_[c] = rmp_mV;
+  peak_[c] = -1e300;
+  dvdt_max_[c] = -1e300;
 }
 
 void BiomarkerTracker::use_pre_upstroke_rmp(double window_ms, double gap_ms) {
@@ -39,10 +39,10 @@ void BiomarkerTracker::number_cells(std::vector<int> cell_numbers) {
 
 void BiomarkerTracker::start(double /*t_ms*/, const double* V) {
   for (std::size_t c = 0; c < cells_.size(); ++c) {
-    cells_[c] = Cell{.rmp = V[c]};
+    reset_cell(c, V[c]);
     v_prev_[c] = V[c];
-    mirror(c);
   }
+  dvdt_prev_.clear();
   // Without stimulus the run is one beat whose RMP is the initial V; with one,
   // beats open at the onsets.
   beat_ = onsets_.empty() ? 0 : -1;
@@ -54,6 +54,10 @@ void BiomarkerTracker::save(CheckpointFields& fields) const {
   fields.put_integer("biomarkers.cell_bytes", static_cast<long long>(sizeof(Cell)));
   fields.put_bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));
   fields.put("biomarkers.v_prev", v_prev_);
+  fields.put("biomarkers.dvdt_max", dvdt_max_);
+  fields.put("biomarkers.peak", peak_);
+  fields.put("biomarkers.rmp", rmp_);
+  if (!dvdt_prev_.empty()) fields.put("biomarkers.dvdt_prev", dvdt_prev_);
   fields.put_integer("biomarkers.beat", beat_);
   fields.put_integer("biomarkers.next_onset", static_cast<long long>(next_onset_));
   if (pre_upstroke_) {
@@ -65,15 +69,16 @@ void BiomarkerTracker::save(CheckpointFields& fields) const {
 void BiomarkerTracker::load(const CheckpointFields& fields) {
   if (fields.integer("biomarkers.cell_bytes") != static_cast<long long>(sizeof(Cell)))
     throw CheckpointError("its biomarker trackers were written by another build of fibrodem");
-  // (As bytes, then each flag made a valid bool: a corrupt byte must not become one.)
-  std::vector<unsigned char> raw(cells_.size() * sizeof(Cell));
-  fields.bytes("biomarkers.cells", raw.data(), raw.size());
-  for (std::size_t c = 0; c < cells_.size(); ++c) {
-    unsigned char* cell = raw.data() + c * sizeof(Cell);
-    cell[offsetof(Cell, refine_max)] = cell[offsetof(Cell, refine_max)] != 0;
-    std::memcpy(static_cast<void*>(&cells_[c]), cell, sizeof(Cell));
-  }
+  fields.bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));  // (doubles only: any bytes are valid)
   fields.read_into("biomarkers.v_prev", v_prev_);
+  fields.read_into("biomarkers.dvdt_max", dvdt_max_);
+  fields.read_into("biomarkers.peak", peak_);
+  fields.read_into("biomarkers.rmp", rmp_);
+  dvdt_prev_.clear();
+  if (fields.has("biomarkers.dvdt_prev")) {
+    dvdt_prev_.resize(cells_.size());
+    fields.read_into("biomarkers.dvdt_prev", dvdt_prev_);
+  }
   beat_ = static_cast<int>(fields.integer("biomarkers.beat"));
   next_onset_ = static_cast<std::size_t>(fields.integer("biomarkers.next_onset"));
   if (next_onset_ > onsets_.size()) throw CheckpointError("its biomarker trackers are past the scene's last beat");
@@ -81,20 +86,13 @@ void BiomarkerTracker::load(const CheckpointFields& fields) {
     pre_upstroke_->load(fields);
     fields.read_into("biomarkers.pre_upstroke.rmp", rmp_pre_);
   }
-  for (std::size_t c = 0; c < cells_.size(); ++c) mirror(c);
 }
 
 void BiomarkerTracker::open_beat(double onset, double t_old, double t_new, const double* V) {
   close_beat();
   ++beat_;
   const double w = t_new > t_old ? std::clamp((onset - t_old) / (t_new - t_old), 0.0, 1.0) : 0.0;
-  for (std::size_t c = 0; c < cells_.size(); ++c) {
-    const double v_onset = v_prev_[c] + w * (V[c] - v_prev_[c]);
-    const double dvdt_prev = cells_[c].dvdt_prev;
-    cells_[c] = Cell{.rmp = v_onset};
-    cells_[c].dvdt_prev = dvdt_prev;
-    mirror(c);
-  }
+  for (std::size_t c = 0; c < cells_.size(); ++c) reset_cell(c, v_prev_[c] + w * (V[c] - v_prev_[c]));
   std::fill(rmp_pre_.begin(), rmp_pre_.end(), std::numeric_limits<double>::quiet_NaN());
 }
 
@@ -158,11 +156,10 @@ void BiomarkerTracker::step(double t_old, double t_new, const double* V, const d
     ++next_onset_;
   }
   if (!dVdt) return step_cells(t_old, t_new, V, 0, cells_.size());
+  if (dvdt_prev_.empty()) dvdt_prev_.assign(cells_.size(), std::numeric_limits<double>::quiet_NaN());
   if (beat_ < 0) {
-    for (std::size_t c = 0; c < cells_.size(); ++c) {
-      v_prev_[c] = V[c];
-      cells_[c].dvdt_prev = dVdt[c];
-    }
+    std::copy(V, V + cells_.size(), v_prev_.begin());
+    std::copy(dVdt, dVdt + cells_.size(), dvdt_prev_.begin());
     return;
   }
   for_each_cell(static_cast<long>(cells_.size()), [&](long c) { step_cell(c, t_old, t_new, V, dVdt); });
@@ -175,49 +172,49 @@ void BiomarkerTracker::step_cells(double t_old, double t_new, const double* V, s
 }
 
 void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, const double* V, const double* dVdt) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const double h = t_new - t_old;
   Cell& s = cells_[c];
+  double &dvdt_max = dvdt_max_[c], &peak = peak_[c];
   const double slope = dVdt ? dVdt[c] : (V[c] - v_prev_[c]) / h;
   const double t_slope = dVdt ? t_new : t_old + 0.5 * h;
-  if (slope > s.dvdt_max) {
-    s.dvdt_max = slope;
+  if (slope > dvdt_max) {
+    dvdt_max = slope;
     s.t_act = t_slope;
     // The peak between samples is refined once the next one is in, from its
     // neighbours on the adjacent steps (the integrator's dV/dt at step ends,
     // or difference quotients, second order at step middles). A rising
     // upstroke reaches this function at every step (its slope keeps growing,
     // then V keeps rising to the peak), so both neighbours are seen.
-    s.refine_max = s.slope_step_end == t_old;  // the left neighbour is the step just before
     s.max_left_t = s.t_slope_prev;
-    s.max_left_dvdt = s.slope_prev;
+    s.max_left_dvdt = s.slope_step_end == t_old ? s.slope_prev : kNaN;  // the left neighbour is the step just before
     s.max_step_end = t_new;
     if (pre_upstroke_) rmp_pre_[c] = pre_upstroke_->mean_before(c, t_slope);
-  } else if (s.refine_max) {
-    s.refine_max = false;
+  } else if (!std::isnan(s.max_left_dvdt)) {
+    const double left_dvdt = s.max_left_dvdt;
+    s.max_left_dvdt = kNaN;
     if (s.max_step_end == t_old)  // the right neighbour is the step just after
-      refine_peak_time(s.max_left_t, s.max_left_dvdt, s.t_act, s.dvdt_max, t_slope, slope, s.t_act);
+      refine_peak_time(s.max_left_t, left_dvdt, s.t_act, dvdt_max, t_slope, slope, s.t_act);
   }
   s.slope_prev = slope;
   s.t_slope_prev = t_slope;
   s.slope_step_end = t_new;
-  if (V[c] > s.peak) {
-    s.peak = V[c];
-    s.t_peak = t_new;
+  if (V[c] > peak) {
+    peak = V[c];
     s.cross50 = s.cross90 = -1;  // a new peak: repolarisation not yet seen
   } else {
-    const double amplitude = s.peak - s.rmp;
-    const double d1 = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
+    const double amplitude = peak - rmp_[c];
+    const double d0 = dvdt_prev_.empty() ? kNaN : dvdt_prev_[c];
+    const double d1 = dVdt ? dVdt[c] : kNaN;
     auto crossing = [&](double fraction, double& t_cross) {
-      const double level = s.peak - fraction * amplitude;
-      if (v_prev_[c] >= level && V[c] < level)
-        t_cross = falling_crossing(t_old, h, v_prev_[c], V[c], s.dvdt_prev, d1, level);
+      const double level = peak - fraction * amplitude;
+      if (v_prev_[c] >= level && V[c] < level) t_cross = falling_crossing(t_old, h, v_prev_[c], V[c], d0, d1, level);
     };
     crossing(0.5, s.cross50);
     crossing(0.9, s.cross90);
   }
   v_prev_[c] = V[c];
-  s.dvdt_prev = dVdt ? dVdt[c] : std::numeric_limits<double>::quiet_NaN();
-  mirror(c);
+  if (!dvdt_prev_.empty()) dvdt_prev_[c] = dVdt ? dVdt[c] : kNaN;
 }
 
 void BiomarkerTracker::step_lanes(double t_old, double t_new, const double* V, std::size_t begin,
@@ -261,9 +258,9 @@ void BiomarkerTracker::close_beat() {
     b.type = types_[c];
     b.beat = beat_;
     b.activation_ms = s.t_act;
-    b.rmp_mV = pre_upstroke_ ? rmp_pre_[c] : s.rmp;
-    b.apo_mV = s.peak;
-    b.dvdt_max_mV_per_ms = s.dvdt_max;
+    b.rmp_mV = pre_upstroke_ ? rmp_pre_[c] : rmp_[c];
+    b.apo_mV = peak_[c];
+    b.dvdt_max_mV_per_ms = dvdt_max_[c];
     if (s.cross50 >= 0) b.apd50_ms = s.cross50 - s.t_act;
     if (s.cross90 >= 0) b.apd90_ms = s.cross90 - s.t_act;
     on_beat_(b);

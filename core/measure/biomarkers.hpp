@@ -77,13 +77,13 @@ class BiomarkerTracker {
   void load(const CheckpointFields& fields);
 
  private:
+  // A cell's beat so far, beyond what the lanes' arrays hold (RMP, peak, max dV/dt).
   struct Cell {
-    double rmp = 0, peak = -1e300, t_peak = 0, dvdt_max = -1e300, t_act = 0;
+    double t_act = 0;
     double cross50 = -1, cross90 = -1;
-    double dvdt_prev = std::numeric_limits<double>::quiet_NaN();  // integrator's dV/dt at the last step's end
-    // The sample before the largest dV/dt so far, while its right neighbour is awaited.
-    double max_left_t = 0, max_left_dvdt = 0;
-    bool refine_max = false;
+    // The sample before the largest dV/dt so far, while its right neighbour is
+    // awaited (max_left_dvdt NaN: none is; a NaN sample could refine nothing).
+    double max_left_t = 0, max_left_dvdt = std::numeric_limits<double>::quiet_NaN();
     // The last dV/dt sample (the integrator's at a step end, or a difference
     // quotient at a step's middle), its time, and the end of its step.
     double slope_prev = std::numeric_limits<double>::quiet_NaN(), t_slope_prev = 0, slope_step_end = -1;
@@ -97,8 +97,8 @@ class BiomarkerTracker {
   // steps, neither steepen, peak nor cross a repolarisation level; only those
   // that may take step_cell.
   void step_lanes(double t_old, double t_new, const double* V, std::size_t begin, std::size_t end);
-  // Copies a cell's fields that step_lanes reads into its lanes' arrays.
-  void mirror(std::size_t c);
+  // Starts a cell's beat from its RMP (or V at the run's start).
+  void reset_cell(std::size_t c, double rmp_mV);
 
   std::vector<CellType> types_;
   std::vector<int> cell_numbers_;  // empty: the index
@@ -106,9 +106,12 @@ class BiomarkerTracker {
   double from_ms_;
   std::function<void(const BeatBiomarkers&)> on_beat_;
   std::vector<Cell> cells_;
-  // Per cell, in lanes' arrays: V at the last step's end, and copies of
-  // dvdt_max, peak, rmp (mirror()).
+  // Per cell, in lanes' arrays (step_lanes reads them): V at the last step's
+  // end, the beat's largest dV/dt, peak and RMP.
   std::vector<double> v_prev_, dvdt_max_, peak_, rmp_;
+  // The integrator's dV/dt at the last step's end, per cell: sized at the
+  // first step that gives it (empty: NaN for every cell).
+  std::vector<double> dvdt_prev_;
   // With use_pre_upstroke_rmp: the window of V, and each cell's RMP from it
   // at its current max dV/dt.
   std::unique_ptr<PreUpstrokeWindow> pre_upstroke_;

@@ -134,27 +134,41 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                       1.5 * (sizeof(Particle) * particles + sizeof(Bond) * bonds +
                              sizeof(std::pair<int, int>) * edges + 20 * cells),
                       "a smaller tissue"});
-  // The biomarker tracker's per-cell state (152 bytes a cell) and a
+  // The biomarker tracker's per-cell state (104 bytes a cell) and a
   // BeatBiomarkers a cell and beat (room reserved for them all at the
-  // first); scale sheet 2.5 cm: 32.1 and 13.5 MB.
-  const double beats = std::max<double>(1.0, static_cast<double>(system.stimulus.onsets(scene.duration_ms).size()));
+  // first); scale sheet 2.5 cm: 21.9 and 13.5 MB. With one beat it is kept
+  // only once the stepping's work is freed (below).
+  const double onsets = static_cast<double>(system.stimulus.onsets(scene.duration_ms).size());
+  const double beats = std::max(1.0, onsets);
+  const double beats_bytes = sizeof(BeatBiomarkers) * cells * beats;
+  const bool beats_while_stepping = onsets > 1;
   e.memory.push_back({fmt::format("biomarkers: {:.0f} cells x {:.0f} beats", cells, beats),
-                      152 * cells + sizeof(BeatBiomarkers) * cells * beats, "a smaller tissue"});
+                      104 * cells + (beats_while_stepping ? beats_bytes : 0.0), "a smaller tissue"});
 
   // ---- freed at the end of the stepping ----
   std::vector<ResourceEstimate::Part> stepping;
-  // What the integrator keeps per state: adaptive 3 arrays (the saved
-  // start, the linear forms' a and b) and, with coupling, 4 doubles a cell
-  // (scale sheet 1 cm: 22.5 MB for 904,392 states and 33,496 cells, this
-  // 22.8),
-  // second-order Rush-Larsen 2, the first-order methods none beyond the
-  // populations'.
+  // What the integrator keeps per state: adaptive the saved start, and the
+  // linear forms' a and b of each state but the lookup table's gates and a
+  // coupled potential, which has 2 doubles a cell instead (the membrane
+  // term, the solve's vector); second-order Rush-Larsen
+  // 2 arrays, the first-order methods none beyond the populations'.
   const bool adaptive = solver.method == "adaptive";
-  const double integrator_arrays = adaptive ? 3 : solver.method == "rush_larsen2" ? 2 : 0;
-  if (integrator_arrays > 0)
-    stepping.push_back({fmt::format("integrator: {:.0f} states x {:g} arrays", states, integrator_arrays),
-                        8 * integrator_arrays * states + (adaptive && system.coupler ? 32 * cells : 0.0),
+  if (adaptive) {
+    double kept_forms = 0;  // states whose a, b the integrator keeps
+    for (const auto& pop : system.populations) {
+      double kept = static_cast<double>(pop.n_states());
+      if (pop.table && !pop.table_advances_gates && pop.voltage_state >= 0)
+        kept -= static_cast<double>(pop.table->gates().size());
+      if (system.coupler && pop.voltage_state >= 0) kept -= 1;
+      kept_forms += kept * static_cast<double>(pop.size());
+    }
+    for (const auto& m : system.myofilaments) kept_forms += static_cast<double>(m.pop.size() * m.pop.n_states());
+    stepping.push_back({fmt::format("integrator: {:.0f} states, a and b of {:.0f}", states, kept_forms),
+                        8 * states + 16 * kept_forms + (system.coupler ? 16 * cells : 0.0), "a smaller tissue"});
+  } else if (solver.method == "rush_larsen2") {
+    stepping.push_back({fmt::format("integrator: {:.0f} states x 2 arrays", states), 16 * states,
                         "a smaller tissue"});
+  }
   if (solver.method == "cvode") {
     const std::string linear = solver.linear_solver;
     const bool dense = linear == "dense" || (linear == "auto" && states <= 200);
@@ -194,13 +208,19 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   double stepping_bytes = 0;
   for (auto& part : stepping) stepping_bytes += part.bytes, e.memory.push_back(std::move(part));
   // ---- after the stepping ----
-  // The maps: four per-cell fields, the activation map's picture (the VTK
-  // file is streamed). Only what exceeds the stepping's freed work adds to
-  // the peak.
+  // A one-beat run's biomarkers, kept as the stepping ends; the maps: four
+  // per-cell fields, the activation map's picture (the VTK file is
+  // streamed). Only what exceeds the stepping's freed work adds to the peak.
+  const double beats_after = beats_while_stepping ? 0.0 : beats_bytes;
+  if (beats_after > 0) {
+    e.memory.push_back({"the beat's biomarkers, beyond the stepping's freed work",
+                        std::max(0.0, beats_after - stepping_bytes), "a smaller tissue"});
+  }
   if (scene.output.maps) {
     const double maps = 32 * cells + picture_bytes(tissue);
     e.memory.push_back({fmt::format("maps: {:.0f} cells, beyond the stepping's freed work", cells),
-                        std::max(0.0, maps - stepping_bytes), "output.maps false"});
+                        std::max(0.0, beats_after + maps - stepping_bytes) - std::max(0.0, beats_after - stepping_bytes),
+                        "output.maps false"});
   }
   const auto& tr = scene.output.traces;
   const double trace_samples = samples(scene.duration_ms, tr.from_ms, tr.every_ms);

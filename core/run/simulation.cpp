@@ -102,6 +102,7 @@ void Simulation::Impl::run() {
       interrupted_by = e.signal();
       log->warn("{}: stopping with every output written", error);
     }
+    release_stepping_work();  // before the last beat's biomarkers are kept
     tracker->finish();
     gather_from_ranks();
     {
@@ -139,19 +140,26 @@ void Simulation::Impl::run() {
   if (status == "interrupted") throw InterruptedError(interrupted_by, error);
 }
 
-// What only the stepping needed, freed before the maps, summary.json and the
-// report are written, so the run's peak memory is the stepping's, not theirs
-// on top of it: the integrator (its work arrays, ~1.3 KB a cell with the
-// adaptive method: measured on a 33k-cell fibrotic sheet), the coupling
-// (its matrix and CG vectors), the biomarker tracker and the re-entry
-// samples (measured by now). What Simulation's accessors give after run()
-// stays: the tissue, the populations (summary's models), biomarkers, traces.
-void Simulation::Impl::release_run_buffers() {
-  if (!integrator) return;  // released before (a run that completed, then its end)
+// The integrator (its work arrays) and the coupling (its matrix and CG
+// vectors), freed as the stepping ends: the last beat's biomarkers, a
+// BeatBiomarkers a cell, are then kept in their place rather than on top.
+void Simulation::Impl::release_stepping_work() {
+  if (!integrator) return;  // released before
   integrator_text = integrator->describe();
   integrator_report = integrator->report();
   integrator.reset();
   system.coupler.reset();
+}
+
+// What only the stepping needed, freed before the maps, summary.json and the
+// report are written, so the run's peak memory is the stepping's, not theirs
+// on top of it: the integrator and coupling (release_stepping_work), the
+// biomarker tracker and the re-entry samples (measured by now). What
+// Simulation's accessors give after run() stays: the tissue, the
+// populations (summary's models), biomarkers, traces.
+void Simulation::Impl::release_run_buffers() {
+  if (!tracker && !integrator) return;  // released before (a run that completed, then its end)
+  release_stepping_work();
   tracker.reset();
   std::vector<double>().swap(own_V_mV);
   std::vector<double>().swap(own_dVdt);

@@ -125,6 +125,7 @@ struct Simulation::Impl : StepObserver {
   void on_step(double t_old, double t_new, const double* dVdt) override;
   const MechanicsSolver* mechanics_solver() const { return mechanics ? &mechanics->solver() : nullptr; }
   json summary() const;
+  void release_stepping_work();
   void release_run_buffers();
 
   // ---- the scene assembled (simulation_assembly.cpp) ----
