@@ -8,6 +8,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -40,7 +41,9 @@ struct CellSystem {
   std::vector<Population> populations;  // ionic, one per cell type present
   std::vector<Myofilament> myofilaments;
   std::unique_ptr<Coupler> coupler;  // null: coupling not built
-  std::vector<std::pair<int, int>> coupled_pairs;  // cell-graph edges the coupler joins
+  // The cell-graph edges the coupler joins: a view of the tissue's own list
+  // (Tissue::cell_edges, which outlives the system), not a copy.
+  std::span<const std::pair<int, int>> coupled_pairs;
   bool implicit_coupling = false;    // coupling advanced by backward Euler (split)
   // Multirate coupling (fixed-step methods): the coupling is updated every
   // coupling_every cell steps; in between an explicit current is held.

@@ -181,12 +181,12 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     const double pairs = static_cast<double>(system.coupled_pairs.size());
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
-    // size of compressed rows with the diagonal), the coupled pairs, and
-    // the CG's 8 vectors of a double a cell (built with the coupler,
+    // size of compressed rows with the diagonal) and the CG's 8 vectors of
+    // a double a cell (the coupled pairs are the tissue's own list) (built with the coupler,
     // explicit or not: coupling/coupling_cg.hpp). Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 8 * pairs + 64 * cells,
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 64 * cells,
                         "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on) {
