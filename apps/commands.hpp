@@ -142,22 +142,27 @@ int schema_command(const SchemaArgs& args);
 CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& options);
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
 
+// A failure's message on standard error, in one write: under mpirun every
+// rank may print the same one, and pieces written apart would interleave.
+// A rank of a job of several says which it is.
+void print_failure(const std::string& kind, const std::string& what);
+
 // Runs `body`, turning each kind of failure into a message and an exit code.
 template <class Body>
 int guarded(Body body) {
   try {
     return body();
   } catch (const InterruptedError& e) {
-    std::cerr << "stopped: " << e.what() << " (outputs written)\n";
+    print_failure("stopped", std::string(e.what()) + " (outputs written)");
     return 128 + e.signal();  // as a shell reports a process killed by the signal
   } catch (const ManifestError& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    print_failure("error", e.what());
     return 2;
   } catch (const PluginError& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    print_failure("error", e.what());
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    print_failure("error", e.what());
     return 4;
   }
 }

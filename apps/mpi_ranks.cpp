@@ -39,6 +39,13 @@ int MpiRanks::launched_size() {
   return 1;
 }
 
+int MpiRanks::launched_rank() {
+  if (!launched_by_mpi()) return 0;
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+    if (const char* value = std::getenv(name)) return std::max(0, std::atoi(value));
+  return 0;
+}
+
 MpiRanks::MpiRanks() {
   if (!launched_by_mpi()) return;
   setenv(kRankPidVariable, std::to_string(getpid()).c_str(), 1);  // its children are not ranks

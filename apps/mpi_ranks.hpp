@@ -29,6 +29,9 @@ class MpiRanks {
   // 1 in a process a rank started (a sweep's child run inherits mpirun's
   // environment; MpiRanks marks it).
   static int launched_size();
+  // This process's rank in that job, read from the same environment
+  // (OMPI_COMM_WORLD_RANK, PMI_RANK, PMIX_RANK): 0 when not launched by mpirun.
+  static int launched_rank();
 
   bool launched() const { return world_ != nullptr; }
   int rank() const { return rank_; }

@@ -100,7 +100,7 @@ int run_command(const RunArgs& args) {
       Simulation simulation(scene, nullptr, options);
       simulation.run();
     } catch (const std::exception& e) {
-      std::cerr << "error: rank " << ranks->rank() << " of " << ranks->size() << ": " << e.what() << "\n";
+      print_failure("error", e.what());  // (names the rank)
       ranks->abort(4);
     }
     if (ranks->rank() == 0) print_outputs(scene.output.dir);
@@ -159,7 +159,7 @@ int resume_command(const ResumeArgs& args) {
     try {
       simulation.run();
     } catch (const std::exception& e) {
-      std::cerr << "error: rank " << ranks->rank() << " of " << ranks->size() << ": " << e.what() << "\n";
+      print_failure("error", e.what());  // (names the rank)
       ranks->abort(4);
     }
     if (ranks->rank() == 0) print_outputs(args.dir);
