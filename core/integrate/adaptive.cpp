@@ -179,17 +179,10 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     if (coupled)
       buf.F_last.assign(pop.size(), 0.0);
     const auto& states = pop.info().states;
-    // The table's gates: their forms are the table's at V, whenever evaluate()
-    // fills them (not when a Rush-Larsen integrator advances them itself).
-    std::vector<bool> tabulated(states.size(), false);
-    if (pop.table && !pop.table_advances_gates && pop.voltage_state >= 0) {
-      buf.table = std::make_shared<const VoltageTable>(pop.table->rows());
-      for (int k : buf.table->gates()) tabulated[static_cast<std::size_t>(k)] = true;
-    }
     int rows = 0;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const bool potential = coupled && static_cast<int>(k) == pop.voltage_state;
-      buf.form_row.push_back(tabulated[k] || potential ? -1 : rows++);
+      buf.form_row.push_back(potential ? -1 : rows++);
     }
     for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(static_cast<std::size_t>(rows) * pop.size(), 0.0);
     for (std::size_t k = 0; k < states.size(); ++k) {
@@ -221,14 +214,12 @@ AdaptiveIntegrator::Buffers& AdaptiveIntegrator::buffers_of(const Population& po
 
 // Calls each_row(row, k, buffers, offset) on the rows of a block's states,
 // and potential(population, row, offset, count) on a coupled population's
-// potential instead. With forms_needed, a tabulated gate's row reads the
-// form at the start saved in buf.start from the table (the potential there
-// is the one evaluate() filled it from, so the form is the same to the bit),
-// into a tile of the thread: before any row writes a new start. Without, its
-// a_start, b_start are that tile, written and never read.
+// potential instead. A coupled potential keeps no linear forms (F_last
+// instead): its row's a_start, b_start are a tile of the thread, written
+// and never read.
 template <class EachRow, class Potential>
-void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool coupled, bool forms_needed,
-                                  EachRow&& each_row, Potential&& potential) {
+void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row,
+                                  Potential&& potential) {
   Buffers& buf = buffers_of(pop);
   const std::size_t n = pop.size();
   const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
@@ -236,15 +227,6 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
   // a then b of each state, kCellsPerBlock a row (grown, never shrunk: no allocation once grown)
   thread_local std::vector<double> forms;
   if (forms.size() < 2 * states.size() * kCellsPerBlock) forms.resize(2 * states.size() * kCellsPerBlock);
-  if (buf.table && forms_needed) {
-    BlockView at_start = block;
-    at_start.y = buf.start.data() + offset;
-    at_start.a = forms.data();
-    at_start.b = forms.data() + states.size() * kCellsPerBlock;
-    at_start.ab_stride = kCellsPerBlock;
-    at_start.begin = 0;
-    buf.table->fill(at_start, pop.voltage_state);
-  }
   for (std::size_t k = 0; k < states.size(); ++k) {
     const std::size_t at = k * n + offset;
     const int form_row = buf.form_row[k];
@@ -281,7 +263,7 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   // step); for V the right-hand side V0 + theta F0.
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     for_rows(
-        pop, block, coupled, false,
+        pop, block, coupled,
         [&](const Row& row, std::size_t, Buffers&, std::size_t) {
           keep_linear_forms(row, block.end);
           first_stage(row, block.end, h);
@@ -318,7 +300,7 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   system.evaluate(t_stim, t + theta, [&](Population& pop, const BlockView& block) {
     double block_error = 0;
     for_rows(
-        pop, block, coupled, true,
+        pop, block, coupled,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
           // Stage 1's choice, from the start's slopes.
           const bool first_exponential = pop.info().states[k].gate || has_slope(row.b_start, block.end);
@@ -346,7 +328,7 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     double block_error = 0;
     for_rows(
-        pop, block, coupled, true,
+        pop, block, coupled,
         [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
           block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, rtol_, atol_ * buf.scale[k],
                                                                pop.lower_limit_of(k), pop.upper_limit_of(k)));

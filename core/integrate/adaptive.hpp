@@ -34,8 +34,7 @@
 // ((I + theta K)^-1 has max norm 1). Rejected steps are retried from the saved
 // states with the evaluated midpoint (the extrapolated step overwrites its
 // history with its start's linear forms, so that a state needs three arrays:
-// the saved start, a and b; a gate of the lookup table only the start, its
-// a and b being the table's at the saved start's V); StepController (PI)
+// the saved start, a and b); StepController (PI)
 // chooses the next step.
 //
 // Steps land exactly on stimulus edges (restarting the controller with a
@@ -43,13 +42,11 @@
 // times and at the end.
 #pragma once
 
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "integrate/integrator.hpp"
 #include "integrate/step_controller.hpp"
-#include "model/voltage_table.hpp"
 
 namespace fibrodem {
 
@@ -88,15 +85,10 @@ class AdaptiveIntegrator final : public Integrator {
     std::vector<double> first_order;
     // Linear forms a, b at the last accepted step's start; a step reads them,
     // then writes its own start's in their place. Kept only for the states
-    // with form_row >= 0 (row form_row of a_last, b_last): a tabulated gate's
-    // are the table's at the potential in `start` (recomputed per block
-    // through `table`), and a coupled potential has F_last instead.
+    // with form_row >= 0 (row form_row of a_last, b_last): a coupled
+    // potential has F_last instead.
     std::vector<double> a_last, b_last;
     std::vector<int> form_row;
-    // The population's lookup table with a clamp count of its own (a
-    // recomputed form's potential was counted when it was evaluated), or
-    // null: every state's form is kept.
-    std::shared_ptr<const VoltageTable> table;
     // A coupled potential, per local cell (each block writes its own stretch):
     // the membrane term F at the last accepted step's start (the solves'
     // right-hand sides are written straight into v_global_).
@@ -113,8 +105,7 @@ class AdaptiveIntegrator final : public Integrator {
   void solve(CellSystem& system, double theta);
   void accept(double h);
   template <class EachRow, class Potential>
-  void for_rows(Population& pop, const BlockView& block, bool coupled, bool forms_needed, EachRow&& each_row,
-                Potential&& potential);
+  void for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row, Potential&& potential);
   void restore();
   static double on_grid(double h_ms);
   double next_after_accepted(double step_ms, double wanted_ms, double err);

@@ -148,17 +148,15 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // ---- freed at the end of the stepping ----
   std::vector<ResourceEstimate::Part> stepping;
   // What the integrator keeps per state: adaptive the saved start, and the
-  // linear forms' a and b of each state but the lookup table's gates and a
-  // coupled potential, which has 2 doubles a cell instead (the membrane
-  // term, the solve's vector); second-order Rush-Larsen
+  // linear forms' a and b of each state but a coupled potential, which has
+  // 2 doubles a cell instead (the membrane term, the solve's vector);
+  // second-order Rush-Larsen
   // 2 arrays, the first-order methods none beyond the populations'.
   const bool adaptive = solver.method == "adaptive";
   if (adaptive) {
     double kept_forms = 0;  // states whose a, b the integrator keeps
     for (const auto& pop : system.populations) {
       double kept = static_cast<double>(pop.n_states());
-      if (pop.table && !pop.table_advances_gates && pop.voltage_state >= 0)
-        kept -= static_cast<double>(pop.table->gates().size());
       if (system.coupler && pop.voltage_state >= 0) kept -= 1;
       kept_forms += kept * static_cast<double>(pop.size());
     }
