@@ -58,17 +58,7 @@ json em_sheet(const std::string& builder, double duration_ms) {
 
 json summary_of(const fs::path& dir) { return json::parse(testing::read_file(dir / "summary.json")); }
 
-std::vector<std::vector<std::string>> csv_rows(const fs::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(testing::read_file(file));
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::istringstream fields(line);
-    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
+using testing::csv_rows;
 
 double number(const std::string& text) { return text.empty() ? std::nan("") : std::stod(text); }
 

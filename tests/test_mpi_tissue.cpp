@@ -23,17 +23,7 @@ json planar_wave() {
   return m;
 }
 
-std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(testing::read_file(file));
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::istringstream fields(line);
-    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
+using testing::csv_rows;
 
 // The adaptive method split over ranks against one process: traces.csv's V
 // [mV] (and dt_ms) within this. The CG's sums are added in another order

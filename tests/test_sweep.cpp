@@ -95,17 +95,7 @@ int sweep(const std::filesystem::path& file, const std::filesystem::path& out, c
 }
 
 // Rows of a CSV file as cells (no quoting in fibrodem's tables).
-std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(testing::read_file(file));
-  for (std::string line; std::getline(in, line);) {
-    rows.emplace_back();
-    std::stringstream cells(line);
-    for (std::string cell; std::getline(cells, cell, ',');) rows.back().push_back(cell);
-    if (!line.empty() && line.back() == ',') rows.back().push_back("");
-  }
-  return rows;
-}
+using testing::csv_rows;
 
 std::size_t column(const std::vector<std::string>& header, const std::string& name) {
   const auto it = std::find(header.begin(), header.end(), name);

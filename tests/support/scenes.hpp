@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "run/simulation.hpp"
 
@@ -27,6 +28,20 @@ inline std::string read_file(const std::filesystem::path& file) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// A CSV file's rows, each split at its commas (no quoting: fibrodem's CSV
+// files have none); a trailing comma gives a last, empty cell.
+inline std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(read_file(file));
+  for (std::string line; std::getline(in, line);) {
+    rows.emplace_back();
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) rows.back().push_back(cell);
+    if (!line.empty() && line.back() == ',') rows.back().push_back("");
+  }
+  return rows;
 }
 
 // A fresh, empty directory under the build tree's test scratch space.
