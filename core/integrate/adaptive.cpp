@@ -215,8 +215,8 @@ AdaptiveIntegrator::Buffers& AdaptiveIntegrator::buffers_of(const Population& po
 // Calls each_row(row, k, buffers, offset) on the rows of a block's states,
 // and potential(population, row, offset, count) on a coupled population's
 // potential instead. A coupled potential keeps no linear forms (F_last
-// instead): its row's a_start, b_start are a tile of the thread, written
-// and never read.
+// instead): its row's a_start, b_start are null, and `potential` reads
+// neither.
 template <class EachRow, class Potential>
 void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool coupled, EachRow&& each_row,
                                   Potential&& potential) {
@@ -224,16 +224,12 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
   const std::size_t n = pop.size();
   const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
   const auto& states = pop.info().states;
-  // a then b of each state, kCellsPerBlock a row (grown, never shrunk: no allocation once grown)
-  thread_local std::vector<double> forms;
-  if (forms.size() < 2 * states.size() * kCellsPerBlock) forms.resize(2 * states.size() * kCellsPerBlock);
   for (std::size_t k = 0; k < states.size(); ++k) {
     const std::size_t at = k * n + offset;
     const int form_row = buf.form_row[k];
-    double* a_start = form_row >= 0 ? buf.a_last.data() + static_cast<std::size_t>(form_row) * n + offset
-                                    : forms.data() + k * kCellsPerBlock;
-    double* b_start = form_row >= 0 ? buf.b_last.data() + static_cast<std::size_t>(form_row) * n + offset
-                                    : forms.data() + (states.size() + k) * kCellsPerBlock;
+    const std::size_t forms_at = static_cast<std::size_t>(form_row) * n + offset;
+    double* a_start = form_row >= 0 ? buf.a_last.data() + forms_at : nullptr;
+    double* b_start = form_row >= 0 ? buf.b_last.data() + forms_at : nullptr;
     const Row row{pop.y.data() + at,
                   buf.start.data() + at,
                   a_start,

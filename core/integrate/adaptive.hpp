@@ -34,8 +34,7 @@
 // ((I + theta K)^-1 has max norm 1). Rejected steps are retried from the saved
 // states with the evaluated midpoint (the extrapolated step overwrites its
 // history with its start's linear forms, so that a state needs three arrays:
-// the saved start, a and b); StepController (PI)
-// chooses the next step.
+// the saved start, a and b); StepController (PI) chooses the next step.
 //
 // Steps land exactly on stimulus edges (restarting the controller with a
 // small step there, so that a 0.1 ms pulse is never stepped over), on sample

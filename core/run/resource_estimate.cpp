@@ -150,8 +150,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // What the integrator keeps per state: adaptive the saved start, and the
   // linear forms' a and b of each state but a coupled potential, which has
   // 2 doubles a cell instead (the membrane term, the solve's vector);
-  // second-order Rush-Larsen
-  // 2 arrays, the first-order methods none beyond the populations'.
+  // second-order Rush-Larsen 2 arrays, the first-order methods none beyond
+  // the populations'.
   const bool adaptive = solver.method == "adaptive";
   if (adaptive) {
     double kept_forms = 0;  // states whose a, b the integrator keeps
@@ -180,8 +180,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
     // size of compressed rows with the diagonal) and the CG's 8 vectors of
-    // a double a cell (the coupled pairs are the tissue's own list) (built with the coupler,
-    // explicit or not: coupling/coupling_cg.hpp). Scale sheet 10 x 10 mm:
+    // a double a cell, built with the coupler, explicit or not
+    // (coupling/coupling_cg.hpp); the coupled pairs are the tissue's own
+    // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
     stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 64 * cells,
