@@ -1,5 +1,6 @@
 #include "model/plugin_registry.hpp"
 
+#include "util/directory_list.hpp"
 #include "util/sha256.hpp"
 
 #include <boost/dll/runtime_symbol_info.hpp>
@@ -39,13 +40,7 @@ std::vector<fs::path> PluginRegistry::default_search_path() {
 }
 
 std::vector<fs::path> PluginRegistry::search_path_beside(const fs::path& exe_dir) {
-  std::vector<fs::path> path;
-  if (const char* env = std::getenv("FIBRODEM_PLUGIN_PATH")) {
-    std::stringstream ss(env);
-    std::string dir;
-    while (std::getline(ss, dir, ':'))
-      if (!dir.empty()) path.emplace_back(dir);
-  }
+  std::vector<fs::path> path = directories_in_environment("FIBRODEM_PLUGIN_PATH");
   path.push_back(exe_dir / "plugins");
   path.push_back(exe_dir.parent_path() / "plugins");
   path.push_back(exe_dir.parent_path() / "lib" / "fibrodem" / "plugins");

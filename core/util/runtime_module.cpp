@@ -3,10 +3,10 @@
 #include <dlfcn.h>
 
 #include <boost/dll/runtime_symbol_info.hpp>
-#include <cstdlib>
 #include <mutex>
-#include <sstream>
 #include <stdexcept>
+
+#include "util/directory_list.hpp"
 
 namespace fibrodem {
 namespace fs = std::filesystem;
@@ -42,13 +42,7 @@ void add_module_directory(const fs::path& dir) {
 }
 
 std::vector<fs::path> module_search_path() {
-  std::vector<fs::path> path;
-  if (const char* env = std::getenv("FIBRODEM_MODULE_PATH")) {
-    std::stringstream ss(env);
-    std::string dir;
-    while (std::getline(ss, dir, ':'))
-      if (!dir.empty()) path.emplace_back(dir);
-  }
+  std::vector<fs::path> path = directories_in_environment("FIBRODEM_MODULE_PATH");
   {
     const std::lock_guard lock(directories_mutex());
     path.insert(path.end(), added_directories().begin(), added_directories().end());
