@@ -145,8 +145,13 @@ TEST_CASE("mpirun -n 2: mechanics with the adaptive method split agrees with one
   // the lengths smoothly. Measured: peak strain within 2e-11 relative
   // (xy, the smallest; 2e-12 for xx and yy), traced strain within 2e-15
   // (absolute), V within 2e-11 mV. Held to 1e-6 relative.
+  // The strain is not negligible: peak eps_yy -2.53e-4 with Rush-Larsen at
+  // 0.005 ms and with adaptive at rtol 1e-5 (this sheet's myofilaments at
+  // auto's loose tolerance give 2.0e-4 to 4.7e-4, by the tolerance and the
+  // rounding of the steps' history: the comparison below is of two runs at
+  // the same tolerance, not of accuracy).
   const double peak_yy = a["peak_strain"]["yy"].get<double>();
-  REQUIRE(std::abs(peak_yy) > 3e-4);
+  REQUIRE(std::abs(peak_yy) > 1e-4);
   for (const char* k : {"xx", "yy", "xy"}) {
     INFO(k);
     const double pa = a["peak_strain"][k].get<double>(), pb = b["peak_strain"][k].get<double>();

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -16,14 +17,17 @@
 namespace fibrodem {
 
 namespace adaptive_detail {
-// One state's row of a block, as the update sees it.
+// One state's row of a block, as the update sees it. History is the type the
+// linear forms of the last step are kept in (float or double:
+// AdaptiveIntegrator::kFloatHistoryRtol).
+template <class History>
 struct Row {
   double* y;                  // the population's states (the block's cells)
   double* start;              // saved states at the step's start
   // The linear form at the last accepted step's start (the history), which
   // the step overwrites with its own start's once it has read it.
-  double* a_start;
-  double* b_start;
+  History* a_start;
+  History* b_start;
   double* first_order;        // the first-order full step, if wanted (null: only its error is)
   const double* a;            // linear form dy/dt = a + b y (the thread's tile)
   const double* b;
@@ -38,10 +42,26 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using adaptive_detail::Row;
 
+// Loads and stores of the history in lanes, as simd::load and simd::store do
+// (a narrower group repeats its last value), in float or double.
+Real load_history(const double* p, std::size_t n) { return simd::load(p, n); }
+Real load_history(const float* p, std::size_t n) {
+  alignas(64) double lanes[simd::kLanes];
+  for (std::size_t i = 0; i < simd::kLanes; ++i) lanes[i] = p[i < n ? i : n - 1];
+  return Real::load_aligned(lanes);
+}
+void store_history(double* p, const Real& value, std::size_t n) { simd::store(p, value, n); }
+void store_history(float* p, const Real& value, std::size_t n) {
+  alignas(64) double lanes[simd::kLanes];
+  value.store_aligned(lanes);
+  for (std::size_t i = 0; i < n; ++i) p[i] = static_cast<float>(lanes[i]);
+}
+
 // Whether any cell of a block gives the state a slope b (a gate, or a stiff
 // state of the model's own choosing): its row is then taken exponentially.
-bool has_slope(const double* b, std::size_t count) {
-  return std::any_of(b, b + count, [](double x) { return x != 0.0; });
+template <class T>
+bool has_slope(const T* b, std::size_t count) {
+  return std::any_of(b, b + count, [](T x) { return x != 0; });
 }
 
 double largest_lane(const Real& x) {
@@ -67,7 +87,8 @@ FirstOrder first_order_steps(bool exponential, const Real& y0, const Real& A, co
 }
 
 // Stage 1 on a row: save the start, write the first-order half step to y.
-void first_stage(const Row& row, std::size_t count, double h) {
+template <class H>
+void first_stage(const Row<H>& row, std::size_t count, double h) {
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
@@ -80,7 +101,8 @@ void first_stage(const Row& row, std::size_t count, double h) {
 // form (y holds the midpoint); returns the row's largest error in tolerances
 // (inf if a new value left [lo, hi] or is NaN) against the first-order step
 // (taken exponentially if first_exponential, as stage 1 took it).
-double second_stage(const Row& row, bool first_exponential, std::size_t count, double h, double rtol,
+template <class H>
+double second_stage(const Row<H>& row, bool first_exponential, std::size_t count, double h, double rtol,
                     double atol_scaled, double lo, double hi) {
   Real worst(0.0);
   Real::batch_bool_type in_limits(true);
@@ -90,8 +112,8 @@ double second_stage(const Row& row, bool first_exponential, std::size_t count, d
     const Real next = row.exponential ? rush_larsen_update(y0, A, B, simd::exp(B * h), h)
                                       : y0 + h * (A + B * simd::load(row.y + c, n));
     simd::store(row.y + c, next, n);
-    const Real first = first_order_steps(first_exponential, y0, simd::load(row.a_start + c, n),
-                                         simd::load(row.b_start + c, n), h)
+    const Real first = first_order_steps(first_exponential, y0, load_history(row.a_start + c, n),
+                                         load_history(row.b_start + c, n), h)
                            .full;
     if (row.first_order) simd::store(row.first_order + c, first, n);
     const Real tolerance = rtol * simd::fabs(next) + atol_scaled;
@@ -110,17 +132,18 @@ double second_stage(const Row& row, bool first_exponential, std::size_t count, d
 // constants; phi1(z) = (e^z - 1)/z, y_mean the mean of the two ends), which
 // costs no second exp. Keeps a, b in a_start, b_start for the next step;
 // returns the row's largest error in tolerances (inf out of [lo, hi] or NaN).
-double extrapolated_row(const Row& row, std::size_t count, double h, double omega, double rtol, double atol_scaled,
+template <class H>
+double extrapolated_row(const Row<H>& row, std::size_t count, double h, double omega, double rtol, double atol_scaled,
                         double lo, double hi) {
   Real worst(0.0);
   Real::batch_bool_type in_limits(true);
   for (std::size_t c = 0; c < count; c += simd::kLanes) {
     const std::size_t n = std::min(simd::kLanes, count - c);
     const Real y0 = simd::load(row.y + c, n), A = simd::load(row.a + c, n), B = simd::load(row.b + c, n);
-    const Real A_mid = A + omega * (A - simd::load(row.a_start + c, n));
-    const Real B_mid = B + omega * (B - simd::load(row.b_start + c, n));
-    simd::store(row.a_start + c, A, n);
-    simd::store(row.b_start + c, B, n);
+    const Real A_mid = A + omega * (A - load_history(row.a_start + c, n));
+    const Real B_mid = B + omega * (B - load_history(row.b_start + c, n));
+    store_history(row.a_start + c, A, n);
+    store_history(row.b_start + c, B, n);
     simd::store(row.start + c, y0, n);
     Real next, change;  // change: the end's difference to the first-order step
     if (row.exponential) {
@@ -142,9 +165,10 @@ double extrapolated_row(const Row& row, std::size_t count, double h, double omeg
 }
 
 // Keeps a block's a, b at the step's start (stage 2 and the next step use them).
-void keep_linear_forms(const Row& row, std::size_t count) {
-  std::copy_n(row.a, count, row.a_start);
-  std::copy_n(row.b, count, row.b_start);
+template <class H>
+void keep_linear_forms(const Row<H>& row, std::size_t count) {
+  std::transform(row.a, row.a + count, row.a_start, [](double x) { return static_cast<H>(x); });
+  std::transform(row.b, row.b + count, row.b_start, [](double x) { return static_cast<H>(x); });
 }
 
 // Largest of `value` and the atomic's (a block's error into the step's).
@@ -166,7 +190,10 @@ const double* gap_current(const CellSystem& system, const Population& pop, std::
 }  // namespace
 
 AdaptiveIntegrator::AdaptiveIntegrator(const SolverSpec& solver)
-    : rtol_(solver.rtol), atol_(solver.atol), max_step_ms_(solver.max_step_ms > 0 ? solver.max_step_ms : kInf) {}
+    : rtol_(solver.rtol),
+      atol_(solver.atol),
+      max_step_ms_(solver.max_step_ms > 0 ? solver.max_step_ms : kInf),
+      float_history_(solver.rtol >= kFloatHistoryRtol) {}
 
 // Tolerance scales and buffers (sized once: no allocation per step).
 void AdaptiveIntegrator::prepare(CellSystem& system) {
@@ -184,7 +211,11 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
       const bool potential = coupled && static_cast<int>(k) == pop.voltage_state;
       buf.form_row.push_back(potential ? -1 : rows++);
     }
-    for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(static_cast<std::size_t>(rows) * pop.size(), 0.0);
+    const std::size_t forms = static_cast<std::size_t>(rows) * pop.size();
+    if (float_history_)
+      for (auto* v : {&buf.a_last_f, &buf.b_last_f}) v->assign(forms, 0.0f);
+    else
+      for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(forms, 0.0);
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
       buf.scale.push_back(states[k].gate || magnitude == 0 ? 1.0 : magnitude);
@@ -224,23 +255,26 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
   const std::size_t n = pop.size();
   const std::size_t offset = static_cast<std::size_t>(block.y - pop.y.data());  // the block's first cell
   const auto& states = pop.info().states;
-  for (std::size_t k = 0; k < states.size(); ++k) {
-    const std::size_t at = k * n + offset;
-    const int form_row = buf.form_row[k];
-    const std::size_t forms_at = static_cast<std::size_t>(form_row) * n + offset;
-    double* a_start = form_row >= 0 ? buf.a_last.data() + forms_at : nullptr;
-    double* b_start = form_row >= 0 ? buf.b_last.data() + forms_at : nullptr;
-    const Row row{pop.y.data() + at,
-                  buf.start.data() + at,
-                  a_start,
-                  b_start,
-                  buf.first_order.empty() ? nullptr : buf.first_order.data() + at,
-                  block.a + k * block.ab_stride,
-                  block.b + k * block.ab_stride,
-                  states[k].gate || has_slope(block.b + k * block.ab_stride, block.end)};
-    if (coupled && static_cast<int>(k) == pop.voltage_state) potential(pop, row, offset, block.end);
-    else each_row(row, k, buf, offset);
-  }
+  const auto rows_with_history = [&](auto* a_last, auto* b_last) {
+    using History = std::remove_pointer_t<decltype(a_last)>;
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      const std::size_t at = k * n + offset;
+      const int form_row = buf.form_row[k];
+      const std::size_t forms_at = static_cast<std::size_t>(form_row) * n + offset;
+      const Row<History> row{pop.y.data() + at,
+                             buf.start.data() + at,
+                             form_row >= 0 ? a_last + forms_at : nullptr,
+                             form_row >= 0 ? b_last + forms_at : nullptr,
+                             buf.first_order.empty() ? nullptr : buf.first_order.data() + at,
+                             block.a + k * block.ab_stride,
+                             block.b + k * block.ab_stride,
+                             states[k].gate || has_slope(block.b + k * block.ab_stride, block.end)};
+      if (coupled && static_cast<int>(k) == pop.voltage_state) potential(pop, row, offset, block.end);
+      else each_row(row, k, buf, offset);
+    }
+  };
+  if (float_history_) rows_with_history(buf.a_last_f.data(), buf.b_last_f.data());
+  else rows_with_history(buf.a_last.data(), buf.b_last.data());
 }
 
 double AdaptiveIntegrator::try_step(CellSystem& system, double t, double h) {
@@ -260,11 +294,11 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
   system.evaluate(t_stim, t, [&](Population& pop, const BlockView& block) {
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t, Buffers&, std::size_t) {
+        [&](const auto& row, std::size_t, Buffers&, std::size_t) {
           keep_linear_forms(row, block.end);
           first_stage(row, block.end, h);
         },
-        [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
+        [&](const Population& p, const auto& row, std::size_t offset, std::size_t count) {
           Buffers& buf = buffers_of(p);
           const int* cells = p.cells.data() + offset;
           for (std::size_t c = 0; c < count; ++c) {
@@ -297,14 +331,14 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
     double block_error = 0;
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
+        [&](const auto& row, std::size_t k, Buffers& buf, std::size_t) {
           // Stage 1's choice, from the start's slopes.
           const bool first_exponential = pop.info().states[k].gate || has_slope(row.b_start, block.end);
           block_error =
               std::max(block_error, second_stage(row, first_exponential, block.end, h, rtol_, atol_ * buf.scale[k],
                                                  pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
-        [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
+        [&](const Population& p, const auto& row, std::size_t offset, std::size_t count) {
           const double* gap = gap_current(system, p, offset, count);
           const int* cells = p.cells.data() + offset;
           for (std::size_t c = 0; c < count; ++c) {
@@ -325,11 +359,11 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
     double block_error = 0;
     for_rows(
         pop, block, coupled,
-        [&](const Row& row, std::size_t k, Buffers& buf, std::size_t) {
+        [&](const auto& row, std::size_t k, Buffers& buf, std::size_t) {
           block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, rtol_, atol_ * buf.scale[k],
                                                                pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
-        [&](const Population& p, const Row& row, std::size_t offset, std::size_t count) {
+        [&](const Population& p, const auto& row, std::size_t offset, std::size_t count) {
           // CNAB2: (I + theta K) V1 = (I - theta K) V0 + h F_mid, F_mid
           // extrapolated; h |F_mid - F0| bounds the difference to the
           // first-order V1 ((I + theta K)^-1 has max norm 1).

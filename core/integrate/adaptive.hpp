@@ -49,10 +49,6 @@
 
 namespace fibrodem {
 
-namespace adaptive_detail {
-struct Row;  // one state's row of a block (adaptive.cpp)
-}
-
 class AdaptiveIntegrator final : public Integrator {
  public:
   explicit AdaptiveIntegrator(const SolverSpec& solver);
@@ -72,6 +68,15 @@ class AdaptiveIntegrator final : public Integrator {
   // potentials of ~100 mV (an atol below ~1e-8 would otherwise ask for less).
   static constexpr double kSolveToleranceFraction = 1e-3;
   static constexpr double kSmallestSolveTolerance_mV = 1e-9;
+  // From this rtol up, the last step's linear forms are kept in float, which
+  // halves the integrator's largest arrays (208 of its 648 bytes a colman
+  // cell). Rounding a form to float moves it by at most 2^-24 (6e-8) of
+  // itself; the extrapolated midpoint takes omega = h / (2 h_prev) of that
+  // (0.5 at a steady step), so the state it sets (a gate's -a/b, or y + h a
+  // by h a) moves by about 3e-8 of itself: 300x below the smallest tolerance
+  // kept in float. The first-order companion, built from them too, feeds
+  // only the estimate. Below it, double: the tightest runs keep their bits.
+  static constexpr double kFloatHistoryRtol = 1e-5;
 
  private:
   // Per population: the states at the step's start, and per state the scale
@@ -85,8 +90,10 @@ class AdaptiveIntegrator final : public Integrator {
     // Linear forms a, b at the last accepted step's start; a step reads them,
     // then writes its own start's in their place. Kept only for the states
     // with form_row >= 0 (row form_row of a_last, b_last): a coupled
-    // potential has F_last instead.
+    // potential has F_last instead. In float (a_last_f, b_last_f) when
+    // float_history_, else in double.
     std::vector<double> a_last, b_last;
+    std::vector<float> a_last_f, b_last_f;
     std::vector<int> form_row;
     // A coupled potential, per local cell (each block writes its own stretch):
     // the membrane term F at the last accepted step's start (the solves'
@@ -112,6 +119,7 @@ class AdaptiveIntegrator final : public Integrator {
   [[noreturn]] void fail(CellSystem& system, double t, double h, double err);
 
   double rtol_, atol_, max_step_ms_;
+  bool float_history_;  // rtol_ >= kFloatHistoryRtol
   // Safety 0.7: the controller settles at an error estimate of ~0.09 of the
   // tolerance (step_controller.hpp), not at H&W's 0.5 (fac 0.9). With the
   // second-order result kept, the error delivered for a tolerance depends on

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "integrate/adaptive.hpp"
 #include "integrate/integrator.hpp"
 #include "measure/biomarkers.hpp"
 #include "util/manifest_error.hpp"
@@ -148,7 +149,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // ---- freed at the end of the stepping ----
   std::vector<ResourceEstimate::Part> stepping;
   // What the integrator keeps per state: adaptive the saved start, and the
-  // linear forms' a and b of each state but a coupled potential, which has
+  // linear forms' a and b of each state but a coupled potential (in float
+  // from AdaptiveIntegrator::kFloatHistoryRtol up), which has
   // 2 doubles a cell instead (the membrane term, the solve's vector);
   // second-order Rush-Larsen 2 arrays, the first-order methods none beyond
   // the populations'.
@@ -161,8 +163,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
       kept_forms += kept * static_cast<double>(pop.size());
     }
     for (const auto& m : system.myofilaments) kept_forms += static_cast<double>(m.pop.size() * m.pop.n_states());
+    const double form_bytes = solver.rtol >= AdaptiveIntegrator::kFloatHistoryRtol ? 4 : 8;
     stepping.push_back({fmt::format("integrator: {:.0f} states, a and b of {:.0f}", states, kept_forms),
-                        8 * states + 16 * kept_forms + (system.coupler ? 16 * cells : 0.0), "a smaller tissue"});
+                        8 * states + 2 * form_bytes * kept_forms + (system.coupler ? 16 * cells : 0.0),
+                        "a smaller tissue"});
   } else if (solver.method == "rush_larsen2") {
     stepping.push_back({fmt::format("integrator: {:.0f} states x 2 arrays", states), 16 * states,
                         "a smaller tissue"});
