@@ -50,7 +50,7 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
         });
       for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
     }
-  for (auto* v : {&x_, &correction_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
+  for (auto* v : {&x_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
     v->assign(static_cast<std::size_t>(padded_ + ghosts), 0.0);
   const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
   chunk_dot_.assign(chunks, 0.0);
@@ -249,7 +249,7 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
   // (v stays in x_io, untouched until the solve is done.)
   const double* v = x_io;
   for (long i = 0; i < n_; ++i) {
-    x_[i] = v[i] + scale * correction_[i];
+    x_[i] = scale > 0 ? v[i] + scale * x_[i] : v[i];  // (x_ holds the correction between solves)
     v_max = std::max(v_max, std::abs(v[i]));
   }
   if (ranks_) {  // every rank's largest, for the same drift allowance and the same test of v
@@ -297,10 +297,13 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
   }
   if (std::isfinite(rz)) {
     for (long i = 0; i < n_; ++i) {
-      correction_[i] = x_[i] - v[i];
-      x_io[i] = x_[i];
+      const double x_i = x_[i];
+      x_[i] = x_i - v[i];  // the correction, for the next solve's start (v is x_io: read before it is written)
+      x_io[i] = x_i;
     }
     last_dt_ms_ = dt_ms;
+  } else {
+    last_dt_ms_ = 0;  // x_ holds no correction: the next solve starts from v alone
   }
   ++statistics_.solves;
   statistics_.iterations += iterations;

@@ -159,9 +159,9 @@ class CouplingCg {
   // Work vectors of padded_ rows, sized once: the iterate x, r,
   // z = M^-1 r, the search direction p, q = A p, A's diagonal and M^-1 for
   // the present dt (v is the caller's, which solve() writes only at its end).
+  // Between solves x_ holds the last solve's correction x - v, for
+  // last_dt_ms_ (0: none): the next solve starts from v plus it, scaled.
   std::vector<double> x_, r_, z_, p_, q_, a_diagonal_, inverse_diagonal_;
-  // The last solve's x - v and dt (the next solve starts from v plus it).
-  std::vector<double> correction_;
   double last_dt_ms_ = 0;
   std::vector<double> chunk_dot_, chunk_largest_;
   Statistics statistics_;
