@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
@@ -54,7 +55,9 @@ struct CellSystem {
   std::vector<std::vector<double>> gap_current_pA;
   Stimulus stimulus;
   StretchActivatedCurrent sac;
-  std::vector<std::pair<int, std::size_t>> where;  // global cell -> (ionic population, local index)
+  // Global cell -> (ionic population, local index); 32 bits for the index
+  // (8 bytes a cell, not 16), UINT32_MAX for another rank's cell.
+  std::vector<std::pair<int, std::uint32_t>> where;
   std::vector<double> V_mV;                        // per global cell
   // Set by the fixed-step integrator when its update has left every cell's
   // new V in V_mV (written to next_V_mV on the way, then swapped): the

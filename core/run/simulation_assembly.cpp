@@ -103,10 +103,10 @@ void Simulation::Impl::build_populations() {
     // type's population is named, for its capacitance; every rank has one
     // population per cell type of the tissue, possibly empty).
     if (!owns(cell)) {
-      system.where[cell] = {p, std::numeric_limits<std::size_t>::max()};
+      system.where[cell] = {p, std::numeric_limits<std::uint32_t>::max()};
       continue;
     }
-    system.where[cell] = {p, system.populations[p].cells.size()};
+    system.where[cell] = {p, static_cast<std::uint32_t>(system.populations[p].cells.size())};
     system.populations[p].cells.push_back(static_cast<int>(cell));
   }
   // (a and b for the whole population only for an integrator that reads them)
