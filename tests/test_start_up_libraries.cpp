@@ -192,3 +192,22 @@ TEST_CASE("start-up: a missing module is an error naming the module, the folders
     CHECK_FALSE(fs::exists(dir / "out" / "summary.json"));
   }
 }
+
+TEST_CASE("start-up: the command line declares the subcommand it is given, and all of them for --help") {
+  // (apps/fibrodem.cpp declares only the subcommand named first.)
+  const fs::path dir = scratch_dir("start_up_subcommands");
+  REQUIRE(run_fibrodem("", "--help", dir / "help.txt") == 0);
+  const std::string help = read_file(dir / "help.txt");
+  for (const char* name : {"run", "resume", "report", "validate", "compare", "sweep", "vulnerable-window",
+                           "restitution", "plugins", "plot", "check-plugin", "new-model", "bench", "import-cellml",
+                           "schema"})
+    CHECK_MESSAGE(help.find(std::string("  ") + name + " ") != std::string::npos, name);
+  REQUIRE(run_fibrodem("", "--version", dir / "version.txt") == 0);
+  CHECK(read_file(dir / "version.txt") == std::string("fibrodem ") + FIBRODEM_VERSION + "\n");
+  // A subcommand's own options still parse, and its errors still name them.
+  REQUIRE(run_fibrodem("", "schema --json sweep", dir / "schema.txt") == 0);
+  CHECK(read_file(dir / "schema.txt").find("\"$schema\"") != std::string::npos);
+  CHECK(run_fibrodem("", "run", dir / "run.txt") != 0);
+  CHECK(read_file(dir / "run.txt").find("manifest is required") != std::string::npos);
+  CHECK(run_fibrodem("", "rnu x.json", dir / "typo.txt") != 0);
+}
