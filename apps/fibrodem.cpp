@@ -1,144 +1,212 @@
 // The `fibrodem` command line (docs/reference/command_line.md).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
+#include <iterator>
+#include <string>
 
 #include "apps/commands.hpp"
 #include "apps/openmp_spinning.hpp"
+
+namespace {
+
+// Every subcommand's name, as declared below.
+constexpr const char* kSubcommands[] = {
+    "run",     "resume", "report",       "validate",  "compare", "sweep", "vulnerable-window", "restitution",
+    "plugins", "plot",   "check-plugin", "new-model", "bench",   "import-cellml", "schema"};
+
+}  // namespace
 
 int main(int argc, char** argv) {
   fibrodem::cli::keep_arguments(argv);
   CLI::App app{"fibrodem: cardiac tissue cell by cell (electrophysiology, coupling, mechanics)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("fibrodem ") + FIBRODEM_VERSION);
+  // Only the subcommand the first argument names is declared: CLI11 builds
+  // every option's parser and validators, which for all of them costs more
+  // than a single-cell run's parsing (docs/performance.md#start-up). Without
+  // a subcommand first (--help, a misspelt name) all are, for the help and
+  // the error message; none with --version alone.
+  const std::string first = argc > 1 ? argv[1] : "";
+  const bool names_one = std::find(std::begin(kSubcommands), std::end(kSubcommands), first) != std::end(kSubcommands);
+  const bool version_only = argc == 2 && first == "--version";
+  const auto declared = [&](const char* name) { return names_one ? first == name : !version_only; };
 
   fibrodem::cli::RunArgs run_args;
-  auto* run = app.add_subcommand("run", "Run the scene of a manifest and write its output directory");
-  run->add_option("manifest", run_args.manifest, "experiment manifest (JSON)")->required();
-  run->add_option("--out", run_args.out, "output directory (default: the manifest's output.dir, else out/NAME)");
-  run->add_option("--set", run_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
-  run->add_flag("--quiet", run_args.quiet, "log to run.log only");
-  run->add_flag("--overwrite", run_args.overwrite, "replace another run's files in the output directory");
-  run->add_flag("--no-report", run_args.no_report, "write no report.html (as output.report: false)");
+  CLI::App* run = nullptr;
+  if (declared("run")) {
+    run = app.add_subcommand("run", "Run the scene of a manifest and write its output directory");
+    run->add_option("manifest", run_args.manifest, "experiment manifest (JSON)")->required();
+    run->add_option("--out", run_args.out, "output directory (default: the manifest's output.dir, else out/NAME)");
+    run->add_option("--set", run_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
+    run->add_flag("--quiet", run_args.quiet, "log to run.log only");
+    run->add_flag("--overwrite", run_args.overwrite, "replace another run's files in the output directory");
+    run->add_flag("--no-report", run_args.no_report, "write no report.html (as output.report: false)");
+  }
 
   fibrodem::cli::ResumeArgs resume_args;
-  auto* resume = app.add_subcommand("resume", "Continue a stopped, interrupted or killed run from its last good checkpoint");
-  resume->add_option("dir", resume_args.dir, "the run's output directory")->required();
-  resume->add_flag("--quiet", resume_args.quiet, "log to run.log only");
-  resume->add_flag("--no-report", resume_args.no_report, "write no report.html");
+  CLI::App* resume = nullptr;
+  if (declared("resume")) {
+    resume = app.add_subcommand("resume", "Continue a stopped, interrupted or killed run from its last good checkpoint");
+    resume->add_option("dir", resume_args.dir, "the run's output directory")->required();
+    resume->add_flag("--quiet", resume_args.quiet, "log to run.log only");
+    resume->add_flag("--no-report", resume_args.no_report, "write no report.html");
+  }
 
   fibrodem::cli::ReportArgs report_args;
-  auto* report = app.add_subcommand("report", "Write report.html of a run's folder (also a failed, interrupted or killed run's) from what is on disk");
-  report->add_option("dir", report_args.dir, "the run's output directory")->required();
+  CLI::App* report = nullptr;
+  if (declared("report")) {
+    report = app.add_subcommand("report", "Write report.html of a run's folder (also a failed, interrupted or killed run's) from what is on disk");
+    report->add_option("dir", report_args.dir, "the run's output directory")->required();
+  }
 
   fibrodem::cli::RunArgs validate_args;
-  auto* validate = app.add_subcommand("validate", "Check a manifest (and build its scene) without running it");
-  validate->add_option("manifest", validate_args.manifest, "experiment manifest (JSON)")->required();
-  validate->add_option("--set", validate_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
+  CLI::App* validate = nullptr;
+  if (declared("validate")) {
+    validate = app.add_subcommand("validate", "Check a manifest (and build its scene) without running it");
+    validate->add_option("manifest", validate_args.manifest, "experiment manifest (JSON)")->required();
+    validate->add_option("--set", validate_args.overrides, "override a manifest value: PATH=VALUE (repeatable)");
+  }
 
   fibrodem::cli::CompareArgs compare_args;
-  auto* compare = app.add_subcommand("compare", "Run two variants (two manifests, or one with --a/--b overrides) and compare them");
-  compare->add_option("manifests", compare_args.manifests, "A.json B.json, or one manifest")->required()->expected(1, 2);
-  compare->add_option("--out", compare_args.out, "output directory (default out/compare_NAME)");
-  compare->add_option("--set", compare_args.overrides, "override for both: PATH=VALUE (repeatable)");
-  compare->add_option("--a", compare_args.a_overrides, "override for A only: PATH=VALUE (repeatable)");
-  compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
-  compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
-  compare->add_flag("--overwrite", compare_args.overwrite, "replace earlier runs' files in the output directory");
-  compare->add_flag("--no-report", compare_args.no_report, "write no report.html (neither the comparison's nor A's and B's)");
-  compare->add_option("--seeds", compare_args.seeds, "run A and B on K tissue seeds (the manifest's and the next K - 1) and report paired differences with their 95 % CI and a paired t-test")
-      ->check(CLI::Range(1, 10000));
+  CLI::App* compare = nullptr;
+  if (declared("compare")) {
+    compare = app.add_subcommand("compare", "Run two variants (two manifests, or one with --a/--b overrides) and compare them");
+    compare->add_option("manifests", compare_args.manifests, "A.json B.json, or one manifest")->required()->expected(1, 2);
+    compare->add_option("--out", compare_args.out, "output directory (default out/compare_NAME)");
+    compare->add_option("--set", compare_args.overrides, "override for both: PATH=VALUE (repeatable)");
+    compare->add_option("--a", compare_args.a_overrides, "override for A only: PATH=VALUE (repeatable)");
+    compare->add_option("--b", compare_args.b_overrides, "override for B only: PATH=VALUE (repeatable)");
+    compare->add_flag("--quiet", compare_args.quiet, "log to each run's run.log only");
+    compare->add_flag("--overwrite", compare_args.overwrite, "replace earlier runs' files in the output directory");
+    compare->add_flag("--no-report", compare_args.no_report, "write no report.html (neither the comparison's nor A's and B's)");
+    compare->add_option("--seeds", compare_args.seeds, "run A and B on K tissue seeds (the manifest's and the next K - 1) and report paired differences with their 95 % CI and a paired t-test")
+        ->check(CLI::Range(1, 10000));
+  }
 
   fibrodem::cli::SweepArgs sweep_args;
-  auto* sweep = app.add_subcommand("sweep", "Run a manifest over a grid of parameter values and tabulate the results");
-  sweep->add_option("sweep", sweep_args.sweep, "sweep file (JSON: manifest, set, grid)")->required();
-  sweep->add_option("--out", sweep_args.out, "output directory (default out/sweep_NAME)");
-  sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core; under mpirun, per rank: the cores shared by the ranks on a host)");
-  sweep->add_option("--set", sweep_args.overrides, "override a value of the sweep's manifest: PATH=VALUE (repeatable)");
-  sweep->add_flag("--overwrite", sweep_args.overwrite, "run every point again, even those completed before with the same manifest");
-  sweep->add_flag("--no-report", sweep_args.no_report, "write no report.html (neither the sweep's nor its runs')");
+  CLI::App* sweep = nullptr;
+  if (declared("sweep")) {
+    sweep = app.add_subcommand("sweep", "Run a manifest over a grid of parameter values and tabulate the results");
+    sweep->add_option("sweep", sweep_args.sweep, "sweep file (JSON: manifest, set, grid)")->required();
+    sweep->add_option("--out", sweep_args.out, "output directory (default out/sweep_NAME)");
+    sweep->add_option("--jobs", sweep_args.jobs, "runs at once (default: one per core; under mpirun, per rank: the cores shared by the ranks on a host)");
+    sweep->add_option("--set", sweep_args.overrides, "override a value of the sweep's manifest: PATH=VALUE (repeatable)");
+    sweep->add_flag("--overwrite", sweep_args.overwrite, "run every point again, even those completed before with the same manifest");
+    sweep->add_flag("--no-report", sweep_args.no_report, "write no report.html (neither the sweep's nor its runs')");
+  }
 
   fibrodem::cli::VulnerableWindowArgs window_args;
-  auto* window = app.add_subcommand("vulnerable-window", "Scan the S1-S2 coupling interval (stimulus[1] after stimulus[0]) and find the window that induces re-entry, boundaries refined by bisection");
-  window->add_option("manifest", window_args.manifest, "manifest with S1 (stimulus[0]) and S2 (stimulus[1])")->required();
-  window->add_option("--out", window_args.out, "output directory (default out/vulnerable_window_NAME)");
-  window->add_option("--from", window_args.from_ms, "first coupling interval of the scan [ms] (with --to and --step; default: the manifest's interval - 100)")->check(CLI::PositiveNumber);
-  window->add_option("--to", window_args.to_ms, "last coupling interval of the scan [ms]")->check(CLI::PositiveNumber);
-  window->add_option("--step", window_args.step_ms, "the scan's step [ms] (default 10)")->check(CLI::PositiveNumber);
-  window->add_option("--resolution", window_args.resolution_ms, "bisection stops when a boundary is bracketed this closely [ms] (default 1)")->check(CLI::PositiveNumber);
-  window->add_option("--capture-fraction", window_args.capture_fraction, "S2 counts as captured when its beat reaches at least this fraction of the myocytes (default 0.5)")->check(CLI::Range(0.0, 1.0));
-  window->add_option("--seeds", window_args.seeds, "search on K tissue seeds (the manifest's and the next K - 1)")->check(CLI::Range(1, 10000));
-  window->add_option("--jobs", window_args.jobs, "runs at once (default: one per core)");
-  window->add_option("--set", window_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
-  window->add_flag("--overwrite", window_args.overwrite, "run every interval again, even those run before with the same manifest");
+  CLI::App* window = nullptr;
+  if (declared("vulnerable-window")) {
+    window = app.add_subcommand("vulnerable-window", "Scan the S1-S2 coupling interval (stimulus[1] after stimulus[0]) and find the window that induces re-entry, boundaries refined by bisection");
+    window->add_option("manifest", window_args.manifest, "manifest with S1 (stimulus[0]) and S2 (stimulus[1])")->required();
+    window->add_option("--out", window_args.out, "output directory (default out/vulnerable_window_NAME)");
+    window->add_option("--from", window_args.from_ms, "first coupling interval of the scan [ms] (with --to and --step; default: the manifest's interval - 100)")->check(CLI::PositiveNumber);
+    window->add_option("--to", window_args.to_ms, "last coupling interval of the scan [ms]")->check(CLI::PositiveNumber);
+    window->add_option("--step", window_args.step_ms, "the scan's step [ms] (default 10)")->check(CLI::PositiveNumber);
+    window->add_option("--resolution", window_args.resolution_ms, "bisection stops when a boundary is bracketed this closely [ms] (default 1)")->check(CLI::PositiveNumber);
+    window->add_option("--capture-fraction", window_args.capture_fraction, "S2 counts as captured when its beat reaches at least this fraction of the myocytes (default 0.5)")->check(CLI::Range(0.0, 1.0));
+    window->add_option("--seeds", window_args.seeds, "search on K tissue seeds (the manifest's and the next K - 1)")->check(CLI::Range(1, 10000));
+    window->add_option("--jobs", window_args.jobs, "runs at once (default: one per core)");
+    window->add_option("--set", window_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
+    window->add_flag("--overwrite", window_args.overwrite, "run every interval again, even those run before with the same manifest");
+  }
 
   fibrodem::cli::RestitutionArgs restitution_args;
-  auto* restitution = app.add_subcommand("restitution", "S1-S2 action-potential restitution: APD90 and APD50 of S2 (stimulus[1]) against the diastolic interval, and the effective refractory period");
-  restitution->add_option("manifest", restitution_args.manifest, "manifest with S1 (stimulus[0], a train with count) and S2 (stimulus[1])")->required();
-  restitution->add_option("--out", restitution_args.out, "output directory (default out/restitution_NAME)");
-  restitution->add_option("--intervals", restitution_args.intervals_ms, "S1-S2 coupling intervals [ms], comma-separated (default: the S1 period, then 800 ... 100)")->delimiter(',')->check(CLI::PositiveNumber);
-  restitution->add_option("--cells", restitution_args.cells, "cells to measure, comma-separated indices (default: every myocyte; medians over them)")->delimiter(',')->check(CLI::NonNegativeNumber);
-  restitution->add_option("--resolution", restitution_args.resolution_ms, "the ERP's bisection stops at this bracket [ms] (default 1; 0: no bisection)")->check(CLI::NonNegativeNumber);
-  restitution->add_option("--capture-fraction", restitution_args.capture_fraction, "S2 counts as captured when at least this fraction of the measured cells fire (default 0.5)")->check(CLI::Range(0.0, 1.0));
-  restitution->add_option("--jobs", restitution_args.jobs, "runs at once (default: one per core)");
-  restitution->add_option("--set", restitution_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
-  restitution->add_flag("--overwrite", restitution_args.overwrite, "run every interval again, even those run before with the same manifest");
+  CLI::App* restitution = nullptr;
+  if (declared("restitution")) {
+    restitution = app.add_subcommand("restitution", "S1-S2 action-potential restitution: APD90 and APD50 of S2 (stimulus[1]) against the diastolic interval, and the effective refractory period");
+    restitution->add_option("manifest", restitution_args.manifest, "manifest with S1 (stimulus[0], a train with count) and S2 (stimulus[1])")->required();
+    restitution->add_option("--out", restitution_args.out, "output directory (default out/restitution_NAME)");
+    restitution->add_option("--intervals", restitution_args.intervals_ms, "S1-S2 coupling intervals [ms], comma-separated (default: the S1 period, then 800 ... 100)")->delimiter(',')->check(CLI::PositiveNumber);
+    restitution->add_option("--cells", restitution_args.cells, "cells to measure, comma-separated indices (default: every myocyte; medians over them)")->delimiter(',')->check(CLI::NonNegativeNumber);
+    restitution->add_option("--resolution", restitution_args.resolution_ms, "the ERP's bisection stops at this bracket [ms] (default 1; 0: no bisection)")->check(CLI::NonNegativeNumber);
+    restitution->add_option("--capture-fraction", restitution_args.capture_fraction, "S2 counts as captured when at least this fraction of the measured cells fire (default 0.5)")->check(CLI::Range(0.0, 1.0));
+    restitution->add_option("--jobs", restitution_args.jobs, "runs at once (default: one per core)");
+    restitution->add_option("--set", restitution_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
+    restitution->add_flag("--overwrite", restitution_args.overwrite, "run every interval again, even those run before with the same manifest");
+  }
 
   bool plugins_json = false;
-  auto* plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
-  plugins->add_flag("--json", plugins_json, "print JSON instead of text");
+  CLI::App* plugins = nullptr;
+  if (declared("plugins")) {
+    plugins = app.add_subcommand("plugins", "List the cell-model plugins found, with states and parameters");
+    plugins->add_flag("--json", plugins_json, "print JSON instead of text");
+  }
 
   std::string plot_spec, plot_out;
-  auto* plot = app.add_subcommand("plot", "Draw line plots (PNG) from a JSON description of panels and series");
-  plot->add_option("spec", plot_spec, "JSON: {title, columns, panels: [{title, x_label, y_label, series: [{label, x, y}]}]}")->required();
-  plot->add_option("--out", plot_out, "the PNG file to write")->required();
+  CLI::App* plot = nullptr;
+  if (declared("plot")) {
+    plot = app.add_subcommand("plot", "Draw line plots (PNG) from a JSON description of panels and series");
+    plot->add_option("spec", plot_spec, "JSON: {title, columns, panels: [{title, x_label, y_label, series: [{label, x, y}]}]}")->required();
+    plot->add_option("--out", plot_out, "the PNG file to write")->required();
+  }
   std::string check_plugin_target;
-  auto* check_plugin = app.add_subcommand("check-plugin", "Check a cell-model plugin against the plugin contract (metadata, derivatives written, finite, voltage_only, linear forms, bounds over a beat, block = single cell)");
-  check_plugin->add_option("plugin", check_plugin_target, "a plugin file (libfibrodem_NAME.so) or a model name on the search path")->required();
+  CLI::App* check_plugin = nullptr;
+  if (declared("check-plugin")) {
+    check_plugin = app.add_subcommand("check-plugin", "Check a cell-model plugin against the plugin contract (metadata, derivatives written, finite, voltage_only, linear forms, bounds over a beat, block = single cell)");
+    check_plugin->add_option("plugin", check_plugin_target, "a plugin file (libfibrodem_NAME.so) or a model name on the search path")->required();
+  }
   fibrodem::cli::NewModelArgs new_model_args;
-  auto* new_model = app.add_subcommand("new-model", "Write a plugin skeleton (source, CMakeLists.txt, test manifest) that builds out of tree against an installed fibrodem");
-  new_model->add_option("name", new_model_args.name, "the plugin's name (lower-case letters, digits, '_')")->required();
-  new_model->add_option("--kind", new_model_args.kind, "ionic (default), myofilament or contact-law")
-      ->check(CLI::IsMember({"ionic", "myofilament", "contact-law"}));
-  new_model->add_option("--dir", new_model_args.dir, "directory to write (default ./NAME); existing files are never overwritten");
+  CLI::App* new_model = nullptr;
+  if (declared("new-model")) {
+    new_model = app.add_subcommand("new-model", "Write a plugin skeleton (source, CMakeLists.txt, test manifest) that builds out of tree against an installed fibrodem");
+    new_model->add_option("name", new_model_args.name, "the plugin's name (lower-case letters, digits, '_')")->required();
+    new_model->add_option("--kind", new_model_args.kind, "ionic (default), myofilament or contact-law")
+        ->check(CLI::IsMember({"ionic", "myofilament", "contact-law"}));
+    new_model->add_option("--dir", new_model_args.dir, "directory to write (default ./NAME); existing files are never overwritten");
+  }
 
-  auto* bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
-  bench->allow_extras();
   fibrodem::cli::BenchAccuracyArgs accuracy_args;
-  auto* accuracy = fibrodem::cli::add_bench_accuracy_subcommand(*bench, accuracy_args);
   fibrodem::cli::BenchHeadlineArgs headline_args;
-  auto* headline = fibrodem::cli::add_bench_headline_subcommand(*bench, headline_args);
+  CLI::App *bench = nullptr, *accuracy = nullptr, *headline = nullptr;
+  if (declared("bench")) {
+    bench = app.add_subcommand("bench", "Run the performance benchmarks (Google Benchmark; its --benchmark_* flags pass through), `bench headline` or `bench accuracy`");
+    bench->allow_extras();
+    accuracy = fibrodem::cli::add_bench_accuracy_subcommand(*bench, accuracy_args);
+    headline = fibrodem::cli::add_bench_headline_subcommand(*bench, headline_args);
+  }
 
   fibrodem::cellml::ImportOptions import_args;
-  auto* import_cellml = fibrodem::cli::add_import_cellml_subcommand(app, import_args);
+  CLI::App* import_cellml = nullptr;
+  if (declared("import-cellml")) {
+    import_cellml = fibrodem::cli::add_import_cellml_subcommand(app, import_args);
+  }
 
   fibrodem::cli::SchemaArgs schema_args;
-  auto* schema = app.add_subcommand("schema", "Print the JSON Schema of the manifest or the sweep file, or its reference in Markdown");
-  schema->add_flag_callback("--markdown", [&] { schema_args.format = "markdown"; }, "the reference in Markdown (the default)");
-  schema->add_flag_callback("--json", [&] { schema_args.format = "json"; }, "the JSON Schema itself");
-  schema->add_option("kind", schema_args.kind, "manifest (the default) or sweep")->check(CLI::IsMember({"manifest", "sweep"}));
+  CLI::App* schema = nullptr;
+  if (declared("schema")) {
+    schema = app.add_subcommand("schema", "Print the JSON Schema of the manifest or the sweep file, or its reference in Markdown");
+    schema->add_flag_callback("--markdown", [&] { schema_args.format = "markdown"; }, "the reference in Markdown (the default)");
+    schema->add_flag_callback("--json", [&] { schema_args.format = "json"; }, "the JSON Schema itself");
+    schema->add_option("kind", schema_args.kind, "manifest (the default) or sweep")->check(CLI::IsMember({"manifest", "sweep"}));
+  }
 
   CLI11_PARSE(app, argc, argv);
 
   // Commands that run scenes or benchmarks on several threads bound OpenMP's
   // spinning now; run, resume and validate once they know their scene.
-  if (*compare || *sweep || *window || *restitution || *bench) fibrodem::cli::bound_openmp_spinning();
+  const auto chosen = [](const CLI::App* sub) { return sub != nullptr && sub->parsed(); };
+  if (chosen(compare) || chosen(sweep) || chosen(window) || chosen(restitution) || chosen(bench))
+    fibrodem::cli::bound_openmp_spinning();
 
-  if (*run) return fibrodem::cli::run_command(run_args);
-  if (*resume) return fibrodem::cli::resume_command(resume_args);
-  if (*report) return fibrodem::cli::report_command(report_args);
-  if (*validate) return fibrodem::cli::validate_command(validate_args);
-  if (*compare) return fibrodem::cli::compare_command(compare_args);
-  if (*sweep) return fibrodem::cli::sweep_command(sweep_args);
-  if (*window) return fibrodem::cli::vulnerable_window_command(window_args);
-  if (*restitution) return fibrodem::cli::restitution_command(restitution_args);
-  if (*plugins) return fibrodem::cli::plugins_command(plugins_json);
-  if (*plot) return fibrodem::cli::plot_command(plot_spec, plot_out);
-  if (*schema) return fibrodem::cli::schema_command(schema_args);
-  if (*import_cellml) return fibrodem::cli::import_cellml_command(import_args);
-  if (*check_plugin) return fibrodem::cli::check_plugin_command(check_plugin_target);
-  if (*new_model) return fibrodem::cli::new_model_command(new_model_args);
-  if (*accuracy) return fibrodem::cli::bench_accuracy_command(accuracy_args);
-  if (*headline) return fibrodem::cli::bench_headline_command(headline_args);
-  if (*bench) return fibrodem::cli::bench_command(argv[0], bench->remaining());
+  if (chosen(run)) return fibrodem::cli::run_command(run_args);
+  if (chosen(resume)) return fibrodem::cli::resume_command(resume_args);
+  if (chosen(report)) return fibrodem::cli::report_command(report_args);
+  if (chosen(validate)) return fibrodem::cli::validate_command(validate_args);
+  if (chosen(compare)) return fibrodem::cli::compare_command(compare_args);
+  if (chosen(sweep)) return fibrodem::cli::sweep_command(sweep_args);
+  if (chosen(window)) return fibrodem::cli::vulnerable_window_command(window_args);
+  if (chosen(restitution)) return fibrodem::cli::restitution_command(restitution_args);
+  if (chosen(plugins)) return fibrodem::cli::plugins_command(plugins_json);
+  if (chosen(plot)) return fibrodem::cli::plot_command(plot_spec, plot_out);
+  if (chosen(schema)) return fibrodem::cli::schema_command(schema_args);
+  if (chosen(import_cellml)) return fibrodem::cli::import_cellml_command(import_args);
+  if (chosen(check_plugin)) return fibrodem::cli::check_plugin_command(check_plugin_target);
+  if (chosen(new_model)) return fibrodem::cli::new_model_command(new_model_args);
+  if (chosen(accuracy)) return fibrodem::cli::bench_accuracy_command(accuracy_args);
+  if (chosen(headline)) return fibrodem::cli::bench_headline_command(headline_args);
+  if (chosen(bench)) return fibrodem::cli::bench_command(argv[0], bench->remaining());
   return 0;
 }
