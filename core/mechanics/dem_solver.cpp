@@ -2,7 +2,9 @@
 // the contact list's check, the strain, then the forces and the closing kick.
 #include "mechanics/dem_solver.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -77,6 +79,21 @@ DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
     for (std::size_t j = 0; j < total.fit.size(); ++j) total.fit[j] += p.fit[j];
   }
   return total;
+}
+
+// Reach of a body: its farthest particle's edge from its centroid (a
+// clump's end pebbles; a disk's radius), at its present shape.
+MechanicsSolver::Motion DemSolver::fastest_motion() const {
+  Motion m;
+  for (std::size_t b = 0; b < bx_.size(); ++b) {
+    if (bfixed_[b]) continue;
+    const double reach = 0.5 * (brest_[b].n - 1) * bs_[b] + br_[b];
+    const double speed = std::hypot(bvx_[b], bvy_[b]) + std::abs(bw_[b]) * reach;
+    const double accel = std::hypot(bfx_[b], bfy_[b]) * inv_m_[b] + std::abs(btq_[b]) * inv_i_[b] * reach;
+    m.speed_m_per_s = std::max(m.speed_m_per_s, speed);
+    m.acceleration_m_per_s2 = std::max(m.acceleration_m_per_s2, accel);
+  }
+  return m;
 }
 
 std::string DemSolver::report() const {

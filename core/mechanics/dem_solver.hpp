@@ -92,6 +92,9 @@ class DemSolver final : public MechanicsSolver {
   std::array<double, 3> strain() const override { return strain_; }
   const std::vector<Particle>& particles() const override;
   std::string report() const override;
+  // One pass over the bodies (not part of a step: asked for only when the
+  // coupling needs it).
+  Motion fastest_motion() const override;
   void save(CheckpointFields& fields) const override;
   void load(const CheckpointFields& fields) override;
 

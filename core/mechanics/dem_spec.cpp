@@ -60,6 +60,7 @@ DemSpec read_dem_spec(JsonReader& r) {
   s.safety_factor = r.number("safety_factor", s.safety_factor, 1e-3, 1.0);
   s.mass_scaling = r.number("mass_scaling", s.mass_scaling, 0, 1);
   s.multirate = r.boolean("multirate", s.multirate);
+  s.skip_at_rest = r.boolean("skip_at_rest", s.skip_at_rest);
   s.dt_ms = r.number("dt_ms", s.dt_ms, 0, 1e3);
   const std::string rule = r.text("area_rule", "union", {"union", "capsule", "rectangle"});
   s.area_rule = rule == "capsule"     ? AreaRule::capsule

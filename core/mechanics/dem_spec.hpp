@@ -68,6 +68,10 @@ struct DemSpec {
   // Multirate stepping: bodies whose critical step is below the clumps'
   // take substeps of the step (dem_solver.hpp, "Multirate"); false: one step for all.
   bool multirate = false;
+  // The coupling does not step the DEM while the tissue is at rest and the
+  // cells' lengths stay as it last saw them (run/mechanics_coupling.hpp,
+  // "Rest"); false: every step is taken.
+  bool skip_at_rest = true;
   double dt_ms = 0.0;                     // 0 = automatic (the stable step)
   AreaRule area_rule = AreaRule::union_area;
   LengthMode length_mode = LengthMode::total;  // the seed: SL "scaled to give the total myocyte length"
@@ -84,7 +88,7 @@ struct DemSpec {
 // contact_law_parameters), contact_law_parameters, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
 // damping_ratio_shear, tensile_strength_N, shear_strength_N, friction, local_damping,
 // fibroblast_stiffness_factor, bond_radius_multiplier, stiffness_inheritance (contact|series),
-// density_kg_per_m3, safety_factor, mass_scaling, multirate, dt_ms, area_rule (union|capsule|rectangle),
+// density_kg_per_m3, safety_factor, mass_scaling, multirate, skip_at_rest, dt_ms, area_rule (union|capsule|rectangle),
 // length_mode (spacing|total), fibroblasts_fixed, strain_bodies
 // (particles|bodies), contact_detection, contact_skin_um. Errors name the JSON path. Does not call finish(): the
 // caller may read its own keys (e.g. output rates) from the same object first.

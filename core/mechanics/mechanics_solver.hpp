@@ -48,6 +48,17 @@ class MechanicsSolver {
   virtual void load(const CheckpointFields& fields) = 0;
   // Present particle positions and radii [um], in the tissue's order (snapshots).
   virtual const std::vector<Particle>& particles() const = 0;
+
+  // How fast the fastest free body moves now (SI), to tell that the tissue
+  // is at rest (run/mechanics_coupling.hpp): the largest speed of a point of
+  // a body (|v| + |omega| x its reach, the farthest point of its particles
+  // from its centroid) and the largest acceleration its unbalanced force and
+  // torque give such a point (|F| / m + |T| / I x reach). Both 0 for a tissue
+  // at rest under its present lengths.
+  struct Motion {
+    double speed_m_per_s = 0, acceleration_m_per_s2 = 0;
+  };
+  virtual Motion fastest_motion() const = 0;
 };
 
 // The spec's solver (`dem`) for a tissue; throws std::invalid_argument if the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "util/manifest_error.hpp"
@@ -19,6 +20,11 @@ MechanicsCoupling::MechanicsCoupling(const Tissue& tissue, const DemSpec& spec) 
   step_ms_ = solver_->step_ms();
   length_ratio_.assign(tissue.cell_count(), 1.0);
   length_ratio_from_ = length_ratio_to_ = length_ratio_;
+  skip_at_rest_ = spec.skip_at_rest;
+  double smallest_radius_um = 0;
+  for (const auto& p : tissue.particles)
+    if (smallest_radius_um == 0 || p.r_um < smallest_radius_um) smallest_radius_um = p.r_um;
+  rest_distance_m_ = kRestDistance * smallest_radius_um * 1e-6;
 }
 
 // A cell step of the adaptive method may span many DEM steps: each takes the
@@ -26,6 +32,26 @@ MechanicsCoupling::MechanicsCoupling(const Tissue& tissue, const DemSpec& spec) 
 void MechanicsCoupling::advance(double t, const std::vector<double>& length_ratio_by_cell) {
   const auto start = std::chrono::steady_clock::now();
   length_ratio_to_ = length_ratio_by_cell;
+  if (asleep_) {
+    if (drive_unchanged(length_ratio_to_) && still_at_rest(t)) {
+      skip_to(t);
+    } else {
+      // Resume with the lengths it last saw at the start of this cell step,
+      // so its drive stays continuous (no jump of up to kDriveTolerance).
+      asleep_ = false;
+      if (skipped_this_sleep_ > 0) length_ratio_from_ = length_ratio_;
+    }
+  }
+  if (!asleep_) {
+    step_to(t);
+    fall_asleep_if_at_rest();
+  }
+  std::swap(length_ratio_from_, length_ratio_to_);
+  length_ratio_from_ms_ = t;
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void MechanicsCoupling::step_to(double t) {
   const double span = t - length_ratio_from_ms_;
   for (double h = solver_->step_ms(); time_ms_ + h <= t + kTimeEpsilon_ms; h = solver_->step_ms()) {
     const double w = span > 0 ? std::clamp((time_ms_ + h - length_ratio_from_ms_) / span, 0.0, 1.0) : 1.0;
@@ -33,15 +59,58 @@ void MechanicsCoupling::advance(double t, const std::vector<double>& length_rati
       length_ratio_[cell] = length_ratio_from_[cell] + w * (length_ratio_to_[cell] - length_ratio_from_[cell]);
     solver_->set_cell_length_ratios(length_ratio_);
     solver_->step(h);
+    motion_unknown_ = true;
     time_ms_ += h;
     step_ms_ = std::min(step_ms_, h);
     const auto strain = solver_->strain();
     for (int k = 0; k < 3; ++k)
       if (std::abs(strain[k]) > std::abs(peak_strain_[k])) peak_strain_[k] = strain[k];
   }
-  std::swap(length_ratio_from_, length_ratio_to_);
-  length_ratio_from_ms_ = t;
-  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The clock moves by the steps an uninterrupted run would take (one addition
+// each, the same step times); nothing else does.
+void MechanicsCoupling::skip_to(double t) {
+  for (const double h = solver_->step_ms(); time_ms_ + h <= t + kTimeEpsilon_ms;) {
+    time_ms_ += h;
+    slept_ms_ += h;
+    ++skipped_steps_;
+    ++skipped_this_sleep_;
+  }
+}
+
+bool MechanicsCoupling::drive_unchanged(const std::vector<double>& length_ratio) const {
+  for (std::size_t cell = 0; cell < length_ratio.size(); ++cell)
+    if (!(std::abs(length_ratio[cell] - length_ratio_[cell]) <= kDriveTolerance)) return false;
+  return true;
+}
+
+// Whether no body could have moved rest_distance_m_ between falling asleep
+// and t at the speed and acceleration it had then.
+bool MechanicsCoupling::still_at_rest(double t) const {
+  const double T_s = (t - asleep_since_ms_) * 1e-3;
+  return asleep_motion_.speed_m_per_s * T_s + 0.5 * asleep_motion_.acceleration_m_per_s2 * T_s * T_s <=
+         rest_distance_m_;
+}
+
+// Asked only when the drive has not changed and the DEM has stepped since it
+// was last asked: its motion is one pass over the bodies.
+void MechanicsCoupling::fall_asleep_if_at_rest() {
+  if (!skip_at_rest_ || !motion_unknown_ || !drive_unchanged(length_ratio_to_)) return;
+  asleep_motion_ = solver_->fastest_motion();
+  motion_unknown_ = false;
+  asleep_since_ms_ = time_ms_;
+  skipped_this_sleep_ = 0;
+  // At least its next step must be skippable, or it would only wake again.
+  asleep_ = still_at_rest(time_ms_ + solver_->step_ms());
+}
+
+std::string MechanicsCoupling::report() const {
+  std::string r = solver_->report();
+  if (!skip_at_rest_) return r + "; skip_at_rest off";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "; at rest: %zu steps skipped (%.6g ms asleep)", skipped_steps_, slept_ms_);
+  return r + buf;
 }
 
 void MechanicsCoupling::save(CheckpointFields& f) const {
@@ -50,6 +119,11 @@ void MechanicsCoupling::save(CheckpointFields& f) const {
                                              peak_strain_[1], peak_strain_[2]});
   f.put("run.length_ratio_from", length_ratio_from_);
   f.put("run.length_ratio_to", length_ratio_to_);
+  f.put("run.length_ratio_seen", length_ratio_);
+  f.put("run.mechanics_rest",
+        std::vector<double>{motion_unknown_ ? 1.0 : 0.0, asleep_ ? 1.0 : 0.0, asleep_since_ms_,
+                            asleep_motion_.speed_m_per_s, asleep_motion_.acceleration_m_per_s2,
+                            static_cast<double>(skipped_steps_), static_cast<double>(skipped_this_sleep_), slept_ms_});
 }
 
 void MechanicsCoupling::restore(const CheckpointFields& f, double start_ms) {
@@ -62,6 +136,20 @@ void MechanicsCoupling::restore(const CheckpointFields& f, double start_ms) {
   peak_strain_ = {m[3], m[4], m[5]};
   f.read_into("run.length_ratio_from", length_ratio_from_);
   f.read_into("run.length_ratio_to", length_ratio_to_);
+  // A checkpoint written without the rest state resumes awake, as its run was.
+  if (!f.has("run.mechanics_rest")) {
+    length_ratio_ = length_ratio_from_;
+    motion_unknown_ = true, asleep_ = false, skipped_steps_ = skipped_this_sleep_ = 0, slept_ms_ = 0;
+    return;
+  }
+  f.read_into("run.length_ratio_seen", length_ratio_);
+  const auto r = f.numbers("run.mechanics_rest", 8);
+  if (!(r[5] >= 0 && r[5] < 1e18 && r[6] >= 0 && r[6] <= r[5] && r[7] >= 0 && r[3] >= 0 && r[4] >= 0))
+    throw CheckpointError("its mechanics' rest state is out of range");
+  motion_unknown_ = r[0] != 0, asleep_ = r[1] != 0, asleep_since_ms_ = r[2];
+  asleep_motion_ = {r[3], r[4]};
+  skipped_steps_ = static_cast<std::size_t>(r[5]), skipped_this_sleep_ = static_cast<std::size_t>(r[6]);
+  slept_ms_ = r[7];
 }
 
 }  // namespace fibrodem

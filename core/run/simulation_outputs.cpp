@@ -277,7 +277,7 @@ void Simulation::Impl::log_run_end() {
                 "(rates clamped to the table's ends)",
                 cell_type_name(pop.type), pop.info().name, pop.table->v_min(), pop.table->v_max(),
                 pop.table->clamp_count());
-  if (mechanics) log->info("mechanics: {}", mechanics->solver().report());
+  if (mechanics) log->info("mechanics: {}", mechanics->report());
   if (const auto& governor = system.thread_governor(); governor.adapting())
     log->info("threads auto: the cell models' loop ran {} steps on {} threads and {} on one ({} switches)",
               governor.calls_on_more(), governor.max_threads(), governor.calls_on_one(), governor.switches());
