@@ -216,9 +216,13 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
       for (auto* v : {&buf.a_last_f, &buf.b_last_f}) v->assign(forms, 0.0f);
     else
       for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(forms, 0.0);
+    const bool myofilament = std::any_of(system.myofilaments.begin(), system.myofilaments.end(),
+                                         [&](const Myofilament& m) { return &m.pop == &pop; });
+    const double factor = myofilament ? kMyofilamentToleranceFactor : 1.0;
+    buf.rtol = factor * rtol_;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
-      buf.scale.push_back(states[k].gate || magnitude == 0 ? 1.0 : magnitude);
+      buf.scale.push_back(factor * (states[k].gate || magnitude == 0 ? 1.0 : magnitude));
     }
     buffers_.push_back(std::move(buf));
   });
@@ -335,7 +339,7 @@ double AdaptiveIntegrator::midpoint_step(CellSystem& system, double t, double h)
           // Stage 1's choice, from the start's slopes.
           const bool first_exponential = pop.info().states[k].gate || has_slope(row.b_start, block.end);
           block_error =
-              std::max(block_error, second_stage(row, first_exponential, block.end, h, rtol_, atol_ * buf.scale[k],
+              std::max(block_error, second_stage(row, first_exponential, block.end, h, buf.rtol, atol_ * buf.scale[k],
                                                  pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const auto& row, std::size_t offset, std::size_t count) {
@@ -360,7 +364,7 @@ double AdaptiveIntegrator::extrapolated_step(CellSystem& system, double t, doubl
     for_rows(
         pop, block, coupled,
         [&](const auto& row, std::size_t k, Buffers& buf, std::size_t) {
-          block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, rtol_, atol_ * buf.scale[k],
+          block_error = std::max(block_error, extrapolated_row(row, block.end, h, omega, buf.rtol, atol_ * buf.scale[k],
                                                                pop.lower_limit_of(k), pop.upper_limit_of(k)));
         },
         [&](const Population& p, const auto& row, std::size_t offset, std::size_t count) {
@@ -526,7 +530,7 @@ void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err
     for (std::size_t k = 0; k < pop.n_states(); ++k)
       for (std::size_t c = 0; c < n; ++c) {
         const double y = pop.y[k * n + c];
-        double e = std::abs(y - buf.first_order[k * n + c]) / (rtol_ * std::abs(y) + atol_ * buf.scale[k]);
+        double e = std::abs(y - buf.first_order[k * n + c]) / (buf.rtol * std::abs(y) + atol_ * buf.scale[k]);
         if (!(y >= pop.lower_limit_of(k) && y <= pop.upper_limit_of(k))) e = kInf;
         if (e > worst_error) {
           const StateInfo& state = pop.info().states[k];
@@ -565,6 +569,7 @@ std::string AdaptiveIntegrator::describe() const {
   std::ostringstream s;
   s << "adaptive second-order Rush-Larsen (embedded first-order estimate, PI step control), rtol " << rtol_
     << ", atol " << atol_ << " x each state's scale; gap junctions implicit (Crank-Nicolson)";
+  s << "; myofilament states at " << kMyofilamentToleranceFactor << " x these";
   if (std::isfinite(max_step_ms_)) s << "; dt <= " << max_step_ms_ << " ms";
   return s.str();
 }
