@@ -192,8 +192,7 @@ const double* gap_current(const CellSystem& system, const Population& pop, std::
 AdaptiveIntegrator::AdaptiveIntegrator(const SolverSpec& solver)
     : rtol_(solver.rtol),
       atol_(solver.atol),
-      max_step_ms_(solver.max_step_ms > 0 ? solver.max_step_ms : kInf),
-      float_history_(solver.rtol >= kFloatHistoryRtol) {}
+      max_step_ms_(solver.max_step_ms > 0 ? solver.max_step_ms : kInf) {}
 
 // Tolerance scales and buffers (sized once: no allocation per step).
 void AdaptiveIntegrator::prepare(CellSystem& system) {
@@ -211,15 +210,16 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
       const bool potential = coupled && static_cast<int>(k) == pop.voltage_state;
       buf.form_row.push_back(potential ? -1 : rows++);
     }
-    const std::size_t forms = static_cast<std::size_t>(rows) * pop.size();
-    if (float_history_)
-      for (auto* v : {&buf.a_last_f, &buf.b_last_f}) v->assign(forms, 0.0f);
-    else
-      for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(forms, 0.0);
     const bool myofilament = std::any_of(system.myofilaments.begin(), system.myofilaments.end(),
                                          [&](const Myofilament& m) { return &m.pop == &pop; });
     const double factor = myofilament ? kMyofilamentToleranceFactor : 1.0;
     buf.rtol = factor * rtol_;
+    buf.float_history = buf.rtol >= kFloatHistoryRtol;
+    const std::size_t forms = static_cast<std::size_t>(rows) * pop.size();
+    if (buf.float_history)
+      for (auto* v : {&buf.a_last_f, &buf.b_last_f}) v->assign(forms, 0.0f);
+    else
+      for (auto* v : {&buf.a_last, &buf.b_last}) v->assign(forms, 0.0);
     for (std::size_t k = 0; k < states.size(); ++k) {
       const double magnitude = std::abs(pop.initial_state[k]);
       buf.scale.push_back(factor * (states[k].gate || magnitude == 0 ? 1.0 : magnitude));
@@ -277,7 +277,7 @@ void AdaptiveIntegrator::for_rows(Population& pop, const BlockView& block, bool 
       else each_row(row, k, buf, offset);
     }
   };
-  if (float_history_) rows_with_history(buf.a_last_f.data(), buf.b_last_f.data());
+  if (buf.float_history) rows_with_history(buf.a_last_f.data(), buf.b_last_f.data());
   else rows_with_history(buf.a_last.data(), buf.b_last.data());
 }
 

@@ -68,7 +68,8 @@ class AdaptiveIntegrator final : public Integrator {
   // potentials of ~100 mV (an atol below ~1e-8 would otherwise ask for less).
   static constexpr double kSolveToleranceFraction = 1e-3;
   static constexpr double kSmallestSolveTolerance_mV = 1e-9;
-  // From this rtol up, the last step's linear forms are kept in float, which
+  // From this rtol up (a population's: myofilaments' below), the last
+  // step's linear forms are kept in float, which
   // halves the integrator's largest arrays (208 of its 648 bytes a colman
   // cell). Rounding a form to float moves it by at most 2^-24 (6e-8) of
   // itself; the extrapolated midpoint takes omega = h / (2 h_prev) of that
@@ -90,11 +91,13 @@ class AdaptiveIntegrator final : public Integrator {
   static constexpr double kMyofilamentToleranceFactor = 0.01;
 
  private:
-  // Per population: the states at the step's start, its relative tolerance,
-  // and per state the scale of its absolute tolerance.
+  // Per population: the states at the step's start, its relative tolerance
+  // (whether its history is kept in float: rtol >= kFloatHistoryRtol), and
+  // per state the scale of its absolute tolerance.
   struct Buffers {
     Population* pop = nullptr;
     double rtol = 0;
+    bool float_history = false;
     std::vector<double> start, scale;
     // The first-order full step: filled only while fail() looks for the
     // worst state (a step's error is taken as it is computed).
@@ -103,7 +106,7 @@ class AdaptiveIntegrator final : public Integrator {
     // then writes its own start's in their place. Kept only for the states
     // with form_row >= 0 (row form_row of a_last, b_last): a coupled
     // potential has F_last instead. In float (a_last_f, b_last_f) when
-    // float_history_, else in double.
+    // float_history, else in double.
     std::vector<double> a_last, b_last;
     std::vector<float> a_last_f, b_last_f;
     std::vector<int> form_row;
@@ -131,7 +134,6 @@ class AdaptiveIntegrator final : public Integrator {
   [[noreturn]] void fail(CellSystem& system, double t, double h, double err);
 
   double rtol_, atol_, max_step_ms_;
-  bool float_history_;  // rtol_ >= kFloatHistoryRtol
   // Safety 0.7: the controller settles at an error estimate of ~0.09 of the
   // tolerance (step_controller.hpp), not at H&W's 0.5 (fac 0.9). With the
   // second-order result kept, the error delivered for a tolerance depends on

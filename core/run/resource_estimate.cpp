@@ -149,24 +149,30 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // ---- freed at the end of the stepping ----
   std::vector<ResourceEstimate::Part> stepping;
   // What the integrator keeps per state: adaptive the saved start, and the
-  // linear forms' a and b of each state but a coupled potential (in float
-  // from AdaptiveIntegrator::kFloatHistoryRtol up), which has
+  // linear forms' a and b of each state but a coupled potential, which has
   // 2 doubles a cell instead (the membrane term, the solve's vector);
   // second-order Rush-Larsen 2 arrays, the first-order methods none beyond
   // the populations'.
   const bool adaptive = solver.method == "adaptive";
   if (adaptive) {
-    double kept_forms = 0;  // states whose a, b the integrator keeps
+    // Bytes of a and b of each state kept, in float from the population's
+    // rtol AdaptiveIntegrator::kFloatHistoryRtol up (myofilaments' is
+    // kMyofilamentToleranceFactor of it).
+    const auto form_bytes = [](double rtol) { return rtol >= AdaptiveIntegrator::kFloatHistoryRtol ? 8.0 : 16.0; };
+    double kept_forms = 0, forms_bytes = 0;  // states whose a, b the integrator keeps
     for (const auto& pop : system.populations) {
       double kept = static_cast<double>(pop.n_states());
       if (system.coupler && pop.voltage_state >= 0) kept -= 1;
       kept_forms += kept * static_cast<double>(pop.size());
+      forms_bytes += form_bytes(solver.rtol) * kept * static_cast<double>(pop.size());
     }
-    for (const auto& m : system.myofilaments) kept_forms += static_cast<double>(m.pop.size() * m.pop.n_states());
-    const double form_bytes = solver.rtol >= AdaptiveIntegrator::kFloatHistoryRtol ? 4 : 8;
+    for (const auto& m : system.myofilaments) {
+      const double kept = static_cast<double>(m.pop.size() * m.pop.n_states());
+      kept_forms += kept;
+      forms_bytes += form_bytes(AdaptiveIntegrator::kMyofilamentToleranceFactor * solver.rtol) * kept;
+    }
     stepping.push_back({fmt::format("integrator: {:.0f} states, a and b of {:.0f}", states, kept_forms),
-                        8 * states + 2 * form_bytes * kept_forms + (system.coupler ? 16 * cells : 0.0),
-                        "a smaller tissue"});
+                        8 * states + forms_bytes + (system.coupler ? 16 * cells : 0.0), "a smaller tissue"});
   } else if (solver.method == "rush_larsen2") {
     stepping.push_back({fmt::format("integrator: {:.0f} states x 2 arrays", states), 16 * states,
                         "a smaller tissue"});
