@@ -13,16 +13,10 @@
 
 namespace fibrodem {
 
-// Packed to 4-byte alignment: 28 bytes, not 32 (a tissue holds seven a
-// myocyte, and keeps them for its pictures and VTK files; the DEM steps its
-// own arrays).
-#pragma pack(push, 4)
 struct Particle {
   double x_um = 0, y_um = 0, r_um = 0;
   int cell = -1;
 };
-#pragma pack(pop)
-static_assert(sizeof(Particle) == 28);
 
 struct Bond {
   int p = -1, q = -1;  // particle indices
