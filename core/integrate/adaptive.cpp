@@ -47,14 +47,20 @@ using adaptive_detail::Row;
 Real load_history(const double* p, std::size_t n) { return simd::load(p, n); }
 Real load_history(const float* p, std::size_t n) {
   alignas(64) double lanes[simd::kLanes];
-  for (std::size_t i = 0; i < simd::kLanes; ++i) lanes[i] = p[i < n ? i : n - 1];
+  if (n == simd::kLanes)  // (a fixed count: one vector conversion)
+    for (std::size_t i = 0; i < simd::kLanes; ++i) lanes[i] = p[i];
+  else
+    for (std::size_t i = 0; i < simd::kLanes; ++i) lanes[i] = p[i < n ? i : n - 1];
   return Real::load_aligned(lanes);
 }
 void store_history(double* p, const Real& value, std::size_t n) { simd::store(p, value, n); }
 void store_history(float* p, const Real& value, std::size_t n) {
   alignas(64) double lanes[simd::kLanes];
   value.store_aligned(lanes);
-  for (std::size_t i = 0; i < n; ++i) p[i] = static_cast<float>(lanes[i]);
+  if (n == simd::kLanes)
+    for (std::size_t i = 0; i < simd::kLanes; ++i) p[i] = static_cast<float>(lanes[i]);
+  else
+    for (std::size_t i = 0; i < n; ++i) p[i] = static_cast<float>(lanes[i]);
 }
 
 // Whether any cell of a block gives the state a slope b (a gate, or a stiff
