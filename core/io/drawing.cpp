@@ -8,12 +8,9 @@
 namespace fibrodem {
 
 const Drawing& drawing() {
-  static const Drawing* const opened = [] {
-    using Entry = const Drawing* (*)();
-    const auto entry = reinterpret_cast<Entry>(module_entry("drawing", kDrawingEntry, "needed to draw pictures and plots"));
-    return entry();
-  }();
-  return *opened;
+  static const Drawing& opened =
+      module_object<Drawing>("drawing", kDrawingEntry, "needed to draw pictures and plots");
+  return opened;
 }
 
 // The public drawing functions, through the module.

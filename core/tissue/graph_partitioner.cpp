@@ -5,13 +5,9 @@
 namespace fibrodem {
 
 const GraphPartitioner& graph_partitioner() {
-  static const GraphPartitioner* const opened = [] {
-    using Entry = const GraphPartitioner* (*)();
-    const auto entry = reinterpret_cast<Entry>(
-        module_entry("partition", kGraphPartitionerEntry, "needed to split the cells over MPI ranks"));
-    return entry();
-  }();
-  return *opened;
+  static const GraphPartitioner& opened =
+      module_object<GraphPartitioner>("partition", kGraphPartitionerEntry, "needed to split the cells over MPI ranks");
+  return opened;
 }
 
 }  // namespace fibrodem

@@ -31,4 +31,13 @@ std::vector<std::filesystem::path> module_search_path();
 void* module_entry(const std::string& name, const char* entry_symbol, const std::string& needed_for,
                    bool global = false);
 
+// The object behind a module's interface T: its entry `entry_symbol` is a
+// function `const T* ()`, called here. Callers keep the result (a static at
+// their one place of use), so the module is opened on first use only.
+template <class T>
+const T& module_object(const std::string& name, const char* entry_symbol, const std::string& needed_for) {
+  using Entry = const T* (*)();
+  return *reinterpret_cast<Entry>(module_entry(name, entry_symbol, needed_for))();
+}
+
 }  // namespace fibrodem
