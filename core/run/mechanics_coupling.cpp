@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
+
+#include <fmt/format.h>
 
 #include "util/manifest_error.hpp"
 #include "stimulus/stimulus.hpp"
@@ -108,9 +109,7 @@ void MechanicsCoupling::fall_asleep_if_at_rest() {
 std::string MechanicsCoupling::report() const {
   std::string r = solver_->report();
   if (!skip_at_rest_) return r + "; skip_at_rest off";
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "; at rest: %zu steps skipped (%.6g ms asleep)", skipped_steps_, slept_ms_);
-  return r + buf;
+  return r + fmt::format("; at rest: {} steps skipped ({:.6g} ms asleep)", skipped_steps_, slept_ms_);
 }
 
 void MechanicsCoupling::save(CheckpointFields& f) const {
