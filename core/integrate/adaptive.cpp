@@ -219,8 +219,8 @@ void AdaptiveIntegrator::prepare(CellSystem& system) {
     const bool myofilament = std::any_of(system.myofilaments.begin(), system.myofilaments.end(),
                                          [&](const Myofilament& m) { return &m.pop == &pop; });
     const double factor = myofilament ? kMyofilamentToleranceFactor : 1.0;
-    buf.rtol = factor * rtol_;
-    buf.float_history = buf.rtol >= kFloatHistoryRtol;
+    buf.rtol = population_rtol(rtol_, myofilament);
+    buf.float_history = float_history(buf.rtol);
     const std::size_t forms = static_cast<std::size_t>(rows) * pop.size();
     if (buf.float_history)
       for (auto* v : {&buf.a_last_f, &buf.b_last_f}) v->assign(forms, 0.0f);

@@ -89,6 +89,11 @@ class AdaptiveIntegrator final : public Integrator {
   // 0.01 x: 0.18 % and 0.17 %, the tissue at rest until the stimulus, 1.3x
   // the steps; 0.1 x: 0.33 % and 0.50 %; 0.001 x: 0.10 %, 3.3x the steps.
   static constexpr double kMyofilamentToleranceFactor = 0.01;
+  // A population's rtol, and whether its history is kept in float.
+  static double population_rtol(double rtol, bool myofilament) {
+    return myofilament ? kMyofilamentToleranceFactor * rtol : rtol;
+  }
+  static bool float_history(double population_rtol) { return population_rtol >= kFloatHistoryRtol; }
 
  private:
   // Per population: the states at the step's start, its relative tolerance

@@ -155,21 +155,23 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // the populations'.
   const bool adaptive = solver.method == "adaptive";
   if (adaptive) {
-    // Bytes of a and b of each state kept, in float from the population's
-    // rtol AdaptiveIntegrator::kFloatHistoryRtol up (myofilaments' is
-    // kMyofilamentToleranceFactor of it).
-    const auto form_bytes = [](double rtol) { return rtol >= AdaptiveIntegrator::kFloatHistoryRtol ? 8.0 : 16.0; };
+    // Bytes of a and b of each state kept: in float or double, as the
+    // integrator keeps a population's (myofilaments' at their own rtol).
+    const auto form_bytes = [&](bool myofilament) {
+      using A = AdaptiveIntegrator;
+      return A::float_history(A::population_rtol(solver.rtol, myofilament)) ? 8.0 : 16.0;
+    };
     double kept_forms = 0, forms_bytes = 0;  // states whose a, b the integrator keeps
     for (const auto& pop : system.populations) {
       double kept = static_cast<double>(pop.n_states());
       if (system.coupler && pop.voltage_state >= 0) kept -= 1;
       kept_forms += kept * static_cast<double>(pop.size());
-      forms_bytes += form_bytes(solver.rtol) * kept * static_cast<double>(pop.size());
+      forms_bytes += form_bytes(false) * kept * static_cast<double>(pop.size());
     }
     for (const auto& m : system.myofilaments) {
       const double kept = static_cast<double>(m.pop.size() * m.pop.n_states());
       kept_forms += kept;
-      forms_bytes += form_bytes(AdaptiveIntegrator::kMyofilamentToleranceFactor * solver.rtol) * kept;
+      forms_bytes += form_bytes(true) * kept;
     }
     stepping.push_back({fmt::format("integrator: {:.0f} states, a and b of {:.0f}", states, kept_forms),
                         8 * states + forms_bytes + (system.coupler ? 16 * cells : 0.0), "a smaller tissue"});
