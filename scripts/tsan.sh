@@ -27,10 +27,7 @@ fi
 # Not the Python module: python3 does not load the sanitizer runtimes. -O1
 # and line tables only (file and line in the reports' stacks), as asan_build.sh.
 # AVX2 (x86-64-v3), not the host's CPU, so the stage checks the same code on
-# every CI host: built for AVX-512 under TSan, the DEM's one-thread run of
-# "dem: a run gives the same bits on one thread and on two" takes other steps
-# than its two-thread run, with no race reported (an open finding: the GCC
-# Release and clang ASan builds for AVX-512 give the same bits on both).
+# every CI host.
 cmake -S . -B build-tsan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIBRODEM_PYTHON=OFF \
   -DFIBRODEM_ARCH=x86-64-v3 \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" -DFIBRODEM_TEST_FILES="$files" \

@@ -157,10 +157,7 @@ TEST_CASE("dem rest: the same bits for any thread count") {
   const DemSpec spec = interstitial_spec();
   const int threads_before = omp_get_max_threads();
   std::vector<Driven> runs;
-  // (1 and 2, as the DEM's other thread tests: with 3 the clang -O1 build
-  // scales 85 bodies' masses where 1 and 2 threads scale 84, a difference
-  // of the mass scaling, not of the rest.)
-  for (int threads : {1, 2}) {
+  for (int threads : {1, 2, 3}) {
     omp_set_num_threads(threads);
     runs.push_back(run(t, spec, true, kStimulus_ms + 120));
   }
