@@ -129,8 +129,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   const double state_bytes = reads_population_derivatives(solver.method) ? 28.5 : 12.5;
   e.memory.push_back({fmt::format("cell states: {:.0f}", states), state_bytes * states, "a smaller tissue"});
   // The tissue as built: its particles, bonds, cell graph and cells, with
-  // the vectors' spare capacity: 1.08 x these sizes on sheet 1 cm (8.04 MB,
-  // reserved), 1.75 x on Fig. 3 widened (12.2 MB, grown by doubling).
+  // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
+  // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, cells),
                       1.5 * (sizeof(Particle) * particles + sizeof(Bond) * bonds +
                              sizeof(std::pair<int, int>) * edges + 20 * cells),
