@@ -50,7 +50,7 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
         });
       for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
     }
-  for (auto* v : {&x_, &r_, &z_, &p_, &q_, &a_diagonal_, &inverse_diagonal_})
+  for (auto* v : {&x_, &r_, &z_, &p_, &q_})
     v->assign(static_cast<std::size_t>(padded_ + ghosts), 0.0);
   const std::size_t chunks = static_cast<std::size_t>((padded_ + kRowsPerChunk - 1) / kRowsPerChunk);
   chunk_dot_.assign(chunks, 0.0);
@@ -63,10 +63,12 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
     throw std::invalid_argument(fmt::format("coupling CG: {} capacitances for {} cells", capacitance_pF.size(), n_));
   const long slices = (n_ + kSlice - 1) / kSlice;
   padded_ = slices * kSlice;
-  // Rows past n_ (padding) hold zeros throughout: their 1/C, M^-1 and
-  // entries are 0, so they add nothing to any sum.
+  // Rows past n_ (padding) hold zeros throughout (r, z, p, q, x): their
+  // entries and L_ii are 0, so they add nothing to any sum. Their 1/C is 1,
+  // so that A's diagonal is C/dt > 0 there too and its inverse needs no
+  // guard (kPaddingInverseCapacitance).
   diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
-  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), 0.0);
+  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), kPaddingInverseCapacitance);
   const int* outer = laplacian.outerIndexPtr();
   const int* column = laplacian.innerIndexPtr();
   const double* value = laplacian.valuePtr();
@@ -100,7 +102,7 @@ CouplingCg::CouplingCg(const CouplingCg& whole, const std::vector<int>& own, con
   for (std::size_t g = 0; g < ghosts.size(); ++g)
     local[static_cast<std::size_t>(ghosts[g])] = static_cast<int>(padded_ + static_cast<long>(g));
   diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
-  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), 0.0);
+  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), kPaddingInverseCapacitance);
   for (long k = 0; k < n_; ++k) {
     diagonal_nS_[k] = whole.diagonal_nS_[static_cast<std::size_t>(own[k])];
     inverse_capacitance_[k] = whole.inverse_capacitance_[static_cast<std::size_t>(own[k])];
@@ -197,7 +199,7 @@ std::vector<double> CouplingCg::diagonal_nS() const {
 }
 
 CouplingCg::Sums CouplingCg::residual(const double* v, double* x, double dt_ms) {
-  const double inverse_dt = 1.0 / dt_ms;
+  inverse_dt_ = 1.0 / dt_ms;
   refresh_ghosts(x);
   return over_chunks([&](long first, long end) {
     Sums s;
@@ -206,13 +208,11 @@ CouplingCg::Sums CouplingCg::residual(const double* v, double* x, double dt_ms) 
       slice_product(slice, x, sum);
       for (long lane = 0; lane < kSlice; ++lane) {
         const long i = slice * kSlice + lane;
-        const double C_over_dt = inverse_capacitance_[i] > 0 ? inverse_dt / inverse_capacitance_[i] : 0.0;
-        a_diagonal_[i] = C_over_dt + diagonal_nS_[i];
-        inverse_diagonal_[i] = a_diagonal_[i] > 0 ? 1.0 / a_diagonal_[i] : 0.0;
+        const double C_over_dt = inverse_dt_ / inverse_capacitance_[i];
         const double v_i = i < n_ ? v[i] : 0.0;  // (padding: 0)
         const double r = C_over_dt * (v_i - x[i]) - (sum[lane] + diagonal_nS_[i] * x[i]);
         r_[i] = r;
-        z_[i] = inverse_diagonal_[i] * r;
+        z_[i] = inverse_diagonal(i) * r;
         p_[i] = q_[i] = 0;
         s.dot += r * z_[i];
         s.largest = std::max(s.largest, std::abs(r) * inverse_capacitance_[i]);
@@ -231,7 +231,7 @@ double CouplingCg::direction(double beta) {
              slice_product(slice, z_.data(), sum);
              for (long lane = 0; lane < kSlice; ++lane) {
                const long i = slice * kSlice + lane;
-               const double Az = a_diagonal_[i] * z_[i] + sum[lane];
+               const double Az = a_diagonal(i) * z_[i] + sum[lane];
                p_[i] = z_[i] + beta * p_[i];
                q_[i] = Az + beta * q_[i];
                s.dot += p_[i] * q_[i];
@@ -273,7 +273,7 @@ int CouplingCg::solve(double* x_io, double dt_ms, double tolerance_mV) {
         for (long i = first; i < end; ++i) {
           x[i] += alpha * p_[i];
           r_[i] -= alpha * q_[i];
-          z_[i] = inverse_diagonal_[i] * r_[i];
+          z_[i] = inverse_diagonal(i) * r_[i];
           chunk.dot += r_[i] * z_[i];
           chunk.largest = std::max(chunk.largest, std::abs(r_[i]) * inverse_capacitance_[i]);
         }

@@ -129,7 +129,7 @@ class CouplingCg {
   };
   template <class F>
   Sums over_chunks(F&& f);
-  // From x and the right-hand side's v (n_ rows): r = b - A x, z = M^-1 r (setting A's diagonal and M^-1 for dt),
+  // From x and the right-hand side's v (n_ rows): r = b - A x, z = M^-1 r (A's diagonal and M^-1 for dt),
   // p = q = 0. Returns r.z and max |r_i| / C_i.
   Sums residual(const double* v, double* x, double dt_ms);
   // q = A z + beta q, p = z + beta p; returns p.q.
@@ -157,12 +157,24 @@ class CouplingCg {
   std::vector<double> weight_nS_;
   std::vector<double> diagonal_nS_, inverse_capacitance_;  // L_ii, 1/C_i
   // Work vectors of padded_ rows, sized once: the iterate x, r,
-  // z = M^-1 r, the search direction p, q = A p, A's diagonal and M^-1 for
-  // the present dt (v is the caller's, which solve() writes only at its end).
-  // Between solves x_ holds the last solve's correction x - v, for
-  // last_dt_ms_ (0: none): the next solve starts from v plus it, scaled.
-  std::vector<double> x_, r_, z_, p_, q_, a_diagonal_, inverse_diagonal_;
+  // z = M^-1 r, the search direction p, q = A p (v is the caller's, which
+  // solve() writes only at its end). Between solves x_ holds the last
+  // solve's correction x - v, for last_dt_ms_ (0: none): the next solve
+  // starts from v plus it, scaled.
+  std::vector<double> x_, r_, z_, p_, q_;
   double last_dt_ms_ = 0;
+  double inverse_dt_ = 0;  // 1/dt of the present solve [1/ms]
+  // A's diagonal C_i/dt + L_ii and M^-1's 1/(C_i/dt + L_ii) for the present
+  // dt, computed where a pass reads them rather than kept in two more
+  // vectors of padded_ rows (16 bytes a cell): the divisions hide behind
+  // the pass's memory traffic, and the same operations give the same bits.
+  // Kept free of branches (a padding row's 1/C is 1, not 0): a branch here
+  // splits a pass's loop body, and GCC then leaves r.z unfused (no FMA),
+  // which moves a solve's last bits.
+  double a_diagonal(long i) const { return inverse_dt_ / inverse_capacitance_[i] + diagonal_nS_[i]; }
+  double inverse_diagonal(long i) const { return 1.0 / a_diagonal(i); }
+  // 1/C of a padding row [1/pF]: any positive value (its r stays 0).
+  static constexpr double kPaddingInverseCapacitance = 1.0;
   std::vector<double> chunk_dot_, chunk_largest_;
   Statistics statistics_;
   Ranks* ranks_ = nullptr;  // split over ranks; null in one process

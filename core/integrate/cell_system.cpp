@@ -20,8 +20,9 @@ void CellSystem::scatter_voltage() {
   }
 }
 
-void CellSystem::record_rest_lengths() {
-  stretch_by_cell_.assign(cell_count(), 1.0);
+void CellSystem::record_rest_lengths(bool stretch_read) {
+  // (Only for a reader, the mechanics: without it, 8 bytes a cell unread.)
+  stretch_by_cell_.assign(stretch_read ? cell_count() : 0, 1.0);
   for (auto& m : myofilaments) {
     m.pop.evaluate(0.0);
     const std::size_t n = m.pop.size();
@@ -116,7 +117,7 @@ void CellSystem::evaluate_myofilament(Myofilament& m, const CellRange& piece, do
             m.pop.inputs.begin() + piece.begin);
   if (!after) m.pop.evaluate_cells(piece.begin, piece.end, t_ms);
   else m.pop.evaluate_cells(piece.begin, piece.end, t_ms, [&](const BlockView& block) { after(m.pop, block); });
-  if (!m.rest_sarcomere_length.empty()) {  // (recorded: the run has started)
+  if (!m.rest_sarcomere_length.empty() && !stretch_by_cell_.empty()) {  // (the run has started; the mechanics read it)
     const double* length = m.pop.outputs.data() + m.sarcomere_output * n;
     for (std::size_t c = piece.begin; c < piece.end; ++c)
       stretch_by_cell_[host.cells[c]] = length[c] / m.rest_sarcomere_length[c];

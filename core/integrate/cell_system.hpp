@@ -132,10 +132,12 @@ struct CellSystem {
     for (auto& p : populations) f(p);
     for (auto& m : myofilaments) f(m.pop);
   }
-  // Records each cell's sarcomere length as its rest length (call at t = 0).
-  void record_rest_lengths();
+  // Records each cell's sarcomere length as its rest length (call at t = 0),
+  // and keeps stretch_by_cell() if something reads it (stretch_read).
+  void record_rest_lengths(bool stretch_read);
   // Per global cell, its length relative to rest (SL / SL_rest) at the last
-  // evaluation; 1 without a myofilament. (Taken piece by piece in the cells'
+  // evaluation; 1 without a myofilament; empty unless record_rest_lengths
+  // was told it is read. (Taken piece by piece in the cells'
   // parallel loop: over the Fig. 3 tissue a serial pass cost ~5 us a step.)
   const std::vector<double>& stretch_by_cell() const { return stretch_by_cell_; }
 

@@ -12,9 +12,19 @@
 
 namespace fibrodem {
 
+namespace {
+
+std::vector<std::uint8_t> type_bytes(const std::vector<CellType>& types) {
+  std::vector<std::uint8_t> bytes(types.size());
+  std::transform(types.begin(), types.end(), bytes.begin(), [](CellType t) { return static_cast<std::uint8_t>(t); });
+  return bytes;
+}
+
+}  // namespace
+
 BiomarkerTracker::BiomarkerTracker(std::vector<CellType> types, std::vector<double> onsets,
                                    double from_ms, std::function<void(const BeatBiomarkers&)> on_beat)
-    : types_(std::move(types)), onsets_(std::move(onsets)), from_ms_(from_ms),
+    : types_(type_bytes(types)), onsets_(std::move(onsets)), from_ms_(from_ms),
       on_beat_(std::move(on_beat)), cells_(types_.size()), v_prev_(types_.size()), dvdt_max_(types_.size()),
       peak_(types_.size()), rmp_(types_.size()) {}
 
@@ -69,7 +79,7 @@ void BiomarkerTracker::save(CheckpointFields& fields) const {
 void BiomarkerTracker::load(const CheckpointFields& fields) {
   if (fields.integer("biomarkers.cell_bytes") != static_cast<long long>(sizeof(Cell)))
     throw CheckpointError("its biomarker trackers were written by another build of fibrodem");
-  fields.bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));  // (doubles only: any bytes are valid)
+  fields.bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));  // (doubles and a byte: any bytes are valid)
   fields.read_into("biomarkers.v_prev", v_prev_);
   fields.read_into("biomarkers.dvdt_max", dvdt_max_);
   fields.read_into("biomarkers.peak", peak_);
@@ -179,25 +189,27 @@ void BiomarkerTracker::step_cell(std::size_t c, double t_old, double t_new, cons
   const double slope = dVdt ? dVdt[c] : (V[c] - v_prev_[c]) / h;
   const double t_slope = dVdt ? t_new : t_old + 0.5 * h;
   if (slope > dvdt_max) {
-    dvdt_max = slope;
-    s.t_act = t_slope;
     // The peak between samples is refined once the next one is in, from its
     // neighbours on the adjacent steps (the integrator's dV/dt at step ends,
     // or difference quotients, second order at step middles). A rising
     // upstroke reaches this function at every step (its slope keeps growing,
-    // then V keeps rising to the peak), so both neighbours are seen.
-    s.max_left_t = s.t_slope_prev;
-    s.max_left_dvdt = s.slope_step_end == t_old ? s.slope_prev : kNaN;  // the left neighbour is the step just before
-    s.max_step_end = t_new;
+    // then V keeps rising to the peak), so both neighbours are seen. The
+    // left one is the last sample if it was taken on the step just before
+    // (the last largest, if that was it); it stays in the last sample's place.
+    const bool left_known = s.slope_step_end == t_old;
+    if (left_known && s.max_pending) s.slope_prev = dvdt_max, s.t_slope_prev = s.t_act;
+    if (!left_known) s.slope_prev = slope, s.t_slope_prev = t_slope;
+    s.max_pending = left_known;
+    dvdt_max = slope;
+    s.t_act = t_slope;
     if (pre_upstroke_) rmp_pre_[c] = pre_upstroke_->mean_before(c, t_slope);
-  } else if (!std::isnan(s.max_left_dvdt)) {
-    const double left_dvdt = s.max_left_dvdt;
-    s.max_left_dvdt = kNaN;
-    if (s.max_step_end == t_old)  // the right neighbour is the step just after
-      refine_peak_time(s.max_left_t, left_dvdt, s.t_act, dvdt_max, t_slope, slope, s.t_act);
+  } else {
+    if (s.max_pending && s.slope_step_end == t_old)  // the right neighbour is the step just after
+      refine_peak_time(s.t_slope_prev, s.slope_prev, s.t_act, dvdt_max, t_slope, slope, s.t_act);
+    s.max_pending = 0;
+    s.slope_prev = slope;
+    s.t_slope_prev = t_slope;
   }
-  s.slope_prev = slope;
-  s.t_slope_prev = t_slope;
   s.slope_step_end = t_new;
   if (V[c] > peak) {
     peak = V[c];
@@ -255,7 +267,7 @@ void BiomarkerTracker::close_beat() {
     const Cell& s = cells_[c];
     BeatBiomarkers b;
     b.cell = cell_numbers_.empty() ? static_cast<int>(c) : cell_numbers_[c];
-    b.type = types_[c];
+    b.type = static_cast<CellType>(types_[c]);
     b.beat = beat_;
     b.activation_ms = s.t_act;
     b.rmp_mV = pre_upstroke_ ? rmp_pre_[c] : rmp_[c];

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -81,13 +82,14 @@ class BiomarkerTracker {
   struct Cell {
     double t_act = 0;
     double cross50 = -1, cross90 = -1;
-    // The sample before the largest dV/dt so far, while its right neighbour is
-    // awaited (max_left_dvdt NaN: none is; a NaN sample could refine nothing).
-    double max_left_t = 0, max_left_dvdt = std::numeric_limits<double>::quiet_NaN();
     // The last dV/dt sample (the integrator's at a step end, or a difference
     // quotient at a step's middle), its time, and the end of its step.
+    // While max_pending, the last sample is the largest so far (dvdt_max_ at
+    // t_act), taken on the step right after the sample these hold instead:
+    // its left neighbour, kept until its right one refines the peak's time
+    // (slope_step_end is the largest's step end).
     double slope_prev = std::numeric_limits<double>::quiet_NaN(), t_slope_prev = 0, slope_step_end = -1;
-    double max_step_end = -1;  // the end of the step of the largest sample
+    std::uint8_t max_pending = 0;  // (a byte, not a bool: a checkpoint's bytes are all valid)
   };
   void open_beat(double onset, double t_old, double t_new, const double* V);
   void close_beat();
@@ -100,7 +102,7 @@ class BiomarkerTracker {
   // Starts a cell's beat from its RMP (or V at the run's start).
   void reset_cell(std::size_t c, double rmp_mV);
 
-  std::vector<CellType> types_;
+  std::vector<std::uint8_t> types_;  // each cell's CellType, a byte each
   std::vector<int> cell_numbers_;  // empty: the index
   std::vector<double> onsets_;
   double from_ms_;

@@ -135,16 +135,16 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                       1.5 * (sizeof(Particle) * particles + sizeof(Bond) * bonds +
                              sizeof(std::pair<int, int>) * edges + 20 * cells),
                       "a smaller tissue"});
-  // The biomarker tracker's per-cell state (104 bytes a cell) and a
-  // BeatBiomarkers a cell and beat (room reserved for them all at the
-  // first); scale sheet 2.5 cm: 21.9 and 13.5 MB. With one beat it is kept
-  // only once the stepping's work is freed (below).
+  // The biomarker tracker's per-cell state (88 bytes a cell, and its cell
+  // type in a byte) and a BeatBiomarkers a cell and beat (room reserved for
+  // them all at the first); scale sheet 2.5 cm: 18.8 and 13.5 MB. With one
+  // beat it is kept only once the stepping's work is freed (below).
   const double onsets = static_cast<double>(system.stimulus.onsets(scene.duration_ms).size());
   const double beats = std::max(1.0, onsets);
   const double beats_bytes = sizeof(BeatBiomarkers) * cells * beats;
   const bool beats_while_stepping = onsets > 1;
   e.memory.push_back({fmt::format("biomarkers: {:.0f} cells x {:.0f} beats", cells, beats),
-                      104 * cells + (beats_while_stepping ? beats_bytes : 0.0), "a smaller tissue"});
+                      89 * cells + (beats_while_stepping ? beats_bytes : 0.0), "a smaller tissue"});
 
   // ---- freed at the end of the stepping ----
   std::vector<ResourceEstimate::Part> stepping;
@@ -191,13 +191,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     const double pairs = static_cast<double>(system.coupled_pairs.size());
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
-    // size of compressed rows with the diagonal) and the CG's 8 vectors of
-    // a double a cell, built with the coupler, explicit or not
+    // size of compressed rows with the diagonal) and the CG's 6 other
+    // vectors of a double a cell (1/C, and x, r, z, p, q; A's diagonal and
+    // M^-1 are computed where read), built with the coupler, explicit or not
     // (coupling/coupling_cg.hpp); the coupled pairs are the tissue's own
     // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 64 * cells,
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 48 * cells,
                         "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on) {
@@ -256,9 +257,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * cells + 300.0 * particles + 1e5, ""});
     if (scene.output.checkpoint.every_ms > 0) {
       // A checkpoint: the states (with inputs and outputs, ~1.5 x), the
-      // biomarker trackers (~140 bytes a cell), the traces so far (at most
+      // biomarker trackers (~124 bytes a cell), the traces so far (at most
       // all), DEM bodies, particles and bonds; `keep` of them and one being written.
-      const double one = 12 * states + 140 * cells + 8 * columns * trace_samples +
+      const double one = 12 * states + 124 * cells + 8 * columns * trace_samples +
                          (mechanics ? 300 * particles + 110.0 * static_cast<double>(tissue.bonds.size()) : 0.0);
       const int copies = scene.output.checkpoint.keep + 1;
       e.output.push_back({fmt::format("{} checkpoints", copies), copies * one,

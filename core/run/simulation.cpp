@@ -86,7 +86,7 @@ void Simulation::Impl::run() {
     }
     tracker = make_tracker();
     if (!resume_point) settle_tissue();
-    system.record_rest_lengths();
+    system.record_rest_lengths(mechanics != nullptr || mechanics_over_ranks != nullptr);
     if (resume_point) {
       resume();
     } else {
