@@ -43,7 +43,8 @@ struct RunFolder {
   std::vector<std::string> log_problems;  // [warning] and [error] lines of the whole log
 };
 
-RunFolder read_folder(const fs::path& dir) {
+// The folder's files; summary.json's content is `known_summary` when given.
+RunFolder read_folder(const fs::path& dir, const json* known_summary) {
   RunFolder f{dir, nullptr, "", std::nullopt, std::nullopt, {}, {}, {}};
   std::error_code error;
   const auto bytes = fs::file_size(dir / "traces.csv", error);
@@ -56,7 +57,11 @@ RunFolder read_folder(const fs::path& dir) {
     for (const auto& column : f.traces->header)
       if (const int cell = parse_trace_heading(column).cell; cell >= 0) traced_cells.insert(cell);
   f.biomarkers = digest_biomarkers_csv(dir / "biomarkers.csv", traced_cells);
-  if (std::ifstream in(dir / "summary.json"); !in || !fs::is_regular_file(dir / "summary.json", error)) {
+  if (known_summary) {
+    // As summary.json holds it (write_summary): a NaN is null there, text
+    // not UTF-8 is replaced; the page then reads as one written later.
+    f.summary = json::parse(known_summary->dump(-1, ' ', false, json::error_handler_t::replace));
+  } else if (std::ifstream in(dir / "summary.json"); !in || !fs::is_regular_file(dir / "summary.json", error)) {
     f.summary_problem = "no summary.json: the run never started, or this is not a run's folder";
   } else {
     try {
@@ -326,9 +331,11 @@ void pictures_section(HtmlDocument& page, const fs::path& dir) {
 
 }  // namespace
 
-fs::path write_run_report(const fs::path& dir) {
+namespace {
+
+fs::path write_report_page(const fs::path& dir, const json* known_summary) {
   if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + " is not a folder");
-  const RunFolder f = read_folder(dir);
+  const RunFolder f = read_folder(dir, known_summary);
   const std::string name = f.summary.is_object() ? field(f.summary, "name") : dir.filename().string();
   HtmlDocument page("fibrodem run: " + name);
   // Plots first, tables after (what a reader looks at first), problems above all.
@@ -348,5 +355,11 @@ fs::path write_run_report(const fs::path& dir) {
   page.write(file);
   return file;
 }
+
+}  // namespace
+
+fs::path write_run_report(const fs::path& dir) { return write_report_page(dir, nullptr); }
+
+fs::path write_run_report(const fs::path& dir, const json& summary) { return write_report_page(dir, &summary); }
 
 }  // namespace fibrodem

@@ -130,9 +130,14 @@ void Simulation::Impl::run() {
   release_run_buffers();  // a failed run's too
   if (!out.empty()) {
     std::error_code ignored;
-    write_summary(out, summary());
-    if (scene.output.report) write_report();
-    else fs::remove(out / "report.html", ignored);  // an earlier run's, overwritten, would mislead
+    // summary.json once at the end (with the report's time when there is
+    // one); the copy open_outputs wrote stands for a run killed before.
+    if (scene.output.report) {
+      write_report_and_summary();
+    } else {
+      write_summary(out, summary());
+      fs::remove(out / "report.html", ignored);  // an earlier run's, overwritten, would mislead
+    }
     log->info("outputs in {}", fs::absolute(out).string());
   }
   log->flush();

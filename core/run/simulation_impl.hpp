@@ -192,7 +192,7 @@ struct Simulation::Impl : StepObserver {
   void report_progress(std::chrono::steady_clock::time_point now, double t_new);
   void finish_writing();
   void log_run_end();
-  void write_report();
+  void write_report_and_summary();
 };
 
 }  // namespace fibrodem

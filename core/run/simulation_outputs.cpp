@@ -290,22 +290,23 @@ void Simulation::Impl::log_run_end() {
   else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
 }
 
-// report.html from the folder as written (a failed or interrupted run's
-// too); its own time goes into summary.json as report_time_s, so its cost
-// beside the run's wall time can be read off every run. A report that
-// cannot be written is a warning: the run's results stand.
-void Simulation::Impl::write_report() {
+// report.html from the folder as written and the run's summary (a failed
+// or interrupted run's too), then summary.json, once: with the report's own
+// time as report_time_s, so its cost beside the run's wall time can be read
+// off every run. A report that cannot be written is a warning: the run's
+// results stand.
+void Simulation::Impl::write_report_and_summary() {
   log->flush();  // the report shows run.log
+  json s = summary();
   const auto start = Clock::now();
   try {
-    write_run_report(out);
+    write_run_report(out, s);
   } catch (const std::exception& e) {
     log->warn("report.html not written: {}", e.what());
   }
   const double report_s = seconds_since(start);
   log->info("report.html written in {:.3f} s ({:.2f} % of the run's wall time)", report_s,
             wall_s > 0 ? 100 * report_s / wall_s : 0.0);
-  json s = summary();
   s["report_time_s"] = report_s;
   write_summary(out, s);
 }

@@ -1,6 +1,7 @@
 #include "scene/schema/schema_check.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -10,6 +11,8 @@
 #include <valijson/schema.hpp>
 #include <valijson/schema_parser.hpp>
 #include <valijson/validator.hpp>
+
+#include "scene/schema/schema_pruning.hpp"
 
 namespace fibrodem {
 
@@ -232,7 +235,7 @@ json integral_numbers_as_integers(const json& value) {
   return out;
 }
 
-// The valijson form of a schema, built on its first use only (as
+// The valijson form of a whole schema, built on its first use only (as
 // schema_document: a run never needs the sweep file's).
 const valijson::Schema& parsed_schema(SchemaKind kind) {
   if (kind == SchemaKind::manifest) {
@@ -243,11 +246,33 @@ const valijson::Schema& parsed_schema(SchemaKind kind) {
   return *sweep;
 }
 
+// Whether `document` satisfies the schema. The first document of a kind is
+// checked against the schema cut down to it (schema_pruning.hpp): a run
+// checks one manifest, and valijson's parse of the whole schema cost it more
+// than the check. A process that checks more (a sweep, a study, the tests)
+// parses the whole schema once, on its second document, and keeps it.
+bool satisfies_schema(SchemaKind kind, const json& document) {
+  static std::atomic<bool> checked_one[2] = {false, false};
+  if (!checked_one[static_cast<int>(kind)].exchange(true))
+    if (const auto cut = schema_for_document(schema_document(kind), document))
+      return valid(*parse_schema(*cut), document);
+  return valid(parsed_schema(kind), document);
+}
+
 }  // namespace
+
+struct SchemaJudge::Parsed {
+  std::unique_ptr<valijson::Schema> schema;
+};
+SchemaJudge::SchemaJudge(const json& schema) : parsed_(std::make_unique<Parsed>(Parsed{parse_schema(schema)})) {}
+SchemaJudge::~SchemaJudge() = default;
+bool SchemaJudge::satisfied_by(const json& document) const {
+  return valid(*parsed_->schema, integral_numbers_as_integers(document));
+}
 
 void check_against_schema(SchemaKind kind, const json& given) {
   const json document = integral_numbers_as_integers(given);
-  if (valid(parsed_schema(kind), document)) return;
+  if (satisfies_schema(kind, document)) return;
   const json& root = schema_document(kind);
   if (auto p = find_problem(root, root, document, "")) throw ManifestError(p->path, p->what + " (" + schema_kind_name(kind) + " schema)");
   throw ManifestError("", std::string("does not satisfy the ") + schema_kind_name(kind) + " schema");
