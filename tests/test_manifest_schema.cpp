@@ -12,6 +12,7 @@
 #include "scene/schema/schema_markdown.hpp"
 #include "scene/schema/schema_sections.hpp"
 #include "scene/sweep_file.hpp"
+#include "support/example_files.hpp"
 #include "support/scenes.hpp"
 #include "tissue/tissue_builder.hpp"
 
@@ -76,15 +77,6 @@ KeySet minus(const KeySet& a, const KeySet& b) {
   for (const auto& k : a)
     if (!b.count(k)) out.insert(k);
   return out;
-}
-
-std::vector<fs::path> example_files() {
-  std::vector<fs::path> files;
-  for (const auto& folder : {kSource / "examples", kSource / "examples" / "paper", kSource / "examples" / "arrhythmia"})
-    for (const auto& entry : fs::directory_iterator(folder))
-      if (entry.path().extension() == ".json") files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  return files;
 }
 
 SweepFile read_example_sweep(const fs::path& file) {
@@ -185,7 +177,7 @@ std::string schema_error(SchemaKind kind, const json& document) {
 
 TEST_CASE("every example manifest and sweep file validates against its schema and sets up") {
   int manifests = 0, sweeps = 0;
-  for (const auto& file : example_files()) {
+  for (const auto& file : testing::example_files()) {
     CAPTURE(file.string());
     const json document = read_manifest_file(file.string());
     if (document.contains("fibrodem_sweep")) {
@@ -222,7 +214,7 @@ TEST_CASE("the manifest reader reads exactly the keys the manifest schema lists"
     CAPTURE(manifest["tissue"].dump());
     record_manifest_keys(manifest, free_locations, read);
   }
-  for (const auto& file : example_files()) {
+  for (const auto& file : testing::example_files()) {
     const json document = read_manifest_file(file.string());
     if (!document.contains("fibrodem_sweep")) record_manifest_keys(document, free_locations, read);
   }

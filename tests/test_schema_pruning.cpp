@@ -11,6 +11,7 @@
 #include "scene/schema/schema_check.hpp"
 #include "scene/schema/schema_pruning.hpp"
 #include "scene/scene.hpp"
+#include "support/example_files.hpp"
 
 using namespace fibrodem;
 
@@ -18,15 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 const fs::path kSource = FIBRODEM_SOURCE_DIR;
-
-std::vector<fs::path> example_files() {
-  std::vector<fs::path> files;
-  for (const auto& folder : {kSource / "examples", kSource / "examples" / "paper", kSource / "examples" / "arrhythmia"})
-    for (const auto& entry : fs::directory_iterator(folder))
-      if (entry.path().extension() == ".json") files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
 
 // The document and variants of it, each with one change at one place: an
 // unknown key added to an object, a key removed, a value replaced by one of
@@ -66,7 +58,7 @@ void variants(const json& document, json& value, const std::function<void(const 
 TEST_CASE("a schema cut down to a document judges it as the whole schema does") {
   const SchemaJudge whole_manifest(schema_document(SchemaKind::manifest)), whole_sweep(schema_document(SchemaKind::sweep));
   int valid = 0, invalid = 0;
-  for (const auto& file : example_files()) {
+  for (const auto& file : testing::example_files()) {
     CAPTURE(file.string());
     json document = read_manifest_file(file.string());
     const SchemaKind kind = document.contains("fibrodem_sweep") ? SchemaKind::sweep : SchemaKind::manifest;
