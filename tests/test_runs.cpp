@@ -203,9 +203,14 @@ TEST_CASE("SIGTERM or SIGINT ends a run at the end of a step: outputs written, s
     slow["solver"]["dt_ms"] = 0.001;
     const auto out = dir / name;
     std::ofstream(dir / "slow.json") << slow.dump();
-    const std::string command = "timeout --preserve-status -s " + std::string(name) + " 1 " + std::string(FIBRODEM_BINARY_DIR) +
-                                "/fibrodem run --quiet " + (dir / "slow.json").string() + " --out " + out.string() +
-                                " > /dev/null 2>&1";
+    // Signalled once the run has started (its first summary.json written),
+    // not after a fixed time: a slow start (a sanitizer build under load)
+    // would otherwise be killed before there is a run to end.
+    const std::string summary_file = (out / "summary.json").string();
+    const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem run --quiet " + (dir / "slow.json").string() +
+                                " --out " + out.string() + " > /dev/null 2>&1 & pid=$!; i=0; while [ ! -s " +
+                                summary_file + " ] && [ $i -lt 2400 ]; do sleep 0.05; i=$((i + 1)); done; sleep 0.2; kill -" +
+                                std::string(name) + " $pid; wait $pid";
     const int status = std::system(command.c_str());
     CHECK(WEXITSTATUS(status) == code);
     const json s = json::parse(testing::read_file(out / "summary.json"));
