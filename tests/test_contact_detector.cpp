@@ -14,6 +14,25 @@
 
 using namespace fibrodem;
 
+namespace {
+
+// n disks of radius 1-12.5 um placed at random in a box of side box_m [m].
+struct Disks {
+  std::vector<double> x, y, r;
+};
+Disks random_disks(int n, double box_m, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> U(0, 1);
+  Disks d{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n)};
+  for (int i = 0; i < n; ++i) {
+    d.x[i] = box_m * U(rng);
+    d.y[i] = box_m * U(rng);
+    d.r[i] = (1 + 11.5 * U(rng)) * 1e-6;
+  }
+  return d;
+}
+
+}  // namespace
+
 TEST_CASE("contact detection: while the list is kept, every touching pair is on it") {
   // 500 disks of radius 1-12.5 um in a 400 x 400 um box, each its own body
   // except pairs (2k, 2k+1) sharing one (a clump: never listed) and a few
@@ -26,14 +45,9 @@ TEST_CASE("contact detection: while the list is kept, every touching pair is on 
   const int n = 500;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> U(0, 1);
-  std::vector<double> x0(n), y0(n), r0(n);
+  const auto [x0, y0, r0] = random_disks(n, 400e-6, rng);
   std::vector<int> body(n);
-  for (int i = 0; i < n; ++i) {
-    x0[i] = 400e-6 * U(rng);
-    y0[i] = 400e-6 * U(rng);
-    r0[i] = (1 + 11.5 * U(rng)) * 1e-6;
-    body[i] = i / 2;
-  }
+  for (int i = 0; i < n; ++i) body[i] = i / 2;
   std::vector<std::pair<int, int>> bonded;
   for (int i = 0; i + 3 < n; i += 50) bonded.emplace_back(i, i + 3);
   const double skin = 2.5e-6;
@@ -94,15 +108,9 @@ TEST_CASE("contact detection: one particle's move is seen, whichever it is, on a
   // four missed three particles of four here.)
   const int n = 997;
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> U(0, 1);
-  std::vector<double> x0(n), y0(n), r0(n);
+  const auto [x0, y0, r0] = random_disks(n, 600e-6, rng);
   std::vector<int> body(n);
-  for (int i = 0; i < n; ++i) {
-    x0[i] = 600e-6 * U(rng);
-    y0[i] = 600e-6 * U(rng);
-    r0[i] = (1 + 11.5 * U(rng)) * 1e-6;
-    body[i] = i;
-  }
+  for (int i = 0; i < n; ++i) body[i] = i;
   const double skin = 2.5e-6;
   ContactDetector detector(body, {}, skin);
   std::vector<std::pair<int, int>> listed;

@@ -24,23 +24,17 @@ bool annotation(std::string_view key) {
   return false;
 }
 
-// Every member value of the objects among `values`.
-Values members_of(const Values& values) {
+// The children of the values of one type among `values`: the member values
+// of the objects (json::value_t::object), or the items of the lists (array).
+Values children_of(const Values& values, json::value_t type) {
   Values out;
   for (const json* v : values)
-    if (v->is_object())
-      for (const auto& member : *v) out.push_back(&member);
+    if (v->type() == type)
+      for (const auto& child : *v) out.push_back(&child);
   return out;
 }
-
-// Every item of the lists among `values`.
-Values items_of(const Values& values) {
-  Values out;
-  for (const json* v : values)
-    if (v->is_array())
-      for (const auto& item : *v) out.push_back(&item);
-  return out;
-}
+Values members_of(const Values& values) { return children_of(values, json::value_t::object); }
+Values items_of(const Values& values) { return children_of(values, json::value_t::array); }
 
 class Pruner {
  public:
