@@ -247,7 +247,7 @@ void DemSolver::step_multirate(double dt_s) {
 // Every body's pose at the step's start kept; the heavy ones' first half
 // kick, drift and particles (their places at t + H kept for the substeps).
 void DemSolver::move_heavy_bodies(double dt_s) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static, 1)
   for (std::size_t k = 0; k < kStepParts; ++k)
     for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
       bx_start_[b] = bx_[b];
@@ -377,7 +377,7 @@ DemSolver::StepSums DemSolver::multirate_step_sums(double dt_s) const {
   const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
   const double inv_dt = 1 / dt_s;
   std::array<StepSums, kStepParts> part;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static, 1)
   for (std::size_t k = 0; k < kStepParts; ++k) {
     StepSums sum{};
     for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
@@ -414,7 +414,7 @@ void DemSolver::heavy_forces_and_kick(double dt_s, std::size_t n) {
 #pragma omp parallel
   {
     forces_of_contact_range(fast_bonds_, bonds_.size(), fast_contacts_, contacts_.size(), dt_s);
-#pragma omp for schedule(static)
+#pragma omp for schedule(static, 1)
     for (std::size_t k = 0; k < kStepParts; ++k)
       for (std::size_t b = sum_part_first_body_[k]; b < sum_part_first_body_[k + 1]; ++b) {
         if (blight_[b]) continue;

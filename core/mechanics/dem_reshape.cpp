@@ -24,7 +24,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
   std::string error;
 #pragma omp parallel
   {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static, 1)
     for (std::size_t k = 0; k < kStepParts; ++k)
       for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
         if (!bclump_[b]) continue;  // a fibroblast keeps its disk
@@ -57,7 +57,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
       }
     // (After the loop's barrier every thread reads the same `failed`.)
     if (failed == none) {
-#pragma omp for schedule(static) nowait
+#pragma omp for schedule(static, 1) nowait
       for (std::size_t k = 0; k < kStepParts; ++k)
         for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
           if (!bclump_[b] || brest_[b].n < 2) continue;

@@ -54,8 +54,13 @@
 // second is the list's check for a rebuild; the third computes each
 // contact's force, block by block, into per-contact arrays, then sums them
 // per particle and body in a fixed order (contact_incidence.hpp) and kicks
-// the body. Deterministic: the same bits
-// for any number of threads; no allocation per step.
+// the body. The threads deal the kStepParts parts out in turn
+// (`schedule(static, 1)`), not in halves: a loop that works on some bodies
+// only (the clumps' shapes; under multirate, the heavy bodies' move and
+// sums), which the tissue lists first, is then shared evenly, and each
+// thread still gets the same parts in every loop (their data stay in its
+// cache). Deterministic: the same bits for any number of threads; no
+// allocation per step.
 //
 // Files: dem_bodies.cpp (bodies built from the tissue), dem_reshape.cpp
 // (clump shapes at the cells' length ratios), dem_solver.cpp (the step and
