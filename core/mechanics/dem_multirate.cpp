@@ -99,10 +99,16 @@ void DemSolver::start_multirate() {
   compute_stable_step();
 }
 
+// (Light bodies are never clumps, so each is a fibroblast's disk: one
+// particle at its centre, which move_light_disk relies on.)
 void DemSolver::list_light_bodies() {
   light_bodies_.clear();
+  light_particle_.clear();
   for (std::size_t b = 0; b < blight_.size(); ++b)
-    if (blight_[b]) light_bodies_.push_back(static_cast<int>(b));
+    if (blight_[b]) {
+      light_bodies_.push_back(static_cast<int>(b));
+      light_particle_.push_back(body_particle_[body_particle_start_[b]]);
+    }
 }
 
 // The steps from the least critical steps of the heavy bodies, the clumps
@@ -265,6 +271,45 @@ void DemSolver::move_heavy_bodies(double dt_s) {
     }
 }
 
+// Light body k's half kick and drift over a substep of h_s, and its
+// particle placed: kick_body, drift_and_reshape and place_particles_of for a
+// disk, whose particle sits at its centre and whose shape never changes.
+[[gnu::always_inline]] inline void DemSolver::move_light_disk(std::size_t k, double h_s) {
+  const auto b = static_cast<std::size_t>(light_bodies_[k]);
+  const auto i = static_cast<std::size_t>(light_particle_[k]);
+  kick_body(b, 0.5 * h_s);
+  const double vx = bvx_[b], vy = bvy_[b], w = bw_[b];
+  bx_[b] += vx * h_s;
+  by_[b] += vy * h_s;
+  bth_[b] += w * h_s;
+  px_[i] = bx_[b];
+  py_[i] = by_[b];
+  pvx_[i] = vx;
+  pvy_[i] = vy;
+  pw_[i] = w;
+}
+
+// Light body k's force and moment, its particle's contacts summed in their
+// order as sum_forces_on_body sums them (all of a light body's contacts are
+// fast), and its closing half kick over h_s.
+[[gnu::always_inline]] inline void DemSolver::sum_forces_and_kick_light_disk(std::size_t k, double h_s) {
+  const auto b = static_cast<std::size_t>(light_bodies_[k]);
+  const auto i = static_cast<std::size_t>(light_particle_[k]);
+  double fx = 0, fy = 0, tq = 0;
+  for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
+    const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
+    const bool q = ContactIncidence::is_q(*e);
+    const double sign = q ? 1.0 : -1.0;
+    fx += sign * f.fx;
+    fy += sign * f.fy;
+    tq += f.moment[q];
+  }
+  bfx_[b] = fx;
+  bfy_[b] = fy;
+  btq_[b] = tq;
+  kick_body(b, 0.5 * h_s);
+}
+
 // Substep j of n (ending at t + j h): the light bodies' velocity Verlet
 // substep against the boundary's heavy particles at t + j h.
 void DemSolver::light_substep(std::size_t j, std::size_t n, double h_s) {
@@ -277,12 +322,7 @@ void DemSolver::light_substep(std::size_t j, std::size_t n, double h_s) {
 #pragma omp parallel
   {
 #pragma omp for schedule(static) nowait
-    for (std::size_t k = 0; k < nlight; ++k) {
-      const auto b = static_cast<std::size_t>(light_bodies_[k]);
-      kick_body(b, 0.5 * h_s);
-      drift_and_reshape(b, h_s);
-      place_particles_of(b);
-    }
+    for (std::size_t k = 0; k < nlight; ++k) move_light_disk(k, h_s);
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < nplaced; ++k) {
       const auto i = static_cast<std::size_t>(boundary_particles_[k]);
@@ -293,11 +333,7 @@ void DemSolver::light_substep(std::size_t j, std::size_t n, double h_s) {
     }
     forces_of_contact_range(0, fast_bonds_, 0, fast_contacts_, h_s);
 #pragma omp for schedule(static) nowait
-    for (std::size_t k = 0; k < nlight; ++k) {
-      const auto b = static_cast<std::size_t>(light_bodies_[k]);
-      sum_forces_on_body(b);  // (a light body's contacts are all fast)
-      kick_body(b, 0.5 * h_s);
-    }
+    for (std::size_t k = 0; k < nlight; ++k) sum_forces_and_kick_light_disk(k, h_s);
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < nboundary; ++k) add_fast_forces_of_boundary(k, w, last);
   }

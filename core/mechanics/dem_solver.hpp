@@ -194,6 +194,8 @@ class DemSolver final : public MechanicsSolver {
   void load_multirate(const CheckpointFields& fields);
   void move_heavy_bodies(double dt_s);
   void light_substep(std::size_t j, std::size_t n, double h_s);
+  void move_light_disk(std::size_t k, double h_s);
+  void sum_forces_and_kick_light_disk(std::size_t k, double h_s);
   void forces_of_contact_range(std::size_t bond_begin, std::size_t bond_end, std::size_t contact_begin,
                                std::size_t contact_end, double dt_s);
   void sum_contact_class_on_body(std::size_t b, bool fast, double gx, double gy, double (&f)[3]) const;
@@ -265,6 +267,7 @@ class DemSolver final : public MechanicsSolver {
   // by_start_, br_start_), and the heavy bodies' sums of the substeps' forces.
   std::vector<std::uint8_t> blight_;
   std::vector<int> light_bodies_, boundary_bodies_;
+  std::vector<int> light_particle_;  // each light body's one particle (light bodies are disks)
   // The boundary's particles that touch a light body (placed each substep),
   // and each boundary body's fast contacts (CSR over boundary_bodies_:
   // ContactIncidence entries and the particle of each).
