@@ -85,15 +85,8 @@ void DemSolver::sum_forces_on_body(std::size_t b) {
   double fx = 0, fy = 0, tq = 0;
   for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
     const int i = body_particle_[k];
-    double pfx = 0, pfy = 0, ptq = 0;
-    for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
-      const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
-      const bool q = ContactIncidence::is_q(*e);
-      const double sign = q ? 1.0 : -1.0;
-      pfx += sign * f.fx;
-      pfy += sign * f.fy;
-      ptq += f.moment[q];
-    }
+    double pfx, pfy, ptq;
+    sum_particle_contacts(static_cast<std::size_t>(i), pfx, pfy, ptq);
     fx += pfx;
     fy += pfy;
     tq += ptq + (px_[i] - bx_[b]) * pfy - (py_[i] - by_[b]) * pfx;

@@ -295,15 +295,8 @@ void DemSolver::move_heavy_bodies(double dt_s) {
 [[gnu::always_inline]] inline void DemSolver::sum_forces_and_kick_light_disk(std::size_t k, double h_s) {
   const auto b = static_cast<std::size_t>(light_bodies_[k]);
   const auto i = static_cast<std::size_t>(light_particle_[k]);
-  double fx = 0, fy = 0, tq = 0;
-  for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
-    const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
-    const bool q = ContactIncidence::is_q(*e);
-    const double sign = q ? 1.0 : -1.0;
-    fx += sign * f.fx;
-    fy += sign * f.fy;
-    tq += f.moment[q];
-  }
+  double fx, fy, tq;  // (locals: references into bfx_ could alias the contacts' forces)
+  sum_particle_contacts(i, fx, fy, tq);
   bfx_[b] = fx;
   bfy_[b] = fy;
   btq_[b] = tq;

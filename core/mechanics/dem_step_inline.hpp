@@ -70,6 +70,21 @@ struct DemSolver::BlockScratch {
   }
 }
 
+// Particle i's force and moment from its contacts, summed in their order
+// (contact_incidence.hpp): on q the contact's force, on p minus it.
+[[gnu::always_inline]] inline void DemSolver::sum_particle_contacts(std::size_t i, double& fx, double& fy,
+                                                                    double& tq) const {
+  fx = fy = tq = 0;
+  for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
+    const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
+    const bool q = ContactIncidence::is_q(*e);
+    const double sign = q ? 1.0 : -1.0;
+    fx += sign * f.fx;
+    fy += sign * f.fy;
+    tq += f.moment[q];
+  }
+}
+
 // The terms of the fit alpha = (sum V~ x~^T)(sum x~ x~^T)^+ of one particle
 // or body: position x, y (from the tissue's centre) and velocity vx, vy.
 [[gnu::always_inline]] inline void DemSolver::add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy) {
