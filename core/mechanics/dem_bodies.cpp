@@ -202,6 +202,14 @@ std::vector<std::size_t> parts_of_equal_work(const std::vector<double>& work_bef
   return first;
 }
 
+// `parts` runs of whole bodies [0, nb) of about equal work(b) each.
+template <class Work>
+std::vector<std::size_t> parts_of_bodies(std::size_t nb, std::size_t parts, Work work) {
+  std::vector<double> work_before(nb + 1, 0.0);  // work of bodies [0, b)
+  for (std::size_t b = 0; b < nb; ++b) work_before[b + 1] = work_before[b] + work(b);
+  return parts_of_equal_work(work_before, parts);
+}
+
 }  // namespace
 
 // The step's fixed parts: runs of whole bodies of about equal work, so that
@@ -211,13 +219,11 @@ std::vector<std::size_t> parts_of_equal_work(const std::vector<double>& work_bef
 // interstitial tissue. (Parts of equal particle counts put all its
 // myocytes, which it lists first, on one thread, and its 4915 fibroblast
 // disks with a third of the myocytes on the other: 1.7x the first's work.)
+// The clumps' shapes (set_cell_length_ratios) have parts of equal clump
+// counts: a disk there is passed over.
 void DemSolver::partition_bodies() {
-  constexpr double kBodyWork = 2.2;
-  const std::size_t nb = bx_.size();
-  std::vector<double> work_before(nb + 1, 0.0);  // work of bodies [0, b)
-  for (std::size_t b = 0; b < nb; ++b)
-    work_before[b + 1] = work_before[b] + kBodyWork + (body_particle_start_[b + 1] - body_particle_start_[b]);
-  part_first_body_ = parts_of_equal_work(work_before, kStepParts);
+  part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return move_work(b); });
+  shape_part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return bclump_[b] ? 1.0 : 0.02; });
 }
 
 // The force sums' parts: runs of whole bodies of about equal work there,
@@ -227,18 +233,36 @@ void DemSolver::partition_bodies() {
 // in a fixed order, so the parts change no bits; they are set again whenever
 // the contacts change.
 void DemSolver::partition_force_sums() {
-  constexpr double kBodyWork = 2.0;  // the kick and the body's own sums, in contact-terms
-  const std::size_t nb = bx_.size();
-  std::vector<double> work_before(nb + 1, 0.0);
-  for (std::size_t b = 0; b < nb; ++b) {
-    double work = kBodyWork;
-    for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
-      const auto i = static_cast<std::size_t>(body_particle_[k]);
-      work += 1.0 + static_cast<double>(particle_contacts_.end(i) - particle_contacts_.begin(i));
-    }
-    work_before[b + 1] = work_before[b] + work;
+  sum_part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return sum_work(b); });
+  partition_heavy_bodies();
+}
+
+// Under multirate, the parts of the loops over the heavy bodies alone
+// (move_heavy_bodies, heavy_forces_and_kick): a light body there only has
+// its pose copied or is passed over. The interstitial tissue lists its
+// myocytes (heavy) first, so the parts of the whole step put nearly all of
+// that work on one thread. Set again when the contacts or the light set change.
+void DemSolver::partition_heavy_bodies() {
+  if (blight_.empty()) return;
+  constexpr double kPoseCopyWork = 0.2, kPassWork = 0.1;
+  heavy_part_first_body_ =
+      parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return blight_[b] ? kPoseCopyWork : move_work(b); });
+  heavy_sum_part_first_body_ =
+      parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return blight_[b] ? kPassWork : sum_work(b); });
+}
+
+double DemSolver::move_work(std::size_t b) const {
+  constexpr double kBodyWork = 2.2;
+  return kBodyWork + (body_particle_start_[b + 1] - body_particle_start_[b]);
+}
+
+double DemSolver::sum_work(std::size_t b) const {
+  double work = 2.0;  // the kick and the body's own sums, in contact-terms
+  for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
+    const auto i = static_cast<std::size_t>(body_particle_[k]);
+    work += 1.0 + static_cast<double>(particle_contacts_.end(i) - particle_contacts_.begin(i));
   }
-  sum_part_first_body_ = parts_of_equal_work(work_before, kStepParts);
+  return work;
 }
 
 const std::vector<Particle>& DemSolver::particles() const {

@@ -27,7 +27,7 @@ void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
       const std::size_t number = bond ? begin : bonds_.size() + begin;
       contact_block(set, begin, std::min(kBlock, set.size() - begin), number, dt_s, scratch);
     }
-#pragma omp for schedule(static, 1)
+#pragma omp for schedule(static)
     for (std::size_t k = 0; k < kStepParts; ++k)
       for (std::size_t b = sum_part_first_body_[k]; b < sum_part_first_body_[k + 1]; ++b) {
         sum_forces_on_body(b);

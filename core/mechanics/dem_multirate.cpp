@@ -253,9 +253,9 @@ void DemSolver::step_multirate(double dt_s) {
 // Every body's pose at the step's start kept; the heavy ones' first half
 // kick, drift and particles (their places at t + H kept for the substeps).
 void DemSolver::move_heavy_bodies(double dt_s) {
-#pragma omp parallel for schedule(static, 1)
+#pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < kStepParts; ++k)
-    for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+    for (std::size_t b = heavy_part_first_body_[k]; b < heavy_part_first_body_[k + 1]; ++b) {
       bx_start_[b] = bx_[b];
       by_start_[b] = by_[b];
       br_start_[b] = br_[b];
@@ -406,7 +406,7 @@ DemSolver::StepSums DemSolver::multirate_step_sums(double dt_s) const {
   const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
   const double inv_dt = 1 / dt_s;
   std::array<StepSums, kStepParts> part;
-#pragma omp parallel for schedule(static, 1)
+#pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < kStepParts; ++k) {
     StepSums sum{};
     for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
@@ -443,9 +443,9 @@ void DemSolver::heavy_forces_and_kick(double dt_s, std::size_t n) {
 #pragma omp parallel
   {
     forces_of_contact_range(fast_bonds_, bonds_.size(), fast_contacts_, contacts_.size(), dt_s);
-#pragma omp for schedule(static, 1)
+#pragma omp for schedule(static)
     for (std::size_t k = 0; k < kStepParts; ++k)
-      for (std::size_t b = sum_part_first_body_[k]; b < sum_part_first_body_[k + 1]; ++b) {
+      for (std::size_t b = heavy_sum_part_first_body_[k]; b < heavy_sum_part_first_body_[k + 1]; ++b) {
         if (blight_[b]) continue;
         double f[3];
         sum_contact_class_on_body(b, false, bx_[b], by_[b], f);

@@ -15,18 +15,19 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
                                 " ratios for " + std::to_string(cells_) + " cells");
   // Each myocyte's new shape (cells are independent: in parallel), kept only
   // if every ratio is in range and every shape exists; else the error of the
-  // first cell that fails, and nothing changed. Each thread takes the step's
-  // fixed parts of bodies, as move_bodies and the force sums do, so that a
-  // body's data stay in one core's cache from step to step (parts handed out
+  // first cell that fails, and nothing changed. The bodies are taken in
+  // fixed parts of equal clump counts (only clumps change shape; the
+  // interstitial tissue lists them first), a thread the same parts every
+  // step, so that a body's data stay in one core's cache (parts handed out
   // as the threads come free would move between the cores).
   const std::size_t none = cells_;
   std::size_t failed = none;
   std::string error;
 #pragma omp parallel
   {
-#pragma omp for schedule(static, 1)
+#pragma omp for schedule(static)
     for (std::size_t k = 0; k < kStepParts; ++k)
-      for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+      for (std::size_t b = shape_part_first_body_[k]; b < shape_part_first_body_[k + 1]; ++b) {
         if (!bclump_[b]) continue;  // a fibroblast keeps its disk
         const auto c = static_cast<std::size_t>(bcell_[b]);
         const double l = ratio[c];
@@ -57,9 +58,9 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
       }
     // (After the loop's barrier every thread reads the same `failed`.)
     if (failed == none) {
-#pragma omp for schedule(static, 1) nowait
+#pragma omp for schedule(static) nowait
       for (std::size_t k = 0; k < kStepParts; ++k)
-        for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+        for (std::size_t b = shape_part_first_body_[k]; b < shape_part_first_body_[k + 1]; ++b) {
           if (!bclump_[b] || brest_[b].n < 2) continue;
           blambda_[b] = ratio[static_cast<std::size_t>(bcell_[b])];
           btarget_r_[b] = next_r_[b];

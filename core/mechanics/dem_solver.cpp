@@ -48,7 +48,7 @@ DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
   const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
   const double h = 0.5 * dt_s, inv_dt = 1 / dt_s;
   std::array<StepSums, kStepParts> part;
-#pragma omp parallel for schedule(static, 1)
+#pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < kStepParts; ++k) {
     StepSums sum{};  // (in registers: part[k] could alias the arrays read)
     for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
