@@ -223,7 +223,9 @@ std::vector<std::size_t> parts_of_bodies(std::size_t nb, std::size_t parts, Work
 // counts: a disk there is passed over.
 void DemSolver::partition_bodies() {
   part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return move_work(b); });
-  shape_part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return bclump_[b] ? 1.0 : 0.02; });
+  constexpr double kShapeWork = 1.0, kDiskPassWork = 0.02;
+  shape_part_first_body_ = parts_of_bodies(bx_.size(), kStepParts,
+                                           [&](std::size_t b) { return bclump_[b] ? kShapeWork : kDiskPassWork; });
 }
 
 // The force sums' parts: runs of whole bodies of about equal work there,
