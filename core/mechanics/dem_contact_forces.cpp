@@ -79,21 +79,13 @@ void DemSolver::contact_block(BondSet& set, std::size_t begin, std::size_t count
   }
 }
 
-// F = sum f, T = sum (t_p + (x_p - x_G) x f_p) over the body's particles, each
-// particle's f and t summed over its contacts in their order.
+// Body b's force and moment about its centroid from all its contacts.
 void DemSolver::sum_forces_on_body(std::size_t b) {
-  double fx = 0, fy = 0, tq = 0;
-  for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
-    const int i = body_particle_[k];
-    double pfx, pfy, ptq;
-    sum_particle_contacts(static_cast<std::size_t>(i), pfx, pfy, ptq);
-    fx += pfx;
-    fy += pfy;
-    tq += ptq + (px_[i] - bx_[b]) * pfy - (py_[i] - by_[b]) * pfx;
-  }
-  bfx_[b] = fx;
-  bfy_[b] = fy;
-  btq_[b] = tq;
+  double f[3];
+  sum_body_contacts(b, bx_[b], by_[b], kEveryContact, f);
+  bfx_[b] = f[0];
+  bfy_[b] = f[1];
+  btq_[b] = f[2];
 }
 
 }  // namespace fibrodem

@@ -289,14 +289,14 @@ void DemSolver::move_heavy_bodies(double dt_s) {
   pw_[i] = w;
 }
 
-// Light body k's force and moment, its particle's contacts summed in their
-// order as sum_forces_on_body sums them (all of a light body's contacts are
-// fast), and its closing half kick over h_s.
+// Light body k's force and moment, its particle's contacts summed as
+// sum_body_contacts sums them (all of a light body's contacts are fast;
+// its particle's arm is 0), and its closing half kick over h_s.
 [[gnu::always_inline]] inline void DemSolver::sum_forces_and_kick_light_disk(std::size_t k, double h_s) {
   const auto b = static_cast<std::size_t>(light_bodies_[k]);
   const auto i = static_cast<std::size_t>(light_particle_[k]);
   double fx, fy, tq;  // (locals: references into bfx_ could alias the contacts' forces)
-  sum_particle_contacts(i, fx, fy, tq);
+  sum_particle_contacts(i, kEveryContact, fx, fy, tq);
   bfx_[b] = fx;
   bfy_[b] = fy;
   btq_[b] = tq;
@@ -373,32 +373,6 @@ void DemSolver::forces_of_contact_range(std::size_t bond_begin, std::size_t bond
   }
 }
 
-// Body b's force and moment about (gx, gy) from its fast contacts (fast) or
-// its other contacts, as sum_forces_on_body sums them.
-void DemSolver::sum_contact_class_on_body(std::size_t b, bool fast, double gx, double gy, double (&f)[3]) const {
-  double fx = 0, fy = 0, tq = 0;
-  for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
-    const int i = body_particle_[k];
-    double pfx = 0, pfy = 0, ptq = 0;
-    for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
-      const auto c = static_cast<std::size_t>(ContactIncidence::contact(*e));
-      if (fast_index(c) != fast) continue;
-      const ContactForce& cf = contact_force_[c];
-      const bool q = ContactIncidence::is_q(*e);
-      const double sign = q ? 1.0 : -1.0;
-      pfx += sign * cf.fx;
-      pfy += sign * cf.fy;
-      ptq += cf.moment[q];
-    }
-    fx += pfx;
-    fy += pfy;
-    tq += ptq + (px_[i] - gx) * pfy - (py_[i] - gy) * pfx;
-  }
-  f[0] = fx;
-  f[1] = fy;
-  f[2] = tq;
-}
-
 // The strain's and the contact list's sums over the step, as move_bodies
 // takes them, from every body's pose at the step's start and end (a light
 // body's velocity now is its last substep's, not its mean over the step).
@@ -448,7 +422,7 @@ void DemSolver::heavy_forces_and_kick(double dt_s, std::size_t n) {
       for (std::size_t b = heavy_sum_part_first_body_[k]; b < heavy_sum_part_first_body_[k + 1]; ++b) {
         if (blight_[b]) continue;
         double f[3];
-        sum_contact_class_on_body(b, false, bx_[b], by_[b], f);
+        sum_body_contacts(b, bx_[b], by_[b], [this](std::size_t c) { return !fast_index(c); }, f);
         bfx_[b] = f[0] + fast_fx_[b] * inv_n;
         bfy_[b] = f[1] + fast_fy_[b] * inv_n;
         btq_[b] = f[2] + fast_tq_[b] * inv_n;

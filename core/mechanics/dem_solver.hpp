@@ -200,10 +200,12 @@ class DemSolver final : public MechanicsSolver {
   void light_substep(std::size_t j, std::size_t n, double h_s);
   void move_light_disk(std::size_t k, double h_s);
   void sum_forces_and_kick_light_disk(std::size_t k, double h_s);
-  void sum_particle_contacts(std::size_t i, double& fx, double& fy, double& tq) const;
+  template <class Counted>
+  void sum_particle_contacts(std::size_t i, Counted counted, double& fx, double& fy, double& tq) const;
+  template <class Counted>
+  void sum_body_contacts(std::size_t b, double gx, double gy, Counted counted, double (&f)[3]) const;
   void forces_of_contact_range(std::size_t bond_begin, std::size_t bond_end, std::size_t contact_begin,
                                std::size_t contact_end, double dt_s);
-  void sum_contact_class_on_body(std::size_t b, bool fast, double gx, double gy, double (&f)[3]) const;
   void add_fast_forces_of_boundary(std::size_t k, double w, bool last);
   StepSums multirate_step_sums(double dt_s) const;
   void heavy_forces_and_kick(double dt_s, std::size_t n);

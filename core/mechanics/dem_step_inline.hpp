@@ -70,19 +70,46 @@ struct DemSolver::BlockScratch {
   }
 }
 
-// Particle i's force and moment from its contacts, summed in their order
-// (contact_incidence.hpp): on q the contact's force, on p minus it.
-[[gnu::always_inline]] inline void DemSolver::sum_particle_contacts(std::size_t i, double& fx, double& fy,
-                                                                    double& tq) const {
+// Counts every contact (sum_particle_contacts, sum_body_contacts).
+inline constexpr auto kEveryContact = [](std::size_t) { return true; };
+
+// Particle i's force and moment from those of its contacts `counted` takes
+// (a contact's index -> bool), summed in their order (contact_incidence.hpp):
+// on q the contact's force, on p minus it.
+template <class Counted>
+[[gnu::always_inline]] inline void DemSolver::sum_particle_contacts(std::size_t i, Counted counted, double& fx,
+                                                                    double& fy, double& tq) const {
   fx = fy = tq = 0;
   for (const int* e = particle_contacts_.begin(i); e != particle_contacts_.end(i); ++e) {
-    const ContactForce& f = contact_force_[ContactIncidence::contact(*e)];
+    const auto c = static_cast<std::size_t>(ContactIncidence::contact(*e));
+    if (!counted(c)) continue;
+    const ContactForce& f = contact_force_[c];
     const bool q = ContactIncidence::is_q(*e);
     const double sign = q ? 1.0 : -1.0;
     fx += sign * f.fx;
     fy += sign * f.fy;
     tq += f.moment[q];
   }
+}
+
+// Body b's force and moment about (gx, gy) from the contacts `counted` takes:
+// F = sum f, T = sum (t_p + (x_p - g) x f_p) over its particles, each
+// particle's f and t summed over its contacts in their order.
+template <class Counted>
+[[gnu::always_inline]] inline void DemSolver::sum_body_contacts(std::size_t b, double gx, double gy, Counted counted,
+                                                                double (&f)[3]) const {
+  double fx = 0, fy = 0, tq = 0;
+  for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
+    const auto i = static_cast<std::size_t>(body_particle_[k]);
+    double pfx, pfy, ptq;
+    sum_particle_contacts(i, counted, pfx, pfy, ptq);
+    fx += pfx;
+    fy += pfy;
+    tq += ptq + (px_[i] - gx) * pfy - (py_[i] - gy) * pfx;
+  }
+  f[0] = fx;
+  f[1] = fy;
+  f[2] = tq;
 }
 
 // The terms of the fit alpha = (sum V~ x~^T)(sum x~ x~^T)^+ of one particle
