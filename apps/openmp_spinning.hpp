@@ -18,8 +18,9 @@ namespace fibrodem::cli {
 void keep_arguments(char** argv);
 
 // Starts the program again with GOMP_SPINCOUNT=10000 unless the user chose a
-// policy (OMP_WAIT_POLICY or GOMP_SPINCOUNT set) or this process is that
-// restart; returns only if it does not restart (or the restart failed: then
+// policy (OMP_WAIT_POLICY or GOMP_SPINCOUNT set), binds OpenMP's threads to
+// places (OMP_PLACES, or OMP_PROC_BIND other than false) or this process is
+// that restart; returns only if it does not restart (or the restart failed: then
 // the program runs as it is). Call it before anything with a side effect.
 void bound_openmp_spinning();
 

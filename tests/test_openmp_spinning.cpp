@@ -17,9 +17,10 @@ using namespace fibrodem;
 namespace {
 
 // The spin counts libgomp printed, in order, for `arguments` run with neither
-// OMP_WAIT_POLICY nor GOMP_SPINCOUNT set.
-std::vector<std::string> spin_counts_read(const std::string& arguments) {
-  const std::string command = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT OMP_DISPLAY_ENV=verbose " +
+// OMP_WAIT_POLICY nor GOMP_SPINCOUNT set (and the variables `environment`
+// sets, NAME=VALUE ...).
+std::vector<std::string> spin_counts_read(const std::string& arguments, const std::string& environment = "") {
+  const std::string command = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT OMP_DISPLAY_ENV=verbose " + environment + " " +
                               std::string(FIBRODEM_BINARY_DIR) + "/fibrodem " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   REQUIRE(pipe != nullptr);
@@ -55,4 +56,20 @@ TEST_CASE("a single cell runs without the restart that bounds OpenMP's spinning,
   REQUIRE(strand.size() == 2);  // loaded, then started again with the bound
   CHECK(strand[1] == "10000");
   CHECK(version.size() == 1);
+}
+
+TEST_CASE("threads the user binds to places are not restarted, which would leave the process one CPU") {
+  // With OMP_PLACES, or OMP_PROC_BIND other than false, libgomp pins the
+  // first thread to a CPU as it loads, and a process started again from it
+  // would inherit that CPU alone.
+  if (spin_counts_read("--version").empty()) {
+    MESSAGE("skipped: the OpenMP runtime is not GCC's libgomp");
+    return;
+  }
+  const std::string strand = "validate " + std::string(FIBRODEM_SOURCE_DIR) + "/examples/strand_colman.json";
+  for (const char* binding : {"OMP_PROC_BIND=true", "OMP_PROC_BIND=spread", "OMP_PLACES=cores"}) {
+    CAPTURE(binding);
+    CHECK(spin_counts_read(strand, binding).size() == 1);
+  }
+  CHECK(spin_counts_read(strand, "OMP_PROC_BIND=false").size() == 2);
 }
