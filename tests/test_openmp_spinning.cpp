@@ -16,12 +16,13 @@ using namespace fibrodem;
 
 namespace {
 
-// The spin counts libgomp printed, in order, for `arguments` run with neither
-// OMP_WAIT_POLICY nor GOMP_SPINCOUNT set (and the variables `environment`
-// sets, NAME=VALUE ...).
+// The spin counts libgomp printed, in order, for `arguments` run with none of
+// OMP_WAIT_POLICY, GOMP_SPINCOUNT, OMP_PLACES and OMP_PROC_BIND set but
+// those `environment` sets (NAME=VALUE ...).
 std::vector<std::string> spin_counts_read(const std::string& arguments, const std::string& environment = "") {
-  const std::string command = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT OMP_DISPLAY_ENV=verbose " + environment + " " +
-                              std::string(FIBRODEM_BINARY_DIR) + "/fibrodem " + arguments + " 2>&1";
+  const std::string command =
+      "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT -u OMP_PLACES -u OMP_PROC_BIND OMP_DISPLAY_ENV=verbose " + environment +
+      " " + std::string(FIBRODEM_BINARY_DIR) + "/fibrodem " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   REQUIRE(pipe != nullptr);
   std::vector<std::string> counts;
