@@ -191,8 +191,9 @@ TEST_CASE("re-entry from sampled V: a spiral's phase singularity, its frequency,
 }
 
 TEST_CASE("the fraction of myocytes a beat does not reach") {
-  // Beat 0 reaches all 4 myocytes; beat 1 leaves one at 10 mV amplitude
-  // (below the 20 mV of an activation). Fibroblasts do not count.
+  // Beat 0 fires all 4 myocytes; beat 1 leaves one unfired (as the tracker
+  // writes a beat that did not fire: no activation, no APO; test_firing.cpp
+  // checks the criterion). Fibroblasts do not count.
   std::vector<BeatBiomarkers> beats;
   for (int beat : {0, 1})
     for (int cell = 0; cell < 5; ++cell) {
@@ -201,7 +202,9 @@ TEST_CASE("the fraction of myocytes a beat does not reach") {
       b.beat = beat;
       b.type = cell == 4 ? CellType::fibroblast : CellType::myocyte;
       b.rmp_mV = -80;
-      b.apo_mV = (beat == 1 && cell == 2) || cell == 4 ? -70 : 20;
+      b.apo_mV = 20;
+      b.activation_ms = 10.0 + cell;
+      if ((beat == 1 && cell == 2) || cell == 4) b.activation_ms = b.apo_mV = std::nan("");
       beats.push_back(b);
     }
   const json f = unreached_fractions(beats);

@@ -18,7 +18,7 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
   std::ofstream(dir / "base.json") << m.dump();
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",
       "set": {"stimulus[0].duration_ms": 5},
-      "grid": {"stimulus[0].amplitude_pA": [1, 2], "cells.fibroblast.parameters.R_GOhm": [5, 10]}})";
+      "grid": {"stimulus[0].amplitude_pA": [10, 20], "cells.fibroblast.parameters.R_GOhm": [5, 10]}})";
   const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem sweep " + (dir / "sweep.json").string() +
                               " --out " + (dir / "out").string() + " --jobs 2 > /dev/null 2>&1";
   REQUIRE(std::system(command.c_str()) == 0);
@@ -32,7 +32,9 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-    REQUIRE(cells.size() == 18);  // run, 2 grid values, F-M, 2 x 4 means, CV, 2 peak strains, 2 re-entry, status
+    // run, 2 grid values, F-M, 2 x 4 means, CV, 2 peak strains, 2 re-entry, 2 not-fired fractions, status
+    REQUIRE(cells.size() == 20);
+    CHECK(cells[18] == "0");  // the fibroblast rose 7 mV or more: it fired (1 pA, 0.7 mV, would not)
     CHECK(cells.back() == "completed");
     apo.push_back(std::stod(cells[9]) - std::stod(cells[8]));  // fibroblast APO - RMP
   }
@@ -76,13 +78,14 @@ TEST_CASE("a sweep point that crashes its process (a segfaulting plugin) leaves 
 
 namespace {
 
-// A small in-series tissue whose random layout changes with the seed.
+// A small in-series tissue whose random layout changes with the seed, every
+// cell fired by the stimulus (at 3000 pA none was: the means were of cells at rest).
 json seeded_manifest() {
   return json::parse(R"({"fibrodem": 1, "name": "seeded", "duration_ms": 30, "seed": 3,
     "tissue": {"builder": "in_series", "width_mm": 0.2, "height_mm": 0.8, "fm_ratio": 0.3},
     "cells": {"myocyte": {"model": "colman"}, "fibroblast": {"model": "passive_fibroblast"}},
     "coupling": {"D_f_nS": 1},
-    "stimulus": [{"target": {"y_min_frac": 0.8, "type": "myocyte"}, "start_ms": 2, "duration_ms": 2, "amplitude_pA": 3000}],
+    "stimulus": [{"target": {"y_min_frac": 0.8, "type": "myocyte"}, "start_ms": 2, "duration_ms": 2, "amplitude_pA": 6000}],
     "solver": {"method": "rush_larsen", "dt_ms": 0.02}})");
 }
 

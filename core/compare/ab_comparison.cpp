@@ -73,6 +73,10 @@ std::vector<ComparisonRow> compare_biomarkers(const RunRecord& a, const RunRecor
     for (const char* metric : kMetrics)
       rows.push_back({type, metric, value_of(a.mean_biomarkers, type, metric),
                       value_of(b.mean_biomarkers, type, metric)});
+    // The means are over the beats where the cells fired: how many did not, where any did not.
+    const double not_fired_a = value_of(a.mean_biomarkers, type, "beats_not_fired"),
+                 not_fired_b = value_of(b.mean_biomarkers, type, "beats_not_fired");
+    if (not_fired_a > 0 || not_fired_b > 0) rows.push_back({type, "beats_not_fired", not_fired_a, not_fired_b});
   }
   return rows;
 }

@@ -75,6 +75,12 @@ AccuracyErrors compare_runs(const RunRecord& reference, const RunRecord& candida
       continue;
     }
     const BeatBiomarkers& cand = *it->second;
+    if (fired(ref) != fired(cand)) {  // one fired, the other did not: no time to compare
+      ++e.beats_mismatched;
+      e.apd90_max_ms = e.activation_max_ms = kInf;
+      continue;
+    }
+    if (!fired(ref)) continue;  // neither fired: they agree, with nothing to measure
     raise(e.activation_max_ms, std::abs(cand.activation_ms - ref.activation_ms));
     const bool ref_apd = std::isfinite(ref.apd90_ms), cand_apd = std::isfinite(cand.apd90_ms);
     if (ref_apd && cand_apd) raise(e.apd90_max_ms, std::abs(cand.apd90_ms - ref.apd90_ms));

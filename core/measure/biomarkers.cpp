@@ -260,6 +260,7 @@ void BiomarkerTracker::step_lanes(double t_old, double t_new, const double* V, s
 }
 
 void BiomarkerTracker::close_beat() {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   if (beat_ < 0) return;
   const double onset = onsets_.empty() ? 0.0 : onsets_[beat_];
   if (onset + 1e-9 < from_ms_) return;
@@ -269,12 +270,20 @@ void BiomarkerTracker::close_beat() {
     b.cell = cell_numbers_.empty() ? static_cast<int>(c) : cell_numbers_[c];
     b.type = static_cast<CellType>(types_[c]);
     b.beat = beat_;
-    b.activation_ms = s.t_act;
-    b.rmp_mV = pre_upstroke_ ? rmp_pre_[c] : rmp_[c];
-    b.apo_mV = peak_[c];
-    b.dvdt_max_mV_per_ms = dvdt_max_[c];
-    if (s.cross50 >= 0) b.apd50_ms = s.cross50 - s.t_act;
-    if (s.cross90 >= 0) b.apd90_ms = s.cross90 - s.t_act;
+    if (peak_[c] - rmp_[c] >= firing_rise_mV(b.type)) {
+      b.activation_ms = s.t_act;
+      b.rmp_mV = pre_upstroke_ ? rmp_pre_[c] : rmp_[c];
+      b.apo_mV = peak_[c];
+      b.dvdt_max_mV_per_ms = dvdt_max_[c];
+      if (s.cross50 >= 0) b.apd50_ms = s.cross50 - s.t_act;
+      if (s.cross90 >= 0) b.apd90_ms = s.cross90 - s.t_act;
+    } else {
+      // Not fired: the largest dV/dt of a cell at rest is noise, and its
+      // "APD" the fall after a drift; only the onset V is a measurement (a
+      // pre-upstroke RMP needs an upstroke).
+      b.activation_ms = b.apo_mV = b.dvdt_max_mV_per_ms = kNaN;
+      b.rmp_mV = pre_upstroke_ ? kNaN : rmp_[c];
+    }
     on_beat_(b);
   }
 }

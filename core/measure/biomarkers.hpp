@@ -18,8 +18,22 @@
 //                    neighbours on the steps either side
 // A beat runs from one stimulus onset to the next (or to the end of the run);
 // without stimulus the whole run is one beat.
+//
+// Whether a cell fired in a beat is decided once, here, and every measure
+// downstream (means, conduction velocity, maps, block, capture) follows it:
+// a cell fired when its potential rose at least firing_rise_mV(type) above
+// the V it had at the beat's onset (APO - RMP). A myocyte must rise 20 mV (an
+// action potential, not the electrotonic rise of a cell next to one; the
+// criterion conduction velocity has always used). A fibroblast is not
+// excitable: it "fires" when the wave drives it through its gap junctions,
+// and its biomarkers then measure that response, as the seed paper's do; it
+// must rise 1 mV (the paper's Fig. 3 tissues drive every fibroblast by 4.6 mV
+// or more even at D_f 0.05 nS; a cell at rest drifts by thousandths). A cell
+// that did not fire has no activation time, APO, APD or max dV/dt in that
+// beat (NaN: empty fields in biomarkers.csv), only its RMP.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -35,6 +49,12 @@
 
 namespace fibrodem {
 
+// The rise above the onset V at which a cell counts as fired (above).
+inline constexpr double kMyocyteFiringRise_mV = 20.0, kFibroblastFiringRise_mV = 1.0;
+inline double firing_rise_mV(CellType type) {
+  return type == CellType::myocyte ? kMyocyteFiringRise_mV : kFibroblastFiringRise_mV;
+}
+
 struct BeatBiomarkers {
   int cell = 0;
   CellType type = CellType::myocyte;
@@ -44,6 +64,15 @@ struct BeatBiomarkers {
   double apd90_ms = std::numeric_limits<double>::quiet_NaN();
   double dvdt_max_mV_per_ms = 0;
 };
+
+// Whether the cell fired in the beat (above): a fired beat has an activation time.
+inline bool fired(const BeatBiomarkers& b) { return std::isfinite(b.activation_ms); }
+// Whether it fired and rose as far as a myocyte's action potential: the cells
+// that carry a wave, over which conduction velocity is fitted (a fibroblast
+// driven less follows the front late, and would bend the fit).
+inline bool carried_wave(const BeatBiomarkers& b) {
+  return fired(b) && b.apo_mV - b.rmp_mV >= kMyocyteFiringRise_mV;
+}
 
 class BiomarkerTracker {
  public:

@@ -23,7 +23,7 @@ json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
     if (b.type != CellType::myocyte) continue;
     auto& [unreached, measured] = by_beat[b.beat];
     ++measured;
-    if (!(b.apo_mV - b.rmp_mV >= 20.0)) ++unreached;
+    if (!fired(b)) ++unreached;
   }
   json out = json::array();
   for (const auto& [beat, counts] : by_beat)

@@ -10,9 +10,9 @@
 //                      none with fewer than two onsets
 //   duration_ms        last activation anywhere - last stimulus onset (>= 0)
 //   detected           duration_ms > cycle length
-//   unreached fraction per beat: the fraction of myocytes whose action
-//                      potential amplitude (APO - RMP) stays below 20 mV in
-//                      that beat, the criterion of conduction velocity
+//   unreached fraction per beat: the fraction of myocytes that did not fire
+//                      in that beat (measure/biomarkers.hpp: APO - RMP below
+//                      20 mV), the criterion of conduction velocity
 //   beats              activation times per beat, block per beat and the
 //                      activation cycle length (measure/beat_activations.hpp)
 #pragma once

@@ -1,5 +1,6 @@
 #include "measure/summary_metrics.hpp"
 
+#include <cmath>
 #include <initializer_list>
 #include <limits>
 
@@ -14,6 +15,15 @@ double number_at(const json& summary, std::initializer_list<const char*> path) {
   }
   if (node->is_boolean()) return node->get<bool>() ? 1.0 : 0.0;
   return node->is_number() ? node->get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+
+// The share of a type's cell-beats that did not fire (a summary written
+// before beats_not_fired existed counted every beat as measured).
+double not_fired_fraction(const json& summary, const char* type) {
+  const double measured = number_at(summary, {"mean_biomarkers", type, "beats_measured"});
+  double not_fired = number_at(summary, {"mean_biomarkers", type, "beats_not_fired"});
+  if (std::isnan(not_fired) && measured >= 0) not_fired = 0;
+  return not_fired / (measured + not_fired);
 }
 }  // namespace
 
@@ -31,6 +41,10 @@ const std::vector<SummaryMetric>& summary_metrics() {
     // inducing re-entry.
     l.push_back({"reentry_detected", [](const json& s) { return number_at(s, {"reentry", "detected"}); }, true});
     l.push_back({"reentry_duration_ms", [](const json& s) { return number_at(s, {"reentry", "duration_ms"}); }});
+    // Last, so that the columns before keep their places in a sweep's table.
+    for (const char* type : {"myocyte", "fibroblast"})
+      l.push_back({std::string(type) + "_not_fired_fraction", [type](const json& s) { return not_fired_fraction(s, type); },
+                   false, false});
     return l;
   }();
   return list;

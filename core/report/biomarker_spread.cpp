@@ -15,7 +15,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 BiomarkerDigest::BiomarkerDigest(const std::vector<std::string>& header, std::set<int> typed_cells)
     : type_column_(csv_column(header, "type")), cell_column_(csv_column(header, "cell")),
-      typed_cells_(std::move(typed_cells)) {
+      activation_column_(csv_column(header, "activation_ms")), typed_cells_(std::move(typed_cells)) {
   for (const auto& metric : kBiomarkerColumns)
     if (const auto column = csv_column(header, metric)) columns_.emplace_back(metric, *column);
 }
@@ -24,6 +24,7 @@ std::size_t BiomarkerDigest::type_index(const std::string& type) {
   const auto seen = std::find(types_seen_.begin(), types_seen_.end(), type);
   if (seen != types_seen_.end()) return static_cast<std::size_t>(seen - types_seen_.begin());
   types_seen_.push_back(type);
+  not_fired_.push_back(0);
   tallies_.resize(types_seen_.size() * columns_.size());
   return types_seen_.size() - 1;
 }
@@ -33,7 +34,8 @@ void BiomarkerDigest::first_pass(const std::vector<std::string>& row) {
   if (!type_column_) return;
   const std::string& type = row[*type_column_];
   const std::size_t t = type_index(type);
-  for (std::size_t m = 0; m < columns_.size(); ++m) {
+  if (!fired(row)) ++not_fired_[t];
+  for (std::size_t m = 0; m < columns_.size() && fired(row); ++m) {
     const double v = csv_number(row[columns_[m].second]);
     if (!std::isfinite(v)) continue;
     Tally& s = tally(t, m);
@@ -69,7 +71,7 @@ void BiomarkerDigest::second_pass(const std::vector<std::string>& row) {
   const auto seen = std::find(types_seen_.begin(), types_seen_.end(), row[*type_column_]);
   if (seen == types_seen_.end()) return;  // not a row of the first pass
   const auto t = static_cast<std::size_t>(seen - types_seen_.begin());
-  for (std::size_t m = 0; m < columns_.size(); ++m) {
+  for (std::size_t m = 0; m < columns_.size() && fired(row); ++m) {
     const double v = csv_number(row[columns_[m].second]);
     Tally& s = tally(t, m);
     if (!std::isfinite(v) || s.count.empty()) continue;
@@ -78,6 +80,16 @@ void BiomarkerDigest::second_pass(const std::vector<std::string>& row) {
     const std::size_t bins = s.count.size();
     ++s.count[std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, (v - s.bin_lo) / s.bin_width)))];
   }
+}
+
+bool BiomarkerDigest::fired(const std::vector<std::string>& row) const {
+  return !activation_column_ || !row[*activation_column_].empty();
+}
+
+std::vector<std::pair<std::string, std::size_t>> BiomarkerDigest::not_fired() const {
+  std::vector<std::pair<std::string, std::size_t>> out;
+  for (std::size_t t = 0; t < types_seen_.size(); ++t) out.emplace_back(types_seen_[t], not_fired_[t]);
+  return out;
 }
 
 std::vector<BiomarkerSpread> BiomarkerDigest::spread() const {

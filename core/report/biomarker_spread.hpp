@@ -1,6 +1,7 @@
 // biomarkers.csv (one row per cell and beat) summed up per cell type: count,
-// mean, SD, min and max of each biomarker (the mean is summary.json's
-// mean_biomarkers: every cell-beat recorded), and their histograms.
+// mean, SD, min and max of each biomarker over the cell-beats that fired (the
+// mean is summary.json's mean_biomarkers), their histograms, and how many
+// cell-beats did not fire (an empty activation_ms).
 //
 // The file is read twice, row by row, and never held: the first pass finds
 // each type's and biomarker's count, sum, min and max, the second the squared
@@ -47,6 +48,8 @@ class BiomarkerDigest {
   std::vector<PlotPanel> histograms() const;
   // cell index -> type, of the typed cells found.
   const std::map<int, std::string>& types() const { return types_; }
+  // Per type (in order of first appearance), the cell-beats that did not fire.
+  std::vector<std::pair<std::string, std::size_t>> not_fired() const;
 
  private:
   struct Tally {
@@ -56,12 +59,14 @@ class BiomarkerDigest {
     double bin_lo = 0, bin_hi = 0, bin_width = 0;
   };
   std::size_t type_index(const std::string& type);
+  bool fired(const std::vector<std::string>& row) const;  // a row without activation did not
   Tally& tally(std::size_t type, std::size_t metric) { return tallies_[type * columns_.size() + metric]; }
   const Tally& tally(std::size_t type, std::size_t metric) const { return tallies_[type * columns_.size() + metric]; }
 
-  std::optional<std::size_t> type_column_, cell_column_;
+  std::optional<std::size_t> type_column_, cell_column_, activation_column_;
   std::vector<std::pair<std::string, std::size_t>> columns_;  // biomarker present, its column
   std::vector<std::string> types_seen_;
+  std::vector<std::size_t> not_fired_;  // per type seen
   std::vector<Tally> tallies_;  // type-major
   std::set<int> typed_cells_;
   std::map<int, std::string> types_;

@@ -211,7 +211,11 @@ void biomarker_section(HtmlDocument& page, const RunFolder& f) {
   for (const auto& b : f.biomarkers->spread())
     rows.push_back({b.type, b.metric, std::to_string(b.n), fixed_decimals(b.mean, 2), fixed_decimals(b.sd, 2),
                     fixed_decimals(b.min, 2), fixed_decimals(b.max, 2)});
-  page.paragraph("Over every cell-beat in biomarkers.csv (summary.json's mean_biomarkers).");
+  std::string not_fired;
+  for (const auto& [type, n] : f.biomarkers->not_fired())
+    if (n > 0) not_fired += " " + std::to_string(n) + " " + type + " cell-beats did not fire (no activation): left out.";
+  page.paragraph("Over every cell-beat in biomarkers.csv where the cell fired (summary.json's mean_biomarkers)." +
+                 not_fired);
   page.table({"cell type", "biomarker", "cell-beats", "mean", "SD", "min", "max"}, rows);
   const auto panels = f.biomarkers->histograms();
   if (!panels.empty()) page.svg_figure("Biomarker histograms", plot_of(panels, std::min<std::size_t>(4, panels.size()), 300, "hist-"));

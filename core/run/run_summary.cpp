@@ -16,8 +16,14 @@ json mean_biomarkers(const std::vector<BeatBiomarkers>& beats) {
     const char* fields[] = {"rmp_mV", "apo_mV", "apd90_ms", "dvdt_max_mV_per_ms"};
     double sum[4] = {0, 0, 0, 0};
     int count[4] = {0, 0, 0, 0};
+    int measured = 0, not_fired = 0;
     for (const auto& b : beats) {
       if (b.type != type) continue;
+      if (!fired(b)) {
+        ++not_fired;
+        continue;
+      }
+      ++measured;
       const double values[4] = {b.rmp_mV, b.apo_mV, b.apd90_ms, b.dvdt_max_mV_per_ms};
       for (int i = 0; i < 4; ++i)
         if (std::isfinite(values[i])) {
@@ -25,10 +31,11 @@ json mean_biomarkers(const std::vector<BeatBiomarkers>& beats) {
           ++count[i];
         }
     }
-    if (count[0] == 0) continue;
+    if (measured + not_fired == 0) continue;
     json m;
     for (int i = 0; i < 4; ++i) m[fields[i]] = count[i] ? json(sum[i] / count[i]) : json(nullptr);
-    m["beats_measured"] = count[0];
+    m["beats_measured"] = measured;
+    m["beats_not_fired"] = not_fired;
     means[cell_type_name(type)] = m;
   }
   return means;
@@ -44,7 +51,7 @@ json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vecto
   std::map<int, std::vector<ConductionSample>> beats_by_index;
   for (const auto& b : beats)
     beats_by_index[b.beat].push_back(
-        {tissue.y_um[b.cell], b.activation_ms, stimulated[b.cell], b.apo_mV - b.rmp_mV >= 20.0});
+        {tissue.y_um[b.cell], b.activation_ms, stimulated[b.cell], carried_wave(b)});
   for (const auto& [beat, beat_cells] : beats_by_index)
     if (const auto fit = method == "transit" ? transit_conduction_velocity(beat_cells) : fit_conduction_velocity(beat_cells))
       per_beat.push_back({{"beat", beat}, {"cv_cm_per_s", fit->cv_cm_per_s}, {"method", method},

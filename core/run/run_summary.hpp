@@ -18,13 +18,15 @@
 
 namespace fibrodem {
 
-// Per cell type with measured beats, the mean of each biomarker over the beats
-// where it is finite (null where it never is) and the number of beats measured.
+// Per cell type with beats, the mean of each biomarker over the beats where
+// the cell fired and the biomarker is finite (null where it never is), the
+// number of beats where it fired (beats_measured) and where it did not
+// (beats_not_fired).
 json mean_biomarkers(const std::vector<BeatBiomarkers>& beats);
 
 // Conduction velocity of each beat along the fibre (y), fitted over the
-// unstimulated cells. A cell counts as activated when its action potential
-// amplitude reaches 20 mV.
+// unstimulated cells that carried the wave (measure/biomarkers.hpp: fired,
+// with a myocyte's 20 mV rise).
 // method: "fit" (least squares) or "transit" (end to end), output.biomarkers.cv.
 json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vector<BeatBiomarkers>& beats,
                 const std::string& method = "fit");

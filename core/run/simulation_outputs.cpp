@@ -104,13 +104,14 @@ void Simulation::Impl::write_biomarker_row(const BeatBiomarkers& b) {
   if (!biomarkers_csv.is_open()) return;
   biomarkers_csv.cell(static_cast<long long>(b.cell))
       .cell(std::string(cell_type_name(b.type)))
-      .cell(static_cast<long long>(b.beat))
-      .cell(b.activation_ms)
-      .cell(b.rmp_mV)
-      .cell(b.apo_mV)
-      .cell(b.apd90_ms)
-      .cell(b.dvdt_max_mV_per_ms)
-      .cell(b.apd50_ms);
+      .cell(static_cast<long long>(b.beat));
+  if (fired(b)) {
+    biomarkers_csv.cell(b.activation_ms).cell(b.rmp_mV).cell(b.apo_mV).cell(b.apd90_ms).cell(b.dvdt_max_mV_per_ms)
+        .cell(b.apd50_ms);
+  } else {  // empty where nothing was measured; "nan" stays a fired beat's unmeasured APD
+    const std::string none;
+    biomarkers_csv.cell(none).cell(format_number_or_empty(b.rmp_mV)).cell(none).cell(none).cell(none).cell(none);
+  }
   biomarkers_csv.end_row();
   biomarkers_csv.flush();
 }

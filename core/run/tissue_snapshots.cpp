@@ -90,15 +90,20 @@ void write_maps(const std::filesystem::path& dir, const std::string& scene_name,
                 const std::vector<BeatBiomarkers>& beats, const std::string& vtk_format) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> activation(tissue.cell_count(), nan), apd90 = activation, rmp = activation, apo = activation;
+  std::vector<char> not_fired_last(tissue.cell_count(), 0);
   for (const auto& b : beats) {
+    not_fired_last[b.cell] = !fired(b);
     activation[b.cell] = b.activation_ms;
     apd90[b.cell] = b.apd90_ms;
     rmp[b.cell] = b.rmp_mV;
     apo[b.cell] = b.apo_mV;
   }
+  // Cells whose last beat did not fire have no activation: drawn grey, and counted in the title.
+  const auto not_fired = std::count(not_fired_last.begin(), not_fired_last.end(), 1);
   PictureOptions picture;
   picture.value_label = "activation (ms)";
   picture.title = scene_name + ": activation map, last beat";
+  if (not_fired > 0) picture.title += fmt::format(" ({} cells not fired, grey)", not_fired);
   write_tissue_png(tissue, dir / "activation_map.png", &activation, picture);
   write_vtk_file(vtk_format, tissue, dir, "maps",
                  {{"activation_ms", activation}, {"apd90_ms", apd90}, {"rmp_mV", rmp}, {"apo_mV", apo}}, false);

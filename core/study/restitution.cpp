@@ -90,12 +90,20 @@ RestitutionPoint restitution_point(const CsvTable& biomarkers, std::size_t s1_be
   for (auto [cell, a] : s1) {
     if (!std::isfinite(a.apd90_ms) && s1_previous.count(cell)) {
       const Beat& before = s1_previous.at(cell);
-      a.apd90_ms = before.apd90_ms, a.rmp_mV = before.rmp_mV, a.apo_mV = before.apo_mV;
+      // Fired, cut short by S2: the train's steady state stands in for its
+      // APD. Not fired (a block of every other S1): the beat before was its
+      // last action potential, and S2's interval counts from it.
+      if (std::isfinite(a.activation_ms)) {
+        a.apd90_ms = before.apd90_ms, a.rmp_mV = before.rmp_mV, a.apo_mV = before.apo_mV;
+      } else {
+        a = before;
+      }
     }
     if (!std::isfinite(a.apd90_ms)) continue;  // S1 did not excite it: nothing to measure against
     ++p.cells_measured;
     const auto b = s2.find(cell);
-    if (b == s2.end() || !std::isfinite(b->second.apd90_ms)) continue;
+    // S2 must fire the cell (an activation) to a measured APD90.
+    if (b == s2.end() || !std::isfinite(b->second.activation_ms) || !std::isfinite(b->second.apd90_ms)) continue;
     if (b->second.apo_mV - b->second.rmp_mV < 0.5 * (a.apo_mV - a.rmp_mV)) continue;
     ++p.cells_captured;
     s1_apd90.push_back(a.apd90_ms);

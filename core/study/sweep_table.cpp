@@ -145,7 +145,7 @@ std::vector<PlotPanel> sweep_panels(const std::vector<GridPoint>& points, const 
       s.y.push_back(stats[k][m].mean);
       s.y_low.push_back(stats[k][m].ci95_low);
       s.y_high.push_back(stats[k][m].ci95_high);
-      any |= std::isfinite(stats[k][m].mean);
+      any |= std::isfinite(stats[k][m].mean) && (list[m].drawn_when_zero || stats[k][m].mean != 0);
     }
     if (any) panels.push_back(std::move(panel));
   }

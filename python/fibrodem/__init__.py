@@ -212,7 +212,8 @@ class CellLog(dict):
     Attributes:
         biomarkers: structured array, one row per beat (cell, type, beat,
             activation_ms [ms], rmp_mV [mV], apo_mV [mV], apd90_ms [ms],
-            dvdt_max_mV_per_ms [mV/ms]).
+            dvdt_max_mV_per_ms [mV/ms]; NaN but rmp_mV where the cell did not
+            fire in the beat).
         integration_s: wall time of the run itself [s] (the rest of the call
             is set-up and conversion).
         integration_cpu_s: CPU time of the run itself [s] (on a loaded

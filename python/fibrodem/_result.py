@@ -59,11 +59,14 @@ class Result:
         biomarkers: one row per cell and beat (biomarkers.csv): cell, type, beat,
             activation_ms [ms], rmp_mV [mV], apo_mV [mV], apd90_ms [ms],
             dvdt_max_mV_per_ms [mV/ms], apd50_ms [ms]; a pandas DataFrame when
-            pandas is installed, else a numpy structured array.
+            pandas is installed, else a numpy structured array. A beat in which
+            the cell did not fire (it rose less than 20 mV) has NaN for all but
+            cell, type, beat and rmp_mV.
         summary: summary.json as a dict (status, simulated_ms, mean_biomarkers, ...).
         maps: dict activation_ms [ms], apd90_ms [ms], rmp_mV [mV], apo_mV [mV]
             -> array over all cells (index = cell), the last beat of each cell as
-            activation_map.png and maps.vtk draw it; NaN where a cell had none.
+            activation_map.png and maps.vtk draw it; NaN where a cell had none
+            or did not fire in it (rmp_mV excepted).
         cell_types: array of "myocyte" / "fibroblast", one per cell.
         status: "completed", "interrupted" or "failed".
         out_dir: the output folder, or None for a run kept in memory.
