@@ -118,7 +118,7 @@ TEST_CASE("adaptive: 2 nA into a 6.3 pF fibroblast stops with a named blow-up, n
   CHECK(sim.trace_times().back() == doctest::Approx(10));
 }
 
-TEST_CASE("adaptive: same numbers for 1, 2 and 3 threads") {
+TEST_CASE("adaptive: same numbers for 1, 2 and 3 threads" * doctest::test_suite("threads")) {
   json m = json::parse(R"({
     "fibrodem": 1, "name": "threads", "seed": 3, "duration_ms": 40,
     "tissue": {"builder": "in_series", "width_mm": 0.8, "height_mm": 2.5, "fm_ratio": 0.41},

@@ -12,7 +12,7 @@
 
 using namespace fibrodem;
 
-TEST_CASE("the background writer runs jobs in order on its own thread, and is idle only once all are done") {
+TEST_CASE("the background writer runs jobs in order on its own thread, and is idle only once all are done" * doctest::test_suite("threads")) {
   BackgroundWriter writer(8);
   CHECK(writer.idle());
   std::promise<void> release;

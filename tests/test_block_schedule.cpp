@@ -37,7 +37,7 @@ std::vector<std::vector<int>> mixed_tissue(int cells) {
 
 }  // namespace
 
-TEST_CASE("the block schedule computes every cell once, in pieces within blocks, for any costs and thread count") {
+TEST_CASE("the block schedule computes every cell once, in pieces within blocks, for any costs and thread count" * doctest::test_suite("threads")) {
   const std::vector<std::size_t> sizes{2900, 229, 1};  // the Fig. 3 in-series tissue's mix, and a lone cell
   // Cut in the blocks' order, or at places in a tissue where the populations interleave.
   std::vector<std::vector<int>> tissue(3);
@@ -88,7 +88,7 @@ TEST_CASE("the block schedule computes every cell once, in pieces within blocks,
   omp_set_num_threads(saved_threads);
 }
 
-TEST_CASE("runs cut at tissue indices: each thread's own cells are one stretch of the tissue, in every population") {
+TEST_CASE("runs cut at tissue indices: each thread's own cells are one stretch of the tissue, in every population" * doctest::test_suite("threads")) {
   // Thread t's run writes the new potentials of its own stretch of the
   // tissue only (the populations' cells are spread over all of it).
   const auto tissue = mixed_tissue(3129);
@@ -130,7 +130,7 @@ TEST_CASE("runs cut at tissue indices: each thread's own cells are one stretch o
   omp_set_num_threads(saved_threads);
 }
 
-TEST_CASE("solver.threads auto: the governor keeps the faster thread count and tries the other again later") {
+TEST_CASE("solver.threads auto: the governor keeps the faster thread count and tries the other again later" * doctest::test_suite("threads")) {
   const int saved_threads = omp_get_max_threads();
   ThreadGovernor governor;
   CHECK_FALSE(governor.adapting());
@@ -166,7 +166,7 @@ TEST_CASE("solver.threads auto: the governor keeps the faster thread count and t
   omp_set_num_threads(saved_threads);
 }
 
-TEST_CASE("a core lent to the writer: the cells step on one thread fewer, unmeasured, until it is given back") {
+TEST_CASE("a core lent to the writer: the cells step on one thread fewer, unmeasured, until it is given back" * doctest::test_suite("threads")) {
   const int saved_threads = omp_get_max_threads();
   ThreadGovernor fixed;
   fixed.use(2);

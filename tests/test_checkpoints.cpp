@@ -132,7 +132,7 @@ TEST_CASE("a checkpoint file reads back its fields, a truncated, corrupt or fore
                        CheckpointError);
 }
 
-TEST_CASE("killed (SIGKILL) at any step and resumed, a run writes the same traces and biomarkers as one never stopped") {
+TEST_CASE("killed (SIGKILL) at any step and resumed, a run writes the same traces and biomarkers as one never stopped" * doctest::test_suite("slow threads")) {
   SUBCASE("forward Euler") { check_kill_and_resume("euler", strand({{"method", "euler"}, {"dt_ms", 0.005}})); }
   SUBCASE("Rush-Larsen") { check_kill_and_resume("rush_larsen", strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}})); }
   SUBCASE("second-order Rush-Larsen") {

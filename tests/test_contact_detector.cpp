@@ -97,7 +97,7 @@ TEST_CASE("contact detection: while the list is kept, every touching pair is on 
   CHECK(touching_checked >= 100);
 }
 
-TEST_CASE("contact detection: one particle's move is seen, whichever it is, on any number of threads") {
+TEST_CASE("contact detection: one particle's move is seen, whichever it is, on any number of threads" * doctest::test_suite("threads")) {
   // 997 disks of radius 1-12.5 um in a 600 x 600 um box, each its own body.
   // With the rest still, one particle moved by d departs from the best affine
   // fit by ~d, and the list must go when 2 d exceeds the skin (the bound of

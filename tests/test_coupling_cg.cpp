@@ -141,7 +141,7 @@ TEST_CASE("coupling CG: a potential that is not finite is left for the caller to
   CHECK(std::any_of(x.begin(), x.end(), [](double v) { return std::isnan(v); }));
 }
 
-TEST_CASE("coupling CG: the same bits on one thread and on two") {
+TEST_CASE("coupling CG: the same bits on one thread and on two" * doctest::test_suite("threads")) {
   // 200 x 200 cells (a 4-neighbour lattice of myocytes with a fibroblast
   // column): above kParallelCells, so the passes run on the threads.
   Tissue tissue;

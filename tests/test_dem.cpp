@@ -732,7 +732,7 @@ TEST_CASE("dem: loose interstitial tissue contracts without bodies passing throu
   }
 }
 
-TEST_CASE("dem: a run gives the same bits on one thread and on two") {
+TEST_CASE("dem: a run gives the same bits on one thread and on two" * doctest::test_suite("threads")) {
   // Loose interstitial tissue through part of a twitch: bonds and detected
   // contacts (several blocks of each, so both threads have contacts to do),
   // list rebuilds, the automatic step. Forces are summed per particle in a

@@ -29,7 +29,7 @@ constexpr double kMassScaling = 0.005;
 
 }  // namespace
 
-TEST_CASE("dem mass scaling: in-series tissue through a twitch keeps its strain within the acceptance bounds") {
+TEST_CASE("dem mass scaling: in-series tissue through a twitch keeps its strain within the acceptance bounds" * doctest::test_suite("slow")) {
   const Tissue t = small_in_series_tissue();
   DemSpec native_spec;  // examples/fig3_in_series_em.json's mechanics: Table 1
   DemSpec scaled_spec = native_spec;
@@ -40,7 +40,7 @@ TEST_CASE("dem mass scaling: in-series tissue through a twitch keeps its strain 
   check_within_bounds(scaled, native);
 }
 
-TEST_CASE("dem mass scaling: interstitial tissue through a twitch keeps its strain within the acceptance bounds") {
+TEST_CASE("dem mass scaling: interstitial tissue through a twitch keeps its strain within the acceptance bounds" * doctest::test_suite("slow")) {
   const Tissue t = small_interstitial_tissue();
   DemSpec native_spec;
   native_spec.local_damping = 0.7;  // as examples/fig3_interstitial_em.json

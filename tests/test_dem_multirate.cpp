@@ -32,7 +32,7 @@ void advance(const Tissue& t, DemSolver& dem, double until_ms) {
 
 }  // namespace
 
-TEST_CASE("dem multirate: interstitial tissue through a twitch keeps its strain within the acceptance bounds") {
+TEST_CASE("dem multirate: interstitial tissue through a twitch keeps its strain within the acceptance bounds" * doctest::test_suite("slow")) {
   const Tissue t = small_interstitial_tissue();
   DemSpec native_spec;
   native_spec.local_damping = 0.7;  // as examples/fig3_interstitial_em.json
@@ -49,7 +49,7 @@ TEST_CASE("dem multirate: interstitial tissue through a twitch keeps its strain 
   check_within_bounds(multirate, native);
 }
 
-TEST_CASE("dem multirate: with mass scaling, interstitial tissue keeps its strain within the acceptance bounds") {
+TEST_CASE("dem multirate: with mass scaling, interstitial tissue keeps its strain within the acceptance bounds" * doctest::test_suite("slow")) {
   const Tissue t = small_interstitial_tissue();
   DemSpec native_spec;
   native_spec.local_damping = 0.7;
@@ -66,7 +66,7 @@ TEST_CASE("dem multirate: with mass scaling, interstitial tissue keeps its strai
   check_within_bounds(combined, native);
 }
 
-TEST_CASE("dem multirate: in-series tissue through a twitch keeps its strain within the acceptance bounds") {
+TEST_CASE("dem multirate: in-series tissue through a twitch keeps its strain within the acceptance bounds" * doctest::test_suite("slow")) {
   const Tissue t = small_in_series_tissue();
   DemSpec native_spec;  // examples/fig3_in_series_em.json's mechanics: Table 1
   DemSpec multirate_spec = native_spec;
@@ -78,7 +78,7 @@ TEST_CASE("dem multirate: in-series tissue through a twitch keeps its strain wit
   check_within_bounds(multirate, native);
 }
 
-TEST_CASE("dem multirate: the strain fitted to bodies holds the same bounds") {
+TEST_CASE("dem multirate: the strain fitted to bodies holds the same bounds" * doctest::test_suite("slow")) {
   // (The body fit takes each body's displacement over the step: a light
   // body's last substep velocity is not its mean over the step.)
   const Tissue t = small_interstitial_tissue();
@@ -138,7 +138,7 @@ TEST_CASE("dem multirate: internal forces leave the free tissue's momentum near 
   CHECK(std::hypot(px, py) < 1e-3 * magnitude);
 }
 
-TEST_CASE("dem multirate: the same bits on one thread and on two") {
+TEST_CASE("dem multirate: the same bits on one thread and on two" * doctest::test_suite("threads")) {
   const Tissue t = build_tissue({{"builder", "interstitial"}, {"width_mm", 0.6}, {"height_mm", 1.6}}, 2);
   const int threads_before = omp_get_max_threads();
   auto run = [&t](int threads) {

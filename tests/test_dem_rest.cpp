@@ -152,7 +152,7 @@ TEST_CASE("dem rest: a moving body keeps it awake, a length change beyond the to
   CHECK(dem.steps() > steps_before);
 }
 
-TEST_CASE("dem rest: the same bits for any thread count") {
+TEST_CASE("dem rest: the same bits for any thread count" * doctest::test_suite("threads")) {
   const Tissue t = small_interstitial_tissue();
   const DemSpec spec = interstitial_spec();
   const int threads_before = omp_get_max_threads();

@@ -106,7 +106,7 @@ TEST_CASE("CVODE and adaptive never step over a pulse: each pulse between quiet 
   }
 }
 
-TEST_CASE("100 beats at 1 Hz: ionic concentrations drift only as the model itself does (Rush-Larsen, adaptive)") {
+TEST_CASE("100 beats at 1 Hz: ionic concentrations drift only as the model itself does (Rush-Larsen, adaptive)" * doctest::test_suite("slow")) {
   json m = json::parse(R"({
     "fibrodem": 1, "name": "long", "duration_ms": 100000,
     "tissue": {"builder": "single_cell", "type": "myocyte"},

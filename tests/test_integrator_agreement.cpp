@@ -53,19 +53,19 @@ void check_agreement(const json& scene) {
 
 }  // namespace
 
-TEST_CASE("integrators agree: courtemanche with maleckar_active2") {
+TEST_CASE("integrators agree: courtemanche with maleckar_active2" * doctest::test_suite("slow")) {
   check_agreement(pair_scene("courtemanche", "paced_1hz", "maleckar_active2"));
 }
 
-TEST_CASE("integrators agree: courtemanche with passive_fibroblast") {
+TEST_CASE("integrators agree: courtemanche with passive_fibroblast" * doctest::test_suite("slow")) {
   check_agreement(pair_scene("courtemanche", "paced_1hz", "passive_fibroblast"));
 }
 
-TEST_CASE("integrators agree: colman (colman2013) with maleckar_active2") {
+TEST_CASE("integrators agree: colman (colman2013) with maleckar_active2" * doctest::test_suite("slow")) {
   check_agreement(pair_scene("colman", "colman2013", "maleckar_active2"));
 }
 
-TEST_CASE("integrators agree: colman (ni2017) with passive_fibroblast") {
+TEST_CASE("integrators agree: colman (ni2017) with passive_fibroblast" * doctest::test_suite("slow")) {
   check_agreement(pair_scene("colman", "ni2017", "passive_fibroblast"));
 }
 

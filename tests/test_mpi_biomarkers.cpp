@@ -14,6 +14,9 @@
 
 using namespace fibrodem;
 
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -114,3 +117,5 @@ TEST_CASE("mpirun -n 2 and 3: biomarkers.csv of a split run has one process's by
   CHECK(testing::read_file(dir / "pre_upstroke_two" / "biomarkers.csv") ==
         testing::read_file(dir / "pre_upstroke_one" / "biomarkers.csv"));
 }
+
+TEST_SUITE_END();

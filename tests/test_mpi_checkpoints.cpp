@@ -20,6 +20,9 @@
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
+
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
 namespace fs = std::filesystem;
 
 namespace {
@@ -196,3 +199,5 @@ TEST_CASE("mpirun -n 2: initial_state.from a one-process checkpoint gives one pr
         std::string::npos);
   CHECK((!fs::exists(dir / "from_split") || fs::is_empty(dir / "from_split")));
 }
+
+TEST_SUITE_END();

@@ -23,6 +23,9 @@
 #include "tissue/rank_cells.hpp"
 
 using namespace fibrodem;
+
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
 using test::max_difference;
 
 namespace {
@@ -214,3 +217,5 @@ TEST_CASE("coupling CG over 2 ranks: without the ghosts' exchange the solve is w
   const auto reference = direct_solve(tissue, C, direct_solve(tissue, C, V0, dt_ms), 0.5 * dt_ms);
   CHECK(max_difference(solve_split(2, true, dt_ms, tolerance_mV).V, reference) > 1e3 * tolerance_mV);
 }
+
+TEST_SUITE_END();

@@ -21,6 +21,9 @@
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
+
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
 namespace fs = std::filesystem;
 
 namespace {
@@ -209,3 +212,5 @@ TEST_CASE("mpirun -n 2: an EM run split, killed and resumed on 2 ranks writes th
   CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"] == 30);
   check_same_bytes(dir / "reference", dir / "killed");
 }
+
+TEST_SUITE_END();

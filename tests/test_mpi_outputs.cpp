@@ -15,6 +15,9 @@
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
+
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
 namespace fs = std::filesystem;
 
 namespace {
@@ -132,3 +135,5 @@ TEST_CASE("mpirun -n 2: output.reentry of a split run is one process's") {
   // taken at another time on one rank, would show in the activation times.
   CHECK(file_names(dir / "two", "activation_beat_") == file_names(dir / "one", "activation_beat_"));
 }
+
+TEST_SUITE_END();

@@ -12,6 +12,9 @@
 
 using namespace fibrodem;
 
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
+
 namespace {
 
 std::size_t count_of(const std::string& text, const std::string& part) {
@@ -97,3 +100,5 @@ TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
   CHECK(resume_log.find("methods run split). Nothing was written") != std::string::npos);
   CHECK(testing::read_file(dir / "out" / "summary.json") == summary);
 }
+
+TEST_SUITE_END();

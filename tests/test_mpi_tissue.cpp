@@ -12,6 +12,9 @@
 
 using namespace fibrodem;
 
+// Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("mpi");
+
 namespace {
 
 // The split-run tests' sheet, 400 ms, tracing also the step, and Ca_i in
@@ -157,3 +160,5 @@ TEST_CASE("mpirun -n 2: fixed-step implicit coupling split over ranks agrees wit
   // steps are the same.
   check_agrees(dir / "one", dir / "two", 1e-6, true);
 }
+
+TEST_SUITE_END();

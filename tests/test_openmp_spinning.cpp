@@ -59,7 +59,7 @@ TEST_CASE("a single cell runs without the restart that bounds OpenMP's spinning,
   CHECK(version.size() == 1);
 }
 
-TEST_CASE("threads the user binds to places are not restarted, which would leave the process one CPU") {
+TEST_CASE("threads the user binds to places are not restarted, which would leave the process one CPU" * doctest::test_suite("threads")) {
   // With OMP_PLACES, or OMP_PROC_BIND other than false, libgomp pins the
   // first thread to a CPU as it loads, and a process started again from it
   // would inherit that CPU alone.

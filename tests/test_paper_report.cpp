@@ -38,7 +38,7 @@ std::map<std::string, std::string> stats_row(const std::filesystem::path& file, 
 
 }  // namespace
 
-TEST_CASE("scripts/paper.sh --quick tabulates Figs. 4 and 6 for the default and brocklehurst2022_tissue") {
+TEST_CASE("scripts/paper.sh --quick tabulates Figs. 4 and 6 for the default and brocklehurst2022_tissue" * doctest::test_suite("slow")) {
   const auto dir = testing::scratch_dir("paper_quick");
   const std::string command = "FIBRODEM_BIN=" + std::string(FIBRODEM_BINARY_DIR) + "/fibrodem " +
                               std::string(FIBRODEM_SOURCE_DIR) + "/scripts/paper.sh --quick " + (dir / "out").string() +

@@ -389,7 +389,7 @@ json cross_field(bool with_s2, double duration_ms) {
 }
 }  // namespace
 
-TEST_CASE("a cross-field S1-S2 makes re-entry, S1 alone does not") {
+TEST_CASE("a cross-field S1-S2 makes re-entry, S1 alone does not" * doctest::test_suite("slow")) {
   // Re-entry, independently of the phase: cells excited again after the
   // last stimulus with no stimulus to excite them (a plane wave excites
   // each cell once), and activity to the end of the run.

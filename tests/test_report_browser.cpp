@@ -26,6 +26,9 @@
 
 using namespace fibrodem;
 
+// Every case here is labelled "browser" for ctest (tests/CMakeLists.txt).
+TEST_SUITE_BEGIN("browser");
+
 namespace {
 
 const std::string kFibrodem = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem";
@@ -319,3 +322,5 @@ TEST_CASE("report.html of a run with output.reentry opens in a browser with its 
               {"Dominant frequency per cell", "Activation map per beat", "Membrane potential"},
               "fibrodem run: report_tissue");
 }
+
+TEST_SUITE_END();

@@ -139,7 +139,7 @@ TEST_CASE("an effect the scene cannot support is refused with what it needs") {
   CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)), doctest::Contains("myofilament"), ManifestError);
 }
 
-TEST_CASE("results do not depend on the thread count") {
+TEST_CASE("results do not depend on the thread count" * doctest::test_suite("threads")) {
   // 2100 cells: nine blocks of cells, cut between the threads at measured
   // costs (inside a block) and taken over by a thread done early, each piece
   // computing its own gap-junction currents inside the parallel loop; the
@@ -173,7 +173,7 @@ TEST_CASE("results do not depend on the thread count") {
   }
 }
 
-TEST_CASE("SIGTERM or SIGINT ends a run at the end of a step: outputs written, status interrupted, exit 143 / 130") {
+TEST_CASE("SIGTERM or SIGINT ends a run at the end of a step: outputs written, status interrupted, exit 143 / 130" * doctest::test_suite("threads")) {
   // In the library: as if the signal had come during the run.
   const auto dir = testing::scratch_dir("interrupted");
   json m = testing::passive_cell_manifest();

@@ -38,7 +38,7 @@ json strand(const std::string& model, const std::string& type, bool simd) {
 
 }  // namespace
 
-TEST_CASE("SIMD lanes and the scalar reference path agree to round-off") {
+TEST_CASE("SIMD lanes and the scalar reference path agree to round-off" * doctest::test_suite("slow")) {
   // Measured (this build, AVX-512): V RMS ~5e-14 mV and APD90 ~3e-13 ms on
   // the colman strand; xsimd's exp/log are within ~1 ulp of glibc's, and the
   // difference stays at round-off through a beat. 1e-9 leaves room for other

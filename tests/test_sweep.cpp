@@ -11,7 +11,7 @@
 
 using namespace fibrodem;
 
-TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
+TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers" * doctest::test_suite("threads")) {
   const auto dir = testing::scratch_dir("sweep");
   json m = testing::passive_cell_manifest();
   m["duration_ms"] = 20;
@@ -46,7 +46,7 @@ TEST_CASE("a sweep runs every grid point and tabulates mean biomarkers") {
   CHECK(std::filesystem::exists(dir / "out" / "run_3" / "summary.json"));
 }
 
-TEST_CASE("a sweep point that crashes its process (a segfaulting plugin) leaves the other points to finish") {
+TEST_CASE("a sweep point that crashes its process (a segfaulting plugin) leaves the other points to finish" * doctest::test_suite("threads")) {
   const auto dir = testing::scratch_dir("sweep_crash");
   json m = testing::passive_cell_manifest();
   m["duration_ms"] = 5;
@@ -108,7 +108,7 @@ std::size_t column(const std::vector<std::string>& header, const std::string& na
 
 }  // namespace
 
-TEST_CASE("sweep seeds: every grid point over K tissues, with mean, SD and 95 % CI checked by hand") {
+TEST_CASE("sweep seeds: every grid point over K tissues, with mean, SD and 95 % CI checked by hand" * doctest::test_suite("threads")) {
   const auto dir = testing::scratch_dir("sweep_seeds");
   std::ofstream(dir / "base.json") << seeded_manifest().dump();
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",
@@ -145,7 +145,7 @@ TEST_CASE("sweep seeds: every grid point over K tissues, with mean, SD and 95 % 
   CHECK(testing::read_file(dir / "out" / "sweep.md").find("Over the seeds") != std::string::npos);
 }
 
-TEST_CASE("a sweep run again skips the runs completed with the same manifest and runs the changed ones, --set works") {
+TEST_CASE("a sweep run again skips the runs completed with the same manifest and runs the changed ones, --set works" * doctest::test_suite("threads")) {
   const auto dir = testing::scratch_dir("sweep_resume");
   std::ofstream(dir / "base.json") << seeded_manifest().dump();
   std::ofstream(dir / "sweep.json") << R"({"fibrodem_sweep": 1, "manifest": "base.json",
@@ -168,7 +168,7 @@ TEST_CASE("a sweep run again skips the runs completed with the same manifest and
   CHECK(json::parse(testing::read_file(dir / "out" / "run_0" / "summary.json"))["simulated_ms"] == 20.0);
 }
 
-TEST_CASE("mpirun -n 2 fibrodem sweep gives the same tables as a local sweep") {
+TEST_CASE("mpirun -n 2 fibrodem sweep gives the same tables as a local sweep" * doctest::test_suite("mpi threads")) {
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("sweep_mpi");
   std::ofstream(dir / "base.json") << seeded_manifest().dump();

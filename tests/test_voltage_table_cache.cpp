@@ -185,7 +185,7 @@ TEST_CASE("table cache: each table counts its own clamps") {
   CHECK(b.table->clamp_count() == 0);
 }
 
-TEST_CASE("table cache: threads building the same table share one copy") {
+TEST_CASE("table cache: threads building the same table share one copy" * doctest::test_suite("threads")) {
   VoltageTableCache::instance().clear();
   const Population pop = colman_cell();
   std::vector<std::shared_ptr<fibrodem::VoltageTable>> tables(4);
