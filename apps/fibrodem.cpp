@@ -4,6 +4,7 @@
 #include <iostream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "apps/commands.hpp"
 #include "apps/openmp_spinning.hpp"
@@ -14,6 +15,39 @@ namespace {
 constexpr const char* kSubcommands[] = {
     "run",     "resume", "report",       "validate",  "compare", "sweep", "vulnerable-window", "restitution",
     "plugins", "plot",   "check-plugin", "new-model", "bench",   "import-cellml", "schema"};
+
+// Edits (insertions, deletions, substitutions) from a to b: Levenshtein's distance.
+std::size_t edits_between(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// A first word that is no subcommand (and no option) is named as such, with
+// the nearest subcommand if one is two edits away, before CLI11 parses: it
+// would answer "A subcommand is required", and to `WORD --help` print the
+// general help and exit 0. Exit 109, CLI11's code for arguments not expected.
+int refuse_unknown_subcommand(const std::string& word) {
+  std::string names, nearest;
+  std::size_t nearest_edits = 3;
+  for (const char* name : kSubcommands) {
+    names += std::string(names.empty() ? "" : ", ") + name;
+    if (const std::size_t e = edits_between(word, name); e < nearest_edits) nearest_edits = e, nearest = name;
+  }
+  std::cerr << "fibrodem: '" << word << "' is not a subcommand"
+            << (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") << "; the subcommands are " << names
+            << " (fibrodem --help)\n";
+  return static_cast<int>(CLI::ExitCodes::ExtrasError);
+}
 
 }  // namespace
 
@@ -29,6 +63,7 @@ int main(int argc, char** argv) {
   // the error message; none with --version alone.
   const std::string first = argc > 1 ? argv[1] : "";
   const bool names_one = std::find(std::begin(kSubcommands), std::end(kSubcommands), first) != std::end(kSubcommands);
+  if (!names_one && !first.empty() && first[0] != '-') return refuse_unknown_subcommand(first);
   const bool version_only = argc == 2 && first == "--version";
   const auto declared = [&](const char* name) { return names_one ? first == name : !version_only; };
 
