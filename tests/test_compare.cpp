@@ -130,6 +130,8 @@ TEST_CASE("compare checks A and B before running either: a bad B stops it with n
   CHECK(WEXITSTATUS(status) == 2);  // a manifest error
   const std::string err = testing::read_file(dir / "stderr.txt");
   CAPTURE(err);
-  CHECK(err.find("manifest: B: cells.fibroblast.parameters.no_such_parameter") != std::string::npos);
+  CHECK(err.find("manifest: B: cells.fibroblast.parameters.no_such_parameter: ") != std::string::npos);
+  // The path once: "B: PATH: PATH: ..." said it twice.
+  CHECK(err.find("no_such_parameter: cells.") == std::string::npos);
   CHECK(!std::filesystem::exists(dir / "out" / "A" / "summary.json"));  // A never ran
 }

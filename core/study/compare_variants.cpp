@@ -46,7 +46,7 @@ void validate_variants(const std::vector<std::pair<std::string, const json*>>& v
       scene.output.dir.clear();  // validating writes nothing
       Simulation check(scene, registry_searching(scene, options.plugin_search_path));
     } catch (const ManifestError& e) {
-      throw ManifestError(label + ": " + e.path(), std::string(e.what()).substr(std::string("manifest: ").size()));
+      throw ManifestError(label + ": " + e.path(), e.detail());
     } catch (const PluginError& e) {
       throw PluginError(label + ": " + e.what());
     }

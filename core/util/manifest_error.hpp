@@ -12,11 +12,14 @@ class ManifestError : public std::runtime_error {
   ManifestError(const std::string& path, const std::string& what)
       : std::runtime_error("manifest: " + (path.empty() ? std::string("(top level)") : path) +
                            ": " + what),
-        path_(path) {}
+        path_(path), detail_(what) {}
   const std::string& path() const { return path_; }
+  // What is wrong at the path, or what was expected there (what() without
+  // "manifest: PATH: "), for an error re-thrown under a longer path.
+  const std::string& detail() const { return detail_; }
 
  private:
-  std::string path_;
+  std::string path_, detail_;
 };
 
 }  // namespace fibrodem

@@ -11,13 +11,6 @@ namespace fibrodem::python {
 
 namespace {
 
-// "manifest: PATH: WHAT" -> WHAT (what was expected, or what is wrong).
-std::string expectation(const ManifestError& e) {
-  const std::string prefix = "manifest: " + (e.path().empty() ? std::string("(top level)") : e.path()) + ": ";
-  const std::string what = e.what();
-  return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
-}
-
 void raise(const char* name, py::tuple args) {
   py::object cls = py::module_::import("fibrodem._errors").attr(name);
   py::object error = cls(*args);
@@ -31,7 +24,7 @@ void bind_errors(py::module_&) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ManifestError& e) {
-      raise("ManifestError", py::make_tuple(e.what(), e.path(), expectation(e)));
+      raise("ManifestError", py::make_tuple(e.what(), e.path(), e.detail()));
     } catch (const PluginError& e) {
       raise("PluginError", py::make_tuple(e.what()));
     }
