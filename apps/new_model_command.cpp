@@ -22,8 +22,10 @@ std::string replace_all(std::string text, const std::string& from, const std::st
   return text;
 }
 
-// my_model -> MyModel
-std::string class_name(const std::string& name) {
+// my_model -> MyModel; a name the skeleton declares beside the class (its
+// enums of indices: state -> State) gets the kind's word after it
+// (StateModel, ParamLaw), which would not compile otherwise.
+std::string class_name(const std::string& name, const std::string& kind) {
   std::string out;
   bool upper = true;
   for (char c : name) {
@@ -34,6 +36,8 @@ std::string class_name(const std::string& name) {
     out += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
     upper = false;
   }
+  for (const char* declared : {"State", "Param", "Input", "Output"})
+    if (out == declared) return out + (kind == "contact-law" ? "Law" : "Model");
   return out;
 }
 
@@ -82,7 +86,7 @@ int new_model_command(const NewModelArgs& args) {
   }
   for (const auto& [file, text] : files) {
     std::string out = replace_all(text, "@NAME@", args.name);
-    out = replace_all(out, "@CLASS@", class_name(args.name));
+    out = replace_all(out, "@CLASS@", class_name(args.name, args.kind));
     out = replace_all(out, "@KIND@", args.kind);
     out = replace_all(out, "@ADD_FUNCTION@", add_function);
     out = replace_all(out, "@TARGET@", (args.kind == "contact-law" ? "fibrodem_contact_law_" : "fibrodem_") + args.name);
