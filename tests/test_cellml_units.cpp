@@ -9,9 +9,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "cellml/import.hpp"
 #include "cellml/import_error.hpp"
+#include "cellml/model_analysis.hpp"
+#include "cellml/model_reader.hpp"
 #include "model/plugin_registry.hpp"
 #include "support/cellml_plugins.hpp"
 #include "support/scenes.hpp"
@@ -174,4 +177,25 @@ TEST_CASE("import-cellml units: structural faults are refused with or without --
     else CHECK(no_t.find("/model[@name='time_not_time']/component[@name='membrane']/variable[@name='t'] (line 6): "
                          "the independent variable membrane.t is in 'mV'") == 0);
   }
+}
+
+TEST_CASE("import-cellml units: an initial value naming a constant is converted, or taken as written across dimensions") {
+  const fs::path file = kCellml / "initial_value_slip_2_0.cellml";
+  // The model as analysed: V starts at V_rest, -0.08 V converted to -80 mV;
+  // w (dimensionless) at w_time, 0.25 ms, which no conversion makes
+  // dimensionless: 0.25 as written, with the warning below.
+  const cellml::Model model = cellml::analyse(cellml::read_cellml(file));
+  std::map<std::string, double> initial;
+  for (int q : model.states) initial[model.source(q).name] = model.quantities[static_cast<std::size_t>(q)].initial;
+  CHECK(initial.at("V") == doctest::Approx(-80.0).epsilon(1e-12));
+  CHECK(initial.at("w") == 0.25);
+  REQUIRE(model.initial_value_unit_issues.size() == 1);
+  const auto result = import(file);
+  REQUIRE(result.unit_warnings.size() == 1);
+  CHECK(result.unit_warnings[0].rfind("inconsistent units in the initial value of membrane.w at ", 0) == 0);
+  CHECK(result.unit_warnings[0].find("it names 'w_time' [ms = 0.001 x second^1], of another dimension than "
+                                     "membrane.w [dimensionless]; its number is taken as written") != std::string::npos);
+  const std::string refused = refusal(file, true);
+  CHECK(refused.find("1 unit inconsistency") != std::string::npos);
+  CHECK(refused.find("membrane.w") != std::string::npos);
 }

@@ -61,8 +61,9 @@ ImportResult import_cellml(const ImportOptions& o) {
   // Inconsistent units inside an equation: public models hold such slips and
   // other tools import them with the numbers as written (CellML does not
   // require dimensional consistency), so they are warnings unless
-  // --strict-units; every one is listed either way.
-  std::vector<std::string> warnings;
+  // --strict-units; every one is listed either way. So is an initial value
+  // that names a constant of another dimension.
+  std::vector<std::string> warnings = model.initial_value_unit_issues;
   for (const auto& issue : check_equation_units(model)) warnings.push_back(issue.text());
   if (o.strict_units && !warnings.empty()) {
     std::string all = "--strict-units: " + std::to_string(warnings.size()) + " unit inconsistenc" +

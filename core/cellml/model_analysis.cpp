@@ -236,7 +236,15 @@ Model analyse(Document doc) {
       const auto& rv = vars[rq.source];
       if (!as_number(rv.initial))
         throw ImportError(iv.path + ": initial_value '" + iv.initial + "' refers to another reference");
-      q.initial = *as_number(rv.initial) * (rv.unit.scale / iv.unit.scale) * to_source;
+      if (rv.unit.same_dims(iv.unit)) {
+        q.initial = *as_number(rv.initial) * (rv.unit.scale / iv.unit.scale) * to_source;
+      } else {  // no conversion between dimensions: the number as written, and a warning
+        m.initial_value_unit_issues.push_back(
+            "inconsistent units in the initial value of " + iv.qualified() + " at " + iv.path + ": it names '" +
+            iv.initial + "' [" + rv.unit.described_as(rv.units_name) + "], of another dimension than " +
+            iv.qualified() + " [" + iv.unit.described_as(iv.units_name) + "]; its number is taken as written");
+        q.initial = *as_number(rv.initial) * to_source;
+      }
     }
   }
   for (int qi = 0; qi < static_cast<int>(m.quantities.size()); ++qi) {

@@ -31,6 +31,10 @@ struct Model {
   std::vector<int> states;     // quantities, in document order
   std::vector<int> parameters;
   std::vector<int> order;      // algebraic quantities, each after those it uses
+  // Initial values that name a constant of another dimension (a slip the
+  // import warns of, or refuses under --strict-units): the constant's number
+  // is taken as written in the variable's own units, not converted.
+  std::vector<std::string> initial_value_unit_issues;
 
   const Variable& source(int q) const { return doc.variables[quantities[q].source]; }
   // value of variable v = value of its quantity * factor (connected units).

@@ -1,6 +1,7 @@
 #include "cellml/units.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 namespace fibrodem::cellml {
@@ -38,6 +39,16 @@ std::string Unit::dims_text() const {
     if (std::fabs(v) > 1e-12) out << (out.tellp() > 0 ? " " : "") << k << "^" << v;
   const std::string text = out.str();
   return text.empty() ? "dimensionless" : text;
+}
+
+std::string Unit::described_as(const std::string& written) const {
+  std::string si = dims_text();
+  if (std::fabs(scale - 1.0) > 1e-12) {
+    char factor[32];
+    std::snprintf(factor, sizeof factor, "%g", scale);
+    si = std::string(factor) + " x " + si;
+  }
+  return si == written ? written : written + " = " + si;
 }
 
 std::optional<Unit> builtin_unit(const std::string& n) {

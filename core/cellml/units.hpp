@@ -17,6 +17,10 @@ struct Unit {
 
   bool same_dims(const Unit& other) const;
   std::string dims_text() const;  // "kilogram^1 metre^2 second^-3 ampere^-1"
+  // The unit as a model writes it and what it is: "mV = 0.001 x
+  // ampere^-1 kilogram^1 metre^2 second^-3"; the name alone where the two
+  // say the same ("dimensionless", "volt = ..." keeps its dimensions).
+  std::string described_as(const std::string& written) const;
 };
 
 // Built-in units of CellML (SI base and derived), or nothing.

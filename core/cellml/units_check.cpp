@@ -85,10 +85,8 @@ Found raised(const Found& base, double p) {
 
 // "'V' [mV = 0.001 x ampere^-1 kilogram^1 metre^2 second^-3]"
 std::string described(const std::string& term_text, const Found& f) {
-  std::string si = f.unit.dims_text();
-  if (!f.scale_known) si = "? x " + si;
-  else if (std::fabs(f.unit.scale - 1.0) > 1e-12) si = number(f.unit.scale) + " x " + si;
-  const std::string units = si == f.units ? f.units : f.units + " = " + si;
+  const std::string si = "? x " + f.unit.dims_text();
+  const std::string units = f.scale_known ? f.unit.described_as(f.units) : f.units + " = " + si;
   return "'" + term_text + "' [" + units + "]";
 }
 
