@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Installs what fibrodem needs from Debian 12 packages (only what is missing)
 # and builds it in ./build (Release). Safe to run again.
-#   scripts/setup.sh [--deps-only]   (--deps-only: install, do not build;
-#   FIBRODEM_EXTRA_PACKAGES="...": more packages, e.g. scripts/fuzz.sh's clang)
+#   scripts/setup.sh [--deps-only | --runtime]
+#   (--deps-only: install, do not build; --runtime: build only what running a
+#   scene needs, the command, plugins and modules, not the tests or the
+#   Python module; FIBRODEM_EXTRA_PACKAGES="...": more packages, e.g.
+#   scripts/fuzz.sh's clang)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,4 +33,6 @@ fi
 [ "${1:-}" = "--deps-only" ] && exit 0
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j "$jobs"
+target=()
+[ "${1:-}" = "--runtime" ] && target=(--target fibrodem_runtime)
+cmake --build build -j "$jobs" "${target[@]}"
