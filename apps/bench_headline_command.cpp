@@ -158,7 +158,18 @@ double median(std::vector<double> v) {
 struct Row {
   std::string label;
   std::vector<double> ours, theirs;
+  bool rate = false;  // higher is better (a throughput), else a time
 };
+
+// Figures more than this much worse than the baseline are named after the
+// table: a slow-down of 5 % or more is not to be read as the machine's noise.
+constexpr double kWorseBy = 0.05;
+
+// How much worse this build is than the baseline (0.12: 12 % slower), or 0.
+double worse_by(const Row& r, double ours, double theirs) {
+  if (!(ours > 0 && theirs > 0)) return 0;
+  return std::max(0.0, r.rate ? theirs / ours - 1 : ours / theirs - 1);
+}
 
 std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : "-"; }
 
@@ -199,8 +210,8 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     const fs::path scratch = fs::temp_directory_path() / fmt::format("fibrodem_headline_{}", getpid());
     fs::create_directories(scratch);
     std::vector<Row> rows;
-    for (const auto& m : kMicro) rows.push_back({m.label, {}, {}});
-    for (const auto& scene : scenes) rows.push_back({scene.label + ": wall time [s]", {}, {}});
+    for (const auto& m : kMicro) rows.push_back({m.label, {}, {}, !m.counter.empty()});
+    for (const auto& scene : scenes) rows.push_back({scene.label + ": wall time [s]", {}, {}, false});
     std::map<std::string, std::map<std::string, std::vector<double>>> breakdown;  // scene -> process -> s (ours)
 
     const int rounds = std::max(1, args.repeat);
@@ -233,6 +244,14 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
       std::cout << "| " << r.label << " | " << cell(ours) << " |";
       if (!args.baseline.empty()) std::cout << " " << cell(theirs) << " | " << cell(ours / theirs) << " |";
       std::cout << "\n";
+    }
+    if (!args.baseline.empty()) {
+      std::string worse;
+      for (const auto& r : rows)
+        if (const double w = worse_by(r, median(r.ours), median(r.theirs)); w > kWorseBy)
+          worse += fmt::format("\n- {}: {:.1f} % worse", r.label, 100 * w);
+      std::cout << "\nFigures more than " << 100 * kWorseBy << " % worse than the baseline:"
+                << (worse.empty() ? " none" : worse) << "\n";
     }
     // The gain from threads, per round (a round's two runs of one build are
     // taken minutes apart at most): "median (round 1, round 2, ...)".
