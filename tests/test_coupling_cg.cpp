@@ -22,6 +22,9 @@ using namespace fibrodem::test;
 
 namespace {
 
+// The seed paper's D_m and D_f [nS], the same D_m end to end and side to side.
+const JunctionConductances kSeedJunctions{1000.0, 1000.0, 0.3};
+
 // 90 cells of both types on an irregular graph: a chain with random chords
 // (degrees 1 to ~6) and one cell with no junction at all.
 Tissue irregular_tissue() {
@@ -63,7 +66,7 @@ std::vector<double> potentials(std::size_t n) {
 TEST_CASE("coupling CG: within its tolerance of a direct solve on an irregular tissue, at steps 0.001 to 10 ms") {
   const Tissue tissue = irregular_tissue();
   const auto C = capacitances(tissue);
-  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);  // the seed paper's D_m, D_f [nS]
+  GapJunctionCoupler coupler(tissue, kSeedJunctions, C);
   const auto V = potentials(tissue.cell_count());
   for (double dt_ms : {0.001, 0.01, 0.1, 1.0, 10.0}) {
     for (double tolerance_mV : {1e-2, 1e-6}) {
@@ -89,7 +92,7 @@ TEST_CASE("coupling CG: within its tolerance of a direct solve on an irregular t
 TEST_CASE("coupling CG: a solve that cannot converge stops with a clear error") {
   const Tissue tissue = irregular_tissue();
   const auto C = capacitances(tissue);
-  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+  GapJunctionCoupler coupler(tissue, kSeedJunctions, C);
   const auto V = potentials(tissue.cell_count());
   SUBCASE("too few iterations for the tolerance") {
     CouplingCg cg(dense_laplacian(tissue, 1000.0, 0.3).sparseView().eval(), C, 2);
@@ -108,7 +111,7 @@ TEST_CASE("coupling CG: a solve that cannot converge stops with a clear error") 
 TEST_CASE("gap-junction coupling: currents -L V and total conductances from the CG's slices of L") {
   const Tissue tissue = irregular_tissue();
   const auto C = capacitances(tissue);
-  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+  GapJunctionCoupler coupler(tissue, kSeedJunctions, C);
   const auto V = potentials(tissue.cell_count());
   const Eigen::MatrixXd L = dense_laplacian(tissue, 1000.0, 0.3);
   const Eigen::VectorXd reference = -L * Eigen::Map<const Eigen::VectorXd>(V.data(), static_cast<Eigen::Index>(V.size()));
@@ -134,7 +137,7 @@ TEST_CASE("gap-junction coupling: currents -L V and total conductances from the 
 TEST_CASE("coupling CG: a potential that is not finite is left for the caller to see") {
   const Tissue tissue = irregular_tissue();
   const auto C = capacitances(tissue);
-  GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+  GapJunctionCoupler coupler(tissue, kSeedJunctions, C);
   auto x = potentials(tissue.cell_count());
   x[5] = std::numeric_limits<double>::quiet_NaN();
   CHECK_NOTHROW(coupler.implicit_step(x.data(), 0.1, 1e-3));
@@ -160,7 +163,7 @@ TEST_CASE("coupling CG: the same bits on one thread and on two" * doctest::test_
   std::vector<std::vector<double>> results;
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
-    GapJunctionCoupler coupler(tissue, 1000.0, 0.3, C);
+    GapJunctionCoupler coupler(tissue, kSeedJunctions, C);
     std::vector<double> x = V;
     coupler.implicit_step(x.data(), 0.5, 1e-6);
     results.push_back(x);
@@ -177,7 +180,7 @@ TEST_CASE("coupling CG: after restart_implicit a solve gives the bits of a fresh
   const Tissue tissue = irregular_tissue();
   const auto C = capacitances(tissue);
   const auto V = potentials(tissue.cell_count());
-  GapJunctionCoupler used(tissue, 1000.0, 0.3, C), fresh(tissue, 1000.0, 0.3, C);
+  GapJunctionCoupler used(tissue, kSeedJunctions, C), fresh(tissue, kSeedJunctions, C);
   std::vector<double> before = V;
   used.implicit_step(before.data(), 0.2, 1e-4);
   std::reverse(before.begin(), before.end());  // another potential for the next solve

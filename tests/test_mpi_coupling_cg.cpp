@@ -158,7 +158,7 @@ SplitSolve solve_split(int ranks, bool drop_halo, double dt_ms, double tolerance
     threads.emplace_back([&, r] {
       ThreadRanks::Group group(all, r);
       const RankCells share = rank_cells(tissue, partition, r);
-      CouplingOverRanks coupler(std::make_unique<GapJunctionCoupler>(tissue, kD_m_nS, kD_f_nS, C), group, share);
+      CouplingOverRanks coupler(std::make_unique<GapJunctionCoupler>(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C), group, share);
       // Another rank's cells hold a stale value (as in a run): the solve must not read them.
       std::vector<double> V = potentials(tissue.cell_count());
       for (std::size_t i = 0; i < V.size(); ++i)

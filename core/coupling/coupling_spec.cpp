@@ -7,6 +7,7 @@ CouplingSpec read_coupling_spec(JsonReader r) {
   c.present = true;
   c.law = r.text("law", c.law, {"gap_junction"});
   c.D_m_nS = r.number("D_m_nS", c.D_m_nS, 0.0, 1e9);
+  c.D_m_side_nS = r.number("D_m_side_nS", c.D_m_nS, 0.0, 1e9);
   c.D_f_nS = r.number("D_f_nS", c.D_f_nS, 0.0, 1e9);
   c.scheme = r.text("scheme", c.scheme, {"explicit", "implicit"});
   c.dt_ms = r.number("dt_ms", 0.0, 0.0, 1e3);

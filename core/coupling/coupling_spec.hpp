@@ -11,7 +11,10 @@ namespace fibrodem {
 struct CouplingSpec {
   bool present = false;  // the manifest has a `coupling` section
   std::string law = "gap_junction";
-  double D_m_nS = 1000.0;  // myocyte-myocyte (seed paper eq. 5)
+  double D_m_nS = 1000.0;  // myocyte-myocyte (seed paper eq. 5), end to end
+  // Myocyte-myocyte side to side (across the fibres): the tissue's
+  // anisotropy beyond what the cells' shape gives; D_m_nS unless set.
+  double D_m_side_nS = 1000.0;
   double D_f_nS = 2.0;     // any pair with a fibroblast
   std::string scheme = "explicit";  // explicit | implicit (backward Euler)
   double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step

@@ -8,14 +8,17 @@ namespace fibrodem {
 
 namespace {
 
-Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, double D_m_nS, double D_f_nS) {
+Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, const JunctionConductances& g_nS) {
   const auto n = static_cast<Eigen::Index>(tissue.cell_count());
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(4 * tissue.cell_edges.size());
+  const bool anisotropic = g_nS.D_m_side_nS != g_nS.D_m_nS;  // (else the junction's direction is not asked)
   for (const auto& [i, j] : tissue.cell_edges) {
     const bool both_myocytes =
         tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
-    const double g = both_myocytes ? D_m_nS : D_f_nS;
+    const double g = !both_myocytes                              ? g_nS.D_f_nS
+                     : !anisotropic || end_to_end(tissue, i, j) ? g_nS.D_m_nS
+                                                                 : g_nS.D_m_side_nS;
     if (g == 0.0) continue;
     entries.emplace_back(i, i, g);
     entries.emplace_back(j, j, g);
@@ -31,9 +34,9 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
 }  // namespace
 
 // (L exists whole only while the CG slices it.)
-GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, double D_m_nS, double D_f_nS,
+GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS,
                                        std::vector<double> capacitance_pF)
-    : cg_(laplacian_of(tissue, D_m_nS, D_f_nS), capacitance_pF), max_rate_per_ms_(0.0) {
+    : cg_(laplacian_of(tissue, g_nS), capacitance_pF), max_rate_per_ms_(0.0) {
   const std::vector<double> total = total_conductance_nS();
   for (std::size_t i = 0; i < total.size(); ++i)
     max_rate_per_ms_ = std::max(max_rate_per_ms_, 2.0 * total[i] / capacitance_pF[i]);

@@ -1,6 +1,8 @@
 // Gap-junction coupling on the cell graph (seed paper eq. 4-5):
 //   I_n,c = sum_i D^i (V_i - V_c),
-// D = D_m between two myocytes and D_f for any pair with a fibroblast, as the
+// D = D_m between two myocytes joined end to end, D_m_side between two side
+// by side (tissue/tissue.hpp end_to_end) and D_f for any pair with a
+// fibroblast, as the
 // graph Laplacian L [nS]: the currents are -L V and the backward-Euler step
 // solves (C/dt + L) V' = (C/dt) V, by preconditioned conjugate gradients
 // (coupling/coupling_cg.hpp), which hold L for both.
@@ -15,10 +17,16 @@
 
 namespace fibrodem {
 
+// A junction's conductance by the cells it joins [nS].
+struct JunctionConductances {
+  double D_m_nS = 1000;       // two myocytes, end to end (along the fibres)
+  double D_m_side_nS = 1000;  // two myocytes, side to side (across the fibres)
+  double D_f_nS = 2;          // any pair with a fibroblast
+};
+
 class GapJunctionCoupler final : public Coupler {
  public:
-  GapJunctionCoupler(const Tissue& tissue, double D_m_nS, double D_f_nS,
-                     std::vector<double> capacitance_pF);
+  GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS, std::vector<double> capacitance_pF);
   void add_current(const double* V_mV, double* i_ext_pA) const override;
   void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const override;
   void implicit_step(double* V_mV, double dt_ms, double tolerance_mV) override;

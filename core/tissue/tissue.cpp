@@ -76,6 +76,11 @@ int CellComponents::largest() const {
   return static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
 }
 
+bool end_to_end(const Tissue& tissue, int i, int j) {
+  return std::abs(tissue.x_um[static_cast<std::size_t>(i)] - tissue.x_um[static_cast<std::size_t>(j)]) <
+         kParticleRadius_um;
+}
+
 CellComponents cell_graph_components(const Tissue& tissue) {
   const std::size_t n = tissue.cell_count();
   std::vector<int> parent(n);

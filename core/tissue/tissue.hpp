@@ -63,6 +63,15 @@ int add_vertical_myocyte(Tissue& tissue, double x_um, double y0_um);
 // Adds a one-particle fibroblast centred at (x, y); returns the cell.
 int add_round_fibroblast(Tissue& tissue, double x_um, double y_um);
 
+// Whether the junction between cells i and j joins them end to end, along
+// the fibres (y in every builder), rather than side to side: their centres
+// lie within half a myocyte's width (12.5 um) of each other across the
+// fibres. On the brick sheets (fibrotic_sheet, in_series) that is a cell and
+// the one above it in its column; a side neighbour is a column (23.57 um)
+// away. In interstitial tissue a cell's neighbours in its column are offset
+// by at most 2 x max_offset_um (4 um by default).
+bool end_to_end(const Tissue& tissue, int i, int j);
+
 // Connected components of the cell graph (cells joined by cell_edges).
 struct CellComponents {
   std::vector<int> component;  // per cell; components numbered by their lowest cell
