@@ -174,14 +174,9 @@ TEST_CASE("the command line exits non-zero and names the path") {
   std::ofstream(dir / "bad.json") << m.dump();
   const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem validate " +
                               (dir / "bad.json").string() + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string output;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
+  const auto [status, output] = testing::run_command(command);
   CAPTURE(output);
-  CHECK(WEXITSTATUS(status) == 2);
+  CHECK(status == 2);
   CHECK(output.find("solver.dt_ms") != std::string::npos);
   CHECK(output.find("expected a number") != std::string::npos);
 }

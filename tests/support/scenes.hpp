@@ -1,6 +1,9 @@
 // Helpers shared by the test suites: manifests from literals, runs in memory.
 #pragma once
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -42,6 +45,22 @@ inline std::vector<std::vector<std::string>> csv_rows(const std::filesystem::pat
     if (!line.empty() && line.back() == ',') rows.back().push_back("");
   }
   return rows;
+}
+
+// A shell command's exit status (-1 if it did not exit) and what it printed
+// on standard output (add 2>&1 to the command for its errors too).
+struct CommandOutput {
+  int status;
+  std::string output;
+};
+inline CommandOutput run_command(const std::string& command) {
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, ""};
+  std::string output;
+  char buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 // A fresh, empty directory under the build tree's test scratch space.
