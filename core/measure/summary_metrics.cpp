@@ -43,8 +43,8 @@ const std::vector<SummaryMetric>& summary_metrics() {
     l.push_back({"reentry_duration_ms", [](const json& s) { return number_at(s, {"reentry", "duration_ms"}); }});
     // Last, so that the columns before keep their places in a sweep's table.
     for (const char* type : {"myocyte", "fibroblast"})
-      l.push_back({std::string(type) + "_not_fired_fraction", [type](const json& s) { return not_fired_fraction(s, type); },
-                   false, false});
+      l.push_back({std::string(type) + "_not_fired_fraction",
+                   [type](const json& s) { return not_fired_fraction(s, type); }, false, false});
     return l;
   }();
   return list;

@@ -34,8 +34,9 @@ void BiomarkerDigest::first_pass(const std::vector<std::string>& row) {
   if (!type_column_) return;
   const std::string& type = row[*type_column_];
   const std::size_t t = type_index(type);
-  if (!fired(row)) ++not_fired_[t];
-  for (std::size_t m = 0; m < columns_.size() && fired(row); ++m) {
+  const bool measured = fired(row);
+  if (!measured) ++not_fired_[t];
+  for (std::size_t m = 0; measured && m < columns_.size(); ++m) {
     const double v = csv_number(row[columns_[m].second]);
     if (!std::isfinite(v)) continue;
     Tally& s = tally(t, m);
@@ -71,7 +72,8 @@ void BiomarkerDigest::second_pass(const std::vector<std::string>& row) {
   const auto seen = std::find(types_seen_.begin(), types_seen_.end(), row[*type_column_]);
   if (seen == types_seen_.end()) return;  // not a row of the first pass
   const auto t = static_cast<std::size_t>(seen - types_seen_.begin());
-  for (std::size_t m = 0; m < columns_.size() && fired(row); ++m) {
+  if (!fired(row)) return;  // counted in the first pass
+  for (std::size_t m = 0; m < columns_.size(); ++m) {
     const double v = csv_number(row[columns_[m].second]);
     Tally& s = tally(t, m);
     if (!std::isfinite(v) || s.count.empty()) continue;

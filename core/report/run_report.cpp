@@ -213,7 +213,7 @@ void biomarker_section(HtmlDocument& page, const RunFolder& f) {
                     fixed_decimals(b.min, 2), fixed_decimals(b.max, 2)});
   std::string not_fired;
   for (const auto& [type, n] : f.biomarkers->not_fired())
-    if (n > 0) not_fired += " " + std::to_string(n) + " " + type + " cell-beats did not fire (no activation): left out.";
+    if (n > 0) not_fired += " " + std::to_string(n) + " " + type + " cell-beats did not fire: left out.";
   page.paragraph("Over every cell-beat in biomarkers.csv where the cell fired (summary.json's mean_biomarkers)." +
                  not_fired);
   page.table({"cell type", "biomarker", "cell-beats", "mean", "SD", "min", "max"}, rows);
