@@ -120,7 +120,8 @@ TEST_CASE("a strand blocked by passive fibroblasts: the myocytes past the block 
   // 16-23, myocytes 24-39 (the block is at cell 16).
   int fibroblasts_fired = 0;
   for (const auto& [cell, row] : rows) {
-    CAPTURE(cell);
+    const int cell_number = cell;  // (a structured binding: clang 14's lambdas cannot capture it)
+    CAPTURE(cell_number);
     REQUIRE(row.size() == 9);
     const bool before_block = cell < 16, fibroblast = cell >= 16 && cell < 24;
     CHECK(row[1] == (fibroblast ? "fibroblast" : "myocyte"));
@@ -191,7 +192,8 @@ TEST_CASE("collagen that cuts cells off the stimulus: they never fire, count as 
     not_fired += row[3].empty();
     joined_fired += joined[static_cast<std::size_t>(cell)] && !row[3].empty();
     if (joined[static_cast<std::size_t>(cell)]) continue;
-    CAPTURE(cell);
+    const int cell_number = cell;  // (a structured binding: clang 14's lambdas cannot capture it)
+    CAPTURE(cell_number);
     CHECK(row[3].empty());  // no activation time
     CHECK(row[5].empty());  // no APO
     CHECK(row[7].empty());  // no max dV/dt

@@ -174,11 +174,11 @@ TEST_CASE("the command line exits non-zero and names the path") {
   std::ofstream(dir / "bad.json") << m.dump();
   const std::string command = std::string(FIBRODEM_BINARY_DIR) + "/fibrodem validate " +
                               (dir / "bad.json").string() + " 2>&1";
-  const auto [status, output] = testing::run_command(command);
-  CAPTURE(output);
-  CHECK(status == 2);
-  CHECK(output.find("solver.dt_ms") != std::string::npos);
-  CHECK(output.find("expected a number") != std::string::npos);
+  const testing::CommandOutput result = testing::run_command(command);
+  CAPTURE(result.output);
+  CHECK(result.status == 2);
+  CHECK(result.output.find("solver.dt_ms") != std::string::npos);
+  CHECK(result.output.find("expected a number") != std::string::npos);
 }
 
 TEST_CASE("invalid UTF-8 in a manifest's strings is a ManifestError, not a JSON exception (found by fuzzing)") {
