@@ -8,6 +8,7 @@
 #include <regex>
 
 #include "integrate/integrator.hpp"
+#include "io/csv_writer.hpp"
 #include "scene/schema/schema_check.hpp"
 #include "scene/schema/schema_markdown.hpp"
 #include "scene/schema/schema_sections.hpp"
@@ -225,6 +226,59 @@ TEST_CASE("the manifest reader reads exactly the keys the manifest schema lists"
   // A floor to notice a walk that finds little or nothing: format 1 of the
   // schema had 151 (location, key) pairs and keys are only ever added.
   CHECK(in_schema.size() >= 151);
+}
+
+TEST_CASE("the manifest reader's numbers have the schema's ranges and defaults, value by value") {
+  std::set<std::string> free_locations;
+  std::map<std::pair<std::string, std::string>, json> schema_of;  // (location, key) -> the key's schema
+  for (const auto& section : schema_sections(schema_document(SchemaKind::manifest)))
+    for (const auto& key : section.keys) schema_of[{section.location, key.name}] = key.schema;
+  // Read only where the manifest gives them, the first traces block's value
+  // then holding for all: their defaults are TraceSpec's, checked below.
+  const std::set<std::string> read_where_given = {"output.traces.every_ms", "output.traces.from_ms",
+                                                  "output.traces[].every_ms", "output.traces[].from_ms"};
+  // Bounded by another value as well (the patch within the tissue): the
+  // reader's bound may only be tighter than the schema's.
+  const std::set<std::string> bounded_by_another = {"tissue{builder=fibrotic_patch}.patch_height_mm",
+                                                    "tissue{builder=fibrotic_patch}.patch_width_mm"};
+  std::string differences;
+  std::size_t compared = 0;
+  for (const auto& manifest : coverage_manifests()) {
+    KeyReadLog log;
+    parse_scene(manifest);
+    for (const auto& [where, rule] : log.numbers()) {
+      const auto at = schema_location(where.first, where.second, manifest);
+      const auto it = schema_of.find(at);
+      if (it == schema_of.end()) continue;  // a free key (a parameter): no schema of its own
+      const json& schema = it->second;
+      const std::string name = at.first + "." + at.second;
+      ++compared;
+      const auto bound = [&](const char* word, double reader) {
+        if (!schema.contains(word)) return;
+        const double listed = schema[word].get<double>();
+        if (bounded_by_another.count(name) && (word == std::string("maximum") ? reader <= listed : reader >= listed))
+          return;
+        if (listed != reader)
+          differences += "\n  " + name + ": " + word + " " + schema[word].dump() + " in the schema, " +
+                         format_number(reader) + " in the reader";
+      };
+      bound("minimum", rule.min);
+      bound("maximum", rule.max);
+      if (schema.contains("default") && schema["default"].is_number() && !read_where_given.count(name) &&
+          (!rule.fallback || schema["default"].get<double>() != *rule.fallback))
+        differences += "\n  " + name + ": default " + schema["default"].dump() + " in the schema, " +
+                       (rule.fallback ? format_number(*rule.fallback) : std::string("none")) + " in the reader";
+    }
+  }
+  CHECK_MESSAGE(differences.empty(), "numbers whose reader and schema disagree:" << differences);
+  CHECK(compared >= 50);
+  // The traces' defaults where the manifest does not give them.
+  json without = testing::passive_cell_manifest();
+  without["output"]["traces"].erase("every_ms");
+  const Scene plain = parse_scene(without);
+  const json& traces = schema_of.at({"output.traces", "every_ms"});
+  CHECK(plain.output.traces.every_ms == traces["default"].get<double>());
+  CHECK(plain.output.traces.from_ms == schema_of.at({"output.traces", "from_ms"})["default"].get<double>());
 }
 
 TEST_CASE("the sweep reader reads exactly the keys the sweep schema lists") {

@@ -56,6 +56,7 @@ const json& JsonReader::require(const std::string& key) {
 
 double JsonReader::number(const std::string& key, std::optional<double> fallback, double min,
                           double max) {
+  if (active_key_log) active_key_log->add_number(path_, key, {fallback, min, max});
   if (!has(key) && fallback) {
     mark_read(key);
     return *fallback;
@@ -73,6 +74,11 @@ double JsonReader::number(const std::string& key, std::optional<double> fallback
 
 long long JsonReader::integer(const std::string& key, std::optional<long long> fallback,
                               long long min, long long max) {
+  if (active_key_log) {
+    std::optional<double> fallback_value;
+    if (fallback) fallback_value = static_cast<double>(*fallback);
+    active_key_log->add_number(path_, key, {fallback_value, static_cast<double>(min), static_cast<double>(max)});
+  }
   if (!has(key) && fallback) {
     mark_read(key);
     return *fallback;

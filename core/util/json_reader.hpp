@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -70,8 +71,20 @@ class KeyReadLog {
   void add(const std::string& object_path, const std::string& key) { keys_.emplace(object_path, key); }
   const std::set<std::pair<std::string, std::string>>& keys() const { return keys_; }
 
+  // A number's rule as the reader applied it: its default (none: required)
+  // and range, so that a test can hold them to the schema's value by value.
+  struct NumberRule {
+    std::optional<double> fallback;
+    double min = 0, max = 0;
+  };
+  void add_number(const std::string& object_path, const std::string& key, NumberRule rule) {
+    numbers_[{object_path, key}] = rule;
+  }
+  const std::map<std::pair<std::string, std::string>, NumberRule>& numbers() const { return numbers_; }
+
  private:
   std::set<std::pair<std::string, std::string>> keys_;
+  std::map<std::pair<std::string, std::string>, NumberRule> numbers_;
   KeyReadLog* previous_;
 };
 
