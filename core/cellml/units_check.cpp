@@ -85,8 +85,7 @@ Found raised(const Found& base, double p) {
 
 // "'V' [mV = 0.001 x ampere^-1 kilogram^1 metre^2 second^-3]"
 std::string described(const std::string& term_text, const Found& f) {
-  const std::string si = "? x " + f.unit.dims_text();
-  const std::string units = f.scale_known ? f.unit.described_as(f.units) : f.units + " = " + si;
+  const std::string units = f.scale_known ? f.unit.described_as(f.units) : f.units + " = ? x " + f.unit.dims_text();
   return "'" + term_text + "' [" + units + "]";
 }
 
