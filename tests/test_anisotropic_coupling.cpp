@@ -11,16 +11,10 @@
 
 #include "measure/conduction_velocity.hpp"
 #include "support/scenes.hpp"
-#include "tissue/tissue_builder.hpp"
 
 using namespace fibrodem;
 
 namespace {
-
-Tissue build_tissue(const json& spec, std::uint64_t seed) {
-  JsonReader reader(spec, "tissue");
-  return make_tissue_builder(reader)->build(seed);
-}
 
 // A fibrotic_sheet without fibrosis: `width_mm` across the fibres (x),
 // `length_mm` along them (y), paced in a band 0.3 mm deep along one edge.
@@ -65,7 +59,7 @@ TEST_CASE("a brick sheet's junctions: each cell and the one above it end to end,
   // half a cell of the length): 10 x 14 end to end; between two columns, a
   // cell touches the two of the half-shifted column beside it, 2 x 15 - 1
   // pairs: 9 x 29 side to side.
-  const Tissue t = build_tissue({{"builder", "fibrotic_sheet"}, {"width_mm", 0.25}, {"length_mm", 2}}, 1);
+  const Tissue t = testing::build_tissue({{"builder", "fibrotic_sheet"}, {"width_mm", 0.25}, {"length_mm", 2}}, 1);
   REQUIRE(t.cell_count() == 150);
   int ends = 0, sides = 0;
   for (const auto& [i, j] : t.cell_edges) {

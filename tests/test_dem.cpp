@@ -17,20 +17,16 @@
 
 #include "mechanics/clump_geometry.hpp"
 #include "mechanics/dem_solver.hpp"
+#include "support/scenes.hpp"
 #include "tissue/builders/column_tissue.hpp"
-#include "tissue/tissue_builder.hpp"
 
 using namespace fibrodem;
 
 namespace {
 
-Tissue build(const json& spec, std::uint64_t seed = 1) {
-  JsonReader reader(spec, "tissue");
-  return make_tissue_builder(reader)->build(seed);
-}
-
 Tissue small_in_series(double fm_ratio) {
-  return build({{"builder", "in_series"}, {"width_mm", 0.2}, {"height_mm", 0.6}, {"fm_ratio", fm_ratio}}, 3);
+  return testing::build_tissue(
+      {{"builder", "in_series"}, {"width_mm", 0.2}, {"height_mm", 0.6}, {"fm_ratio", fm_ratio}}, 3);
 }
 
 // Two round fibroblasts touching along x, bonded.
@@ -224,7 +220,7 @@ TEST_CASE("dem: a shape solve started from the last step's radius finds the cold
 }
 
 TEST_CASE("dem: one bad length ratio among many is named by its cell and changes no cell's shape") {
-  const Tissue t = build({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 1.0}}, 3);
+  const Tissue t = testing::build_tissue({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 1.0}}, 3);
   DemSolver dem(t, DemSpec{});
   std::vector<double> r = ratios(t, 0.9);
   std::size_t last_myocyte = 0;
@@ -452,7 +448,7 @@ TEST_CASE("dem: a uniform contraction gives the imposed strain along the fibre")
   // fibre strain is ln(pitch(lambda) / 125 um) -- ln(lambda) in length mode
   // `total`, less in `spacing` (the radii grow); the strand has no lateral
   // spread, so no lateral strain.
-  const Tissue strand = build({{"builder", "strand"}, {"type", "myocyte"}, {"cells", 5}});
+  const Tissue strand = testing::build_tissue({{"builder", "strand"}, {"type", "myocyte"}, {"cells", 5}});
   for (AreaRule rule : {AreaRule::union_area, AreaRule::capsule, AreaRule::rectangle})
     for (LengthMode mode : {LengthMode::spacing, LengthMode::total}) {
       for (StrainBodies bodies : {StrainBodies::bodies, StrainBodies::particles}) {
@@ -621,7 +617,8 @@ TEST_CASE("dem: a step above the stable one is refused") {
 }
 
 TEST_CASE("dem: a contraction cycle with Table 1 parameters stays bounded and deterministic") {
-  const Tissue t = build({{"builder", "in_series"}, {"width_mm", 0.3}, {"height_mm", 0.8}, {"fm_ratio", 0.41}}, 5);
+  const Tissue t = testing::build_tissue(
+      {{"builder", "in_series"}, {"width_mm", 0.3}, {"height_mm", 0.8}, {"fm_ratio", 0.41}}, 5);
   auto run = [&t] {
     DemSolver dem(t, DemSpec{});
     const int steps = 2000;
@@ -698,7 +695,7 @@ TEST_CASE("dem: loose interstitial tissue contracts without bodies passing throu
   // tissue returns to its shape (residual strain < 0.01); without detection
   // (this solver before contact detection) bodies pass through one another by
   // more than half a myocyte's radius.
-  const Tissue t = build({{"builder", "interstitial"}, {"width_mm", 0.3}, {"height_mm", 1.2}}, 2);
+  const Tissue t = testing::build_tissue({{"builder", "interstitial"}, {"width_mm", 0.3}, {"height_mm", 1.2}}, 2);
   for (bool detect : {true, false}) {
     CAPTURE(detect);
     DemSpec spec;
@@ -737,7 +734,7 @@ TEST_CASE("dem: a run gives the same bits on one thread and on two" * doctest::t
   // contacts (several blocks of each, so both threads have contacts to do),
   // list rebuilds, the automatic step. Forces are summed per particle in a
   // fixed order, never in the order the threads finish.
-  const Tissue t = build({{"builder", "interstitial"}, {"width_mm", 0.6}, {"height_mm", 1.6}}, 2);
+  const Tissue t = testing::build_tissue({{"builder", "interstitial"}, {"width_mm", 0.6}, {"height_mm", 1.6}}, 2);
   const int threads_before = omp_get_max_threads();
   auto run = [&t](int threads) {
     omp_set_num_threads(threads);

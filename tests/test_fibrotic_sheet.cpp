@@ -11,17 +11,12 @@
 
 #include "run/simulation.hpp"
 #include "scene/scene.hpp"
+#include "support/scenes.hpp"
 #include "tissue/builders/column_tissue.hpp"
-#include "tissue/tissue_builder.hpp"
 
 using namespace fibrodem;
 
 namespace {
-
-Tissue build(const json& spec, std::uint64_t seed = 1) {
-  JsonReader reader(spec, "tissue");
-  return make_tissue_builder(reader)->build(seed);
-}
 
 json sheet(double width_mm, double length_mm, const json& fibrosis = json()) {
   json t = {{"builder", "fibrotic_sheet"}, {"width_mm", width_mm}, {"length_mm", length_mm}};
@@ -76,7 +71,7 @@ bool lateral(const Tissue& t, const std::pair<int, int>& e) {
 TEST_CASE("fibrotic_sheet: a brick wall of myocytes, 6 neighbours inside, one connected graph") {
   // 1.0 x 2.0 mm: floor(1000 / 23.57) = 42 columns; odd columns start 62.5 um
   // up, so floor((2000 - 62.5) / 125) = 15 rows.
-  const Tissue t = build(sheet(1.0, 2.0));
+  const Tissue t = testing::build_tissue(sheet(1.0, 2.0));
   CHECK(t.cell_count() == 42 * 15);
   CHECK(t.count(CellType::fibroblast) == 0);
   // The paper's particles for pictures (7 per myocyte), no bonds: a cell graph, not a DEM body.
@@ -111,7 +106,7 @@ TEST_CASE("fibrotic_sheet: each pattern reaches its density") {
   // 5 x 5 mm: 212 columns x 39 rows = 8268 slots. Density 0.2.
   const double density = 0.2;
   const double slots = 212.0 * 39.0;
-  CHECK(build(sheet(5, 5)).cell_count() == 212 * 39);
+  CHECK(testing::build_tissue(sheet(5, 5)).cell_count() == 212 * 39);
   // diffuse: independent draws, binomial; sd sqrt(0.2 * 0.8 / 8268) = 0.0044, tolerance 4.5 sd.
   // patchy, interstitial: exactly round(0.2 * 8268) slots (1654), tolerance one slot.
   // compact: slots whose centres fall in the rectangle; the edge rounds by at most half
@@ -123,16 +118,16 @@ TEST_CASE("fibrotic_sheet: each pattern reaches its density") {
     const std::string& pattern = entry.first;  // (not a structured binding: clang's CAPTURE cannot take one)
     const double tol = entry.second;
     CAPTURE(pattern);
-    const Tissue f = build(sheet(5, 5, {{"density", density}, {"pattern", pattern}, {"as", "fibroblasts"}}), 4);
+    const Tissue f = testing::build_tissue(sheet(5, 5, {{"density", density}, {"pattern", pattern}, {"as", "fibroblasts"}}), 4);
     CHECK(f.cell_count() == 212 * 39);
     CHECK(std::abs(fibroblast_fraction(f) - density) <= tol + 1e-12);
     if (pattern == "interstitial") continue;  // collagen: septa, not holes (next test)
-    const Tissue c = build(sheet(5, 5, {{"density", density}, {"pattern", pattern}, {"as", "collagen"}}), 4);
+    const Tissue c = testing::build_tissue(sheet(5, 5, {{"density", density}, {"pattern", pattern}, {"as", "collagen"}}), 4);
     CHECK(c.count(CellType::fibroblast) == 0);
     CHECK(slots - static_cast<double>(c.cell_count()) == static_cast<double>(f.count(CellType::fibroblast)));
   }
   // Density 0: the plain sheet, whatever the pattern.
-  const Tissue none = build(sheet(5, 5, {{"density", 0.0}, {"pattern", "patchy"}}));
+  const Tissue none = testing::build_tissue(sheet(5, 5, {{"density", 0.0}, {"pattern", "patchy"}}));
   CHECK(none.cell_count() == 212 * 39);
 }
 
@@ -141,7 +136,7 @@ TEST_CASE("fibrotic_sheet: collagen cells carry no coupling") {
   json as_fibroblasts = fibrosis, as_collagen = fibrosis;
   as_fibroblasts["as"] = "fibroblasts";
   as_collagen["as"] = "collagen";
-  const Tissue f = build(sheet(2, 2, as_fibroblasts), 9), c = build(sheet(2, 2, as_collagen), 9);
+  const Tissue f = testing::build_tissue(sheet(2, 2, as_fibroblasts), 9), c = testing::build_tissue(sheet(2, 2, as_collagen), 9);
   // Same seed, same fibrotic slots: collagen leaves exactly the fibroblasts' slots empty ...
   std::set<std::pair<double, double>> fibrotic, present;
   for (std::size_t i = 0; i < f.cell_count(); ++i)
@@ -167,7 +162,7 @@ TEST_CASE("fibrotic_sheet: interstitial fibrosis runs in lines along the fibres"
   const json lines = {{"density", 0.15}, {"pattern", "interstitial"}, {"line_length_mm", 0.5}};
   json as_fibroblasts = lines;
   as_fibroblasts["as"] = "fibroblasts";
-  const Tissue f = build(sheet(4, 6, as_fibroblasts), 3);
+  const Tissue f = testing::build_tissue(sheet(4, 6, as_fibroblasts), 3);
   const SlotGrid g = fibroblast_grid(f);
   // Mean run of fibrotic slots along a column (fibre) and along a row (across
   // fibres, same-parity columns two apart, so rows line up): lines of 0.5 mm =
@@ -198,8 +193,8 @@ TEST_CASE("fibrotic_sheet: interstitial fibrosis runs in lines along the fibres"
   // the fibre, and lose every side-to-side coupling (the septa).
   json as_collagen = lines;
   as_collagen["as"] = "collagen";
-  const Tissue c = build(sheet(4, 6, as_collagen), 3);
-  const Tissue plain = build(sheet(4, 6));
+  const Tissue c = testing::build_tissue(sheet(4, 6, as_collagen), 3);
+  const Tissue plain = testing::build_tissue(sheet(4, 6));
   REQUIRE(c.cell_count() == plain.cell_count());
   CHECK(c.count(CellType::fibroblast) == 0);
   CHECK(c.x_um == f.x_um);  // same slots, same cell numbering
@@ -228,7 +223,7 @@ TEST_CASE("fibrotic_sheet: patchy fibrosis has the requested correlation length"
   std::vector<double> mean(lags.size(), 0.0);
   const int seeds = 4;
   for (int seed = 1; seed <= seeds; ++seed) {
-    const Tissue t = build(sheet(24, 24, {{"density", 0.5}, {"pattern", "patchy"}, {"correlation_length_mm", 0.5},
+    const Tissue t = testing::build_tissue(sheet(24, 24, {{"density", 0.5}, {"pattern", "patchy"}, {"correlation_length_mm", 0.5},
                                            {"as", "fibroblasts"}}), seed);
     const SlotGrid g = fibroblast_grid(t);
     const double p = fibroblast_fraction(t);
@@ -250,7 +245,7 @@ TEST_CASE("fibrotic_sheet: patchy fibrosis has the requested correlation length"
     CHECK(std::abs(mean[k] - expected) <= 0.05);
   }
   // A diffuse pattern of the same density has no correlation at one cell's lag.
-  const Tissue d = build(sheet(12, 12, {{"density", 0.5}, {"pattern", "diffuse"}, {"as", "fibroblasts"}}), 7);
+  const Tissue d = testing::build_tissue(sheet(12, 12, {{"density", 0.5}, {"pattern", "diffuse"}, {"as", "fibroblasts"}}), 7);
   const SlotGrid gd = fibroblast_grid(d);
   double sum = 0, n = 0;
   for (int c = 0; c < gd.columns; ++c)
@@ -262,7 +257,7 @@ TEST_CASE("fibrotic_sheet: compact is one solid rectangle, the Fig. 8 patch a sp
   // fibrotic_patch's defaults (in_series): a 0.6 x 1.0 mm patch centred in 2.32
   // x 6.27 mm. As a compact pattern: density 0.6 / (2.32 * 6.27), aspect 1.0/0.6.
   const double density = 0.6 * 1.0 / (2.32 * 6.27);
-  const Tissue t = build(sheet(2.32, 6.27, {{"density", density}, {"pattern", "compact"}, {"aspect", 1.0 / 0.6},
+  const Tissue t = testing::build_tissue(sheet(2.32, 6.27, {{"density", density}, {"pattern", "compact"}, {"aspect", 1.0 / 0.6},
                                              {"as", "fibroblasts"}}));
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   for (std::size_t i = 0; i < t.cell_count(); ++i)
@@ -285,7 +280,7 @@ TEST_CASE("fibrotic_sheet: compact is one solid rectangle, the Fig. 8 patch a sp
       CHECK(t.type[i] == CellType::fibroblast);
   // The region does not depend on the seed.
   const json spec = sheet(2.32, 6.27, {{"density", density}, {"pattern", "compact"}, {"aspect", 1.0 / 0.6}});
-  CHECK(same_tissue(build(spec, 1), build(spec, 2)));
+  CHECK(same_tissue(testing::build_tissue(spec, 1), testing::build_tissue(spec, 2)));
 }
 
 TEST_CASE("fibrotic_sheet: same seed, same tissue, another seed, another tissue") {
@@ -294,7 +289,7 @@ TEST_CASE("fibrotic_sheet: same seed, same tissue, another seed, another tissue"
       CAPTURE(pattern);
       CAPTURE(as);
       const json spec = sheet(1.5, 3, {{"density", 0.25}, {"pattern", pattern}, {"as", as}});
-      const Tissue a = build(spec, 11), b = build(spec, 11), c = build(spec, 12);
+      const Tissue a = testing::build_tissue(spec, 11), b = testing::build_tissue(spec, 11), c = testing::build_tissue(spec, 12);
       CHECK(same_tissue(a, b));
       CHECK_FALSE(same_tissue(a, c));
     }
@@ -302,23 +297,23 @@ TEST_CASE("fibrotic_sheet: same seed, same tissue, another seed, another tissue"
 
 TEST_CASE("fibrotic_sheet: bad values are rejected with their JSON path") {
   auto with = [](const json& fibrosis) { return sheet(1, 1, fibrosis); };
-  CHECK_THROWS_WITH_AS(build(with({{"density", 1.0}, {"pattern", "diffuse"}})),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(with({{"density", 1.0}, {"pattern", "diffuse"}})),
                        doctest::Contains("tissue.fibrosis.density: expected a fraction of cells in [0, 1), got 1"),
                        ManifestError);
-  CHECK_THROWS_WITH_AS(build(with({{"density", -0.1}, {"pattern", "diffuse"}})),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(with({{"density", -0.1}, {"pattern", "diffuse"}})),
                        doctest::Contains("tissue.fibrosis.density"), ManifestError);
-  CHECK_THROWS_WITH_AS(build(with({{"density", 0.1}, {"pattern", "blotchy"}})),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(with({{"density", 0.1}, {"pattern", "blotchy"}})),
                        doctest::Contains("tissue.fibrosis.pattern"), ManifestError);
-  CHECK_THROWS_WITH_AS(build(with({{"density", 0.1}, {"pattern", "diffuse"}, {"as", "scar"}})),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(with({{"density", 0.1}, {"pattern", "diffuse"}, {"as", "scar"}})),
                        doctest::Contains("tissue.fibrosis.as"), ManifestError);
-  CHECK_THROWS_WITH_AS(build(with({{"pattern", "diffuse"}})), doctest::Contains("tissue.fibrosis.density"),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(with({{"pattern", "diffuse"}})), doctest::Contains("tissue.fibrosis.density"),
                        ManifestError);
   // A key of another pattern is an unknown key here.
-  CHECK_THROWS_WITH_AS(build(with({{"density", 0.1}, {"pattern", "diffuse"}, {"correlation_length_mm", 1}})),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(with({{"density", 0.1}, {"pattern", "diffuse"}, {"correlation_length_mm", 1}})),
                        doctest::Contains("tissue.fibrosis.correlation_length_mm"), ManifestError);
-  CHECK_THROWS_WITH_AS(build({{"builder", "fibrotic_sheet"}, {"width_mm", 1}}), doctest::Contains("tissue.length_mm"),
+  CHECK_THROWS_WITH_AS(testing::build_tissue({{"builder", "fibrotic_sheet"}, {"width_mm", 1}}), doctest::Contains("tissue.length_mm"),
                        ManifestError);
-  CHECK_THROWS_WITH_AS(build(sheet(1, 1, {{"density", 0.1}, {"pattern", "compact"}, {"aspect", 0}})),
+  CHECK_THROWS_WITH_AS(testing::build_tissue(sheet(1, 1, {{"density", 0.1}, {"pattern", "compact"}, {"aspect", 0}})),
                        doctest::Contains("tissue.fibrosis.aspect"), ManifestError);
 }
 

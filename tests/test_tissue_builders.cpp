@@ -13,16 +13,10 @@
 #include "io/vtk_writer.hpp"
 #include "support/scenes.hpp"
 #include "tissue/builders/column_tissue.hpp"
-#include "tissue/tissue_builder.hpp"
 
 using namespace fibrodem;
 
 namespace {
-
-Tissue build(const json& spec, std::uint64_t seed) {
-  JsonReader reader(spec, "tissue");
-  return make_tissue_builder(reader)->build(seed);
-}
 
 double fm_ratio(const Tissue& t) {
   return static_cast<double>(t.count(CellType::fibroblast)) /
@@ -82,7 +76,7 @@ bool same_tissue(const Tissue& a, const Tissue& b) {
 
 TEST_CASE("in_series: the paper's tissue and F-M ratio, no overlap along a fibre, one connected graph") {
   // Paper (Fig. 3): 1.16 x 6.27 mm, ~2289 myocytes and 936 fibroblasts, F-M 0.41.
-  const Tissue t = build({{"builder", "in_series"}, {"width_mm", 1.16}, {"height_mm", 6.27},
+  const Tissue t = testing::build_tissue({{"builder", "in_series"}, {"width_mm", 1.16}, {"height_mm", 6.27},
                           {"fm_ratio", 0.41}}, 7);
   const auto m = t.count(CellType::myocyte), f = t.count(CellType::fibroblast);
   CHECK(m == doctest::Approx(2289).epsilon(0.05));  // random: +-5 %
@@ -111,7 +105,7 @@ TEST_CASE("in_series: the paper's tissue and F-M ratio, no overlap along a fibre
   // Other ratios.
   for (double fm : {0.0, 0.11, 1.46}) {
     CAPTURE(fm);
-    const Tissue u = build({{"builder", "in_series"}, {"fm_ratio", fm}}, 3);
+    const Tissue u = testing::build_tissue({{"builder", "in_series"}, {"fm_ratio", fm}}, 3);
     CHECK(fm_ratio(u) == doctest::Approx(fm).epsilon(0.15).scale(1));
     CHECK(cell_graph_components(u).count() == 1);
   }
@@ -127,7 +121,7 @@ TEST_CASE("tissue builders: same seed, same tissue, another seed, another tissue
                                {"width_mm", 0.8}, {"height_mm", 1.5}, {"patch_width_mm", 0.3},
                                {"patch_height_mm", 0.3}, {"patch_fibroblast_fraction", 0.5}}}) {
     CAPTURE(spec.dump());
-    const Tissue a = build(spec, 11), b = build(spec, 11), c = build(spec, 12);
+    const Tissue a = testing::build_tissue(spec, 11), b = testing::build_tissue(spec, 11), c = testing::build_tissue(spec, 12);
     CHECK(same_tissue(a, b));
     CHECK_FALSE(same_tissue(a, c));
     CHECK(cell_graph_components(a).count() == 1);
@@ -136,7 +130,7 @@ TEST_CASE("tissue builders: same seed, same tissue, another seed, another tissue
 
 TEST_CASE("interstitial: the paper's example F-M 1.27, fibroblast particles never overlap before growth, "
           "rotated myocytes, connected graph") {
-  const Tissue t = build({{"builder", "interstitial"}}, 5);  // 1.16 x 6.27 mm
+  const Tissue t = testing::build_tissue({{"builder", "interstitial"}}, 5);  // 1.16 x 6.27 mm
   CHECK(fm_ratio(t) == doctest::Approx(1.27).epsilon(0.1));
   CHECK(t.count(CellType::myocyte) > 1800);
   CHECK(cell_graph_components(t).count() == 1);
@@ -165,7 +159,7 @@ TEST_CASE("interstitial: the paper's example F-M 1.27, fibroblast particles neve
   CHECK(grouped > 0);
   // Growth "to_contact": no two particles of the fill overlap, and myocytes
   // overlap at most by the in-series lateral overlap.
-  const Tissue u = build({{"builder", "interstitial"}, {"width_mm", 0.5}, {"height_mm", 1.5},
+  const Tissue u = testing::build_tissue({{"builder", "interstitial"}, {"width_mm", 0.5}, {"height_mm", 1.5},
                           {"growth", "to_contact"}}, 5);
   for (std::size_t i = 0; i < u.particles.size(); ++i)
     for (std::size_t j = i + 1; j < u.particles.size(); ++j) {
@@ -177,14 +171,14 @@ TEST_CASE("interstitial: the paper's example F-M 1.27, fibroblast particles neve
       else REQUIRE(overlap <= kAllowedOverlap_um + 1e-6);
     }
   // Fewer fill attempts, fewer fibroblasts: the F-M ratio is steerable.
-  const Tissue sparse = build({{"builder", "interstitial"}, {"fill_attempts_per_um2", 0.02}}, 5);
+  const Tissue sparse = testing::build_tissue({{"builder", "interstitial"}, {"fill_attempts_per_um2", 0.02}}, 5);
   CHECK(fm_ratio(sparse) < 0.6 * fm_ratio(t));
 }
 
 TEST_CASE("fibrotic_patch: ~930 fibroblasts in a central patch, myocytes outside, connected") {
   for (const char* arrangement : {"in_series", "interstitial"}) {
     CAPTURE(arrangement);
-    const Tissue t = build({{"builder", "fibrotic_patch"}, {"arrangement", arrangement}}, 2);
+    const Tissue t = testing::build_tissue({{"builder", "fibrotic_patch"}, {"arrangement", arrangement}}, 2);
     CHECK(t.count(CellType::fibroblast) == doctest::Approx(930).epsilon(0.12));
     const auto b = t.bounds_um();
     CHECK(b[1] - b[0] == doctest::Approx(2320).epsilon(0.01));
@@ -224,19 +218,19 @@ TEST_CASE("add_myocyte rotates about the centre, add_vertical_myocyte is its str
 }
 
 TEST_CASE("tissue builders reject bad parameters with the JSON path") {
-  CHECK_THROWS_WITH_AS(build({{"builder", "fibrotic_patch"}}, 1),
+  CHECK_THROWS_WITH_AS(testing::build_tissue({{"builder", "fibrotic_patch"}}, 1),
                        doctest::Contains("tissue.arrangement"), ManifestError);
-  CHECK_THROWS_WITH_AS(build({{"builder", "in_series"}, {"fm_ratio", -1}}, 1),
+  CHECK_THROWS_WITH_AS(testing::build_tissue({{"builder", "in_series"}, {"fm_ratio", -1}}, 1),
                        doctest::Contains("tissue.fm_ratio"), ManifestError);
-  CHECK_THROWS_WITH_AS(build({{"builder", "interstitial"}, {"fibroblast_radius_um", {4, 1}}}, 1),
+  CHECK_THROWS_WITH_AS(testing::build_tissue({{"builder", "interstitial"}, {"fibroblast_radius_um", {4, 1}}}, 1),
                        doctest::Contains("tissue.fibroblast_radius_um"), ManifestError);
-  CHECK_THROWS_WITH_AS(build({{"builder", "interstitial"}, {"colum_spacing_um", 30}}, 1),
+  CHECK_THROWS_WITH_AS(testing::build_tissue({{"builder", "interstitial"}, {"colum_spacing_um", 30}}, 1),
                        doctest::Contains("colum_spacing_um"), ManifestError);
 }
 
 TEST_CASE("tissue picture (PNG) and VTK files parse") {
   const auto dir = testing::scratch_dir("tissue_files");
-  const Tissue t = build({{"builder", "fibrotic_patch"}, {"arrangement", "in_series"},
+  const Tissue t = testing::build_tissue({{"builder", "fibrotic_patch"}, {"arrangement", "in_series"},
                           {"width_mm", 0.6}, {"height_mm", 1.2}, {"patch_width_mm", 0.2},
                           {"patch_height_mm", 0.2}}, 1);
   // PNG by type, and by value with a colour bar.
@@ -302,7 +296,7 @@ TEST_CASE("tissue picture (PNG) and VTK files parse") {
 // the range in a channel: 2.6 / 400 x 255 = 1.7 of 255).
 TEST_CASE("an unantialiased tissue picture colours each particle's centre as Cairo does") {
   const auto dir = testing::scratch_dir("tissue_picture_fast");
-  const Tissue t = build({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 0.8}}, 1);
+  const Tissue t = testing::build_tissue({{"builder", "in_series"}, {"width_mm", 0.4}, {"height_mm", 0.8}}, 1);
   std::vector<double> v(t.cell_count());
   for (std::size_t c = 0; c < v.size(); ++c) v[c] = -80 + 120 * static_cast<double>(c % 7) / 6;
   PictureOptions options;

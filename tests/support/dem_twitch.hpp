@@ -14,14 +14,11 @@
 #include <vector>
 
 #include "mechanics/dem_solver.hpp"
-#include "tissue/tissue_builder.hpp"
+#include "support/scenes.hpp"
 
 namespace fibrodem::test {
 
-inline Tissue build_tissue(const json& spec, std::uint64_t seed) {
-  JsonReader reader(spec, "tissue");
-  return make_tissue_builder(reader)->build(seed);
-}
+using testing::build_tissue;
 
 // The small tissues of both layouts the schemes are checked on.
 inline Tissue small_in_series_tissue() {

@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "run/simulation.hpp"
+#include "tissue/tissue_builder.hpp"
 
 namespace fibrodem::testing {
 
@@ -61,6 +63,12 @@ inline CommandOutput run_command(const std::string& command) {
   while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+// The tissue a manifest's `tissue` object builds, for `seed`.
+inline Tissue build_tissue(const json& spec, std::uint64_t seed = 1) {
+  JsonReader reader(spec, "tissue");
+  return make_tissue_builder(reader)->build(seed);
 }
 
 // A fresh, empty directory under the build tree's test scratch space.
