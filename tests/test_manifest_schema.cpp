@@ -102,7 +102,10 @@ std::vector<json> coverage_manifests() {
                   "settle": {"ms": 10, "pacing": {"period_ms": 5, "duration_ms": 1, "amplitude_pA": 2000}}},
       "fibroblast": {"model": "passive_fibroblast", "myofilament": "rice"}
     },
-    "coupling": {"law": "gap_junction", "D_m_nS": 1000, "D_f_nS": 2, "scheme": "implicit", "dt_ms": 0},
+    "coupling": {"law": "gap_junction", "D_m_nS": 1000, "D_f_nS": 2, "scheme": "implicit", "dt_ms": 0,
+                 "regions": [{"shape": "rectangle", "x_mm": [0, 1], "y_mm": [0, 1], "scale": 0.5},
+                             {"shape": "ellipse", "x_mm": [0, 1], "y_mm": [0, 1], "D_m_nS": 10, "D_m_side_nS": 5,
+                              "D_f_nS": 1}]},
     "mechanics": {"solver": "dem", "contact_law": "linear_bond", "contact_law_parameters": {}},
     "mechano_electric_feedback": {"G_SAC_nS": 5, "E_SAC_mV": 0, "lambda_max": 1.1},
     "stimulus": [{"target": {"x_min_frac": 0, "x_max_frac": 1, "y_min_frac": 0, "y_max_frac": 0.5, "type": "myocyte"},

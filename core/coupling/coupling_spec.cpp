@@ -11,6 +11,7 @@ CouplingSpec read_coupling_spec(JsonReader r) {
   c.D_f_nS = r.number("D_f_nS", c.D_f_nS, 0.0, 1e9);
   c.scheme = r.text("scheme", c.scheme, {"explicit", "implicit"});
   c.dt_ms = r.number("dt_ms", 0.0, 0.0, 1e3);
+  if (r.has("regions")) c.regions = read_coupling_regions(r.raw("regions"), r.path_of("regions"), c.conductances());
   r.finish();
   return c;
 }

@@ -3,8 +3,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
-#include "util/json_reader.hpp"
+#include "coupling/coupling_region.hpp"
 
 namespace fibrodem {
 
@@ -18,9 +19,13 @@ struct CouplingSpec {
   double D_f_nS = 2.0;     // any pair with a fibroblast
   std::string scheme = "explicit";  // explicit | implicit (backward Euler)
   double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step
+  std::vector<CouplingRegion> regions;  // coupling.regions, in order (a later one overrides)
+  JunctionConductances conductances() const { return {D_m_nS, D_m_side_nS, D_f_nS}; }
 };
 
 // Reads the manifest's `coupling` object (ManifestError naming the JSON path).
+// A region that holds no junction is found when the coupling is built
+// (GapJunctionCoupler), which knows the tissue.
 CouplingSpec read_coupling_spec(JsonReader coupling);
 
 }  // namespace fibrodem

@@ -2,29 +2,58 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "model/work_split.hpp"
+#include "util/manifest_error.hpp"
 
 namespace fibrodem {
 
 namespace {
 
-Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, const JunctionConductances& g_nS) {
+// A region that holds no junction is named: it lies off the tissue, between
+// its cells, or under later regions.
+void check_regions_hold_junctions(const Tissue& tissue, const std::vector<CouplingRegion>& regions,
+                                  const std::vector<int>& junctions_held) {
+  for (std::size_t k = 0; k < regions.size(); ++k) {
+    if (junctions_held[k] > 0) continue;
+    const auto b = tissue.bounds_um();
+    const CouplingRegion& r = regions[k];
+    throw ManifestError(r.path, fmt::format("holds no junction (none has its midpoint in it and in no later region; its x_mm [{:g}, {:g}], y_mm [{:g}, {:g}]; "
+                                            "the tissue spans x [{:g}, {:g}] mm, y [{:g}, {:g}] mm)",
+                                            r.x_min_um / 1000, r.x_max_um / 1000, r.y_min_um / 1000, r.y_max_um / 1000,
+                                            b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
+  }
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, const JunctionConductances& base_nS,
+                                                          const std::vector<CouplingRegion>& regions) {
   const auto n = static_cast<Eigen::Index>(tissue.cell_count());
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(4 * tissue.cell_edges.size());
-  const bool anisotropic = g_nS.D_m_side_nS != g_nS.D_m_nS;  // (else the junction's direction is not asked)
+  std::vector<int> junctions_held(regions.size(), 0);
   for (const auto& [i, j] : tissue.cell_edges) {
+    const JunctionConductances* g_nS = &base_nS;
+    if (!regions.empty()) {
+      const double x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]), y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
+      if (const int k = region_holding(regions, x_um, y_um); k >= 0) {
+        g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
+        ++junctions_held[static_cast<std::size_t>(k)];
+      }
+    }
     const bool both_myocytes =
         tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
-    const double g = !both_myocytes                              ? g_nS.D_f_nS
-                     : !anisotropic || end_to_end(tissue, i, j) ? g_nS.D_m_nS
-                                                                 : g_nS.D_m_side_nS;
+    const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
+    const double g = !both_myocytes                              ? g_nS->D_f_nS
+                     : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
+                                                                 : g_nS->D_m_side_nS;
     if (g == 0.0) continue;
     entries.emplace_back(i, i, g);
     entries.emplace_back(j, j, g);
     entries.emplace_back(i, j, -g);
     entries.emplace_back(j, i, -g);
   }
+  check_regions_hold_junctions(tissue, regions, junctions_held);
   Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian(n, n);
   laplacian.setFromTriplets(entries.begin(), entries.end());
   laplacian.makeCompressed();
@@ -35,8 +64,8 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
 
 // (L exists whole only while the CG slices it.)
 GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS,
-                                       std::vector<double> capacitance_pF)
-    : cg_(laplacian_of(tissue, g_nS), capacitance_pF), max_rate_per_ms_(0.0) {
+                                       std::vector<double> capacitance_pF, const std::vector<CouplingRegion>& regions)
+    : cg_(laplacian_of(tissue, g_nS, regions), capacitance_pF), max_rate_per_ms_(0.0) {
   const std::vector<double> total = total_conductance_nS();
   for (std::size_t i = 0; i < total.size(); ++i)
     max_rate_per_ms_ = std::max(max_rate_per_ms_, 2.0 * total[i] / capacitance_pF[i]);

@@ -2,8 +2,8 @@
 //   I_n,c = sum_i D^i (V_i - V_c),
 // D = D_m between two myocytes joined end to end, D_m_side between two side
 // by side (tissue/tissue.hpp end_to_end) and D_f for any pair with a
-// fibroblast, as the
-// graph Laplacian L [nS]: the currents are -L V and the backward-Euler step
+// fibroblast (coupling/coupling_region.hpp: by region where the manifest
+// gives regions), as the graph Laplacian L [nS]: the currents are -L V and the backward-Euler step
 // solves (C/dt + L) V' = (C/dt) V, by preconditioned conjugate gradients
 // (coupling/coupling_cg.hpp), which hold L for both.
 #pragma once
@@ -13,20 +13,17 @@
 
 #include "coupling/coupler.hpp"
 #include "coupling/coupling_cg.hpp"
+#include "coupling/coupling_region.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
 
-// A junction's conductance by the cells it joins [nS].
-struct JunctionConductances {
-  double D_m_nS = 1000;       // two myocytes, end to end (along the fibres)
-  double D_m_side_nS = 1000;  // two myocytes, side to side (across the fibres)
-  double D_f_nS = 2;          // any pair with a fibroblast
-};
-
 class GapJunctionCoupler final : public Coupler {
  public:
-  GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS, std::vector<double> capacitance_pF);
+  // `regions` override g_nS where they hold a junction's midpoint; one that
+  // holds none is a ManifestError naming it.
+  GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS, std::vector<double> capacitance_pF,
+                     const std::vector<CouplingRegion>& regions = {});
   void add_current(const double* V_mV, double* i_ext_pA) const override;
   void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const override;
   void implicit_step(double* V_mV, double dt_ms, double tolerance_mV) override;

@@ -217,8 +217,8 @@ void Simulation::Impl::build_coupling() {
   std::vector<double> capacitance(tissue.cell_count());
   for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
     capacitance[cell] = system.populations[system.where[cell].first].capacitance_pF;
-  const JunctionConductances g{scene.coupling.D_m_nS, scene.coupling.D_m_side_nS, scene.coupling.D_f_nS};
-  system.coupler = std::make_unique<GapJunctionCoupler>(tissue, g, capacitance);
+  system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.conductances(), capacitance,
+                                                        scene.coupling.regions);
   system.coupled_pairs = tissue.cell_edges;
   // (CVODE takes the coupling into its implicit solve; the adaptive method
   // takes each cell's own potential in it exponentially.)

@@ -65,11 +65,14 @@ void Simulation::Impl::log_setup() {
     log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
               system.sac.lambda_max);
   if (system.coupler)
-    log->info("coupling: gap junctions, D_m = {} nS{}, D_f = {} nS, {}", scene.coupling.D_m_nS,
+    log->info("coupling: gap junctions, D_m = {} nS{}, D_f = {} nS{}, {}", scene.coupling.D_m_nS,
               scene.coupling.D_m_side_nS == scene.coupling.D_m_nS
                   ? std::string()
                   : fmt::format(" end to end and {} nS side to side", scene.coupling.D_m_side_nS),
               scene.coupling.D_f_nS,
+              scene.coupling.regions.empty()
+                  ? std::string()
+                  : fmt::format(" ({} regions of their own, coupling.regions)", scene.coupling.regions.size()),
               !scene.solver.fixed_step()     ? std::string("in the integrator's implicit solve")
               : system.implicit_coupling     ? fmt::format("backward Euler (split), every {} cell step(s)",
                                                            system.coupling_every)
