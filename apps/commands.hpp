@@ -3,6 +3,7 @@
 #pragma once
 
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,18 @@ struct RestitutionArgs {
   bool overwrite = false;
 };
 
+// `fibrodem tune-cv`: conductances for target conduction velocities (study/cv_tuning.hpp).
+struct TuneCvArgs {
+  std::string manifest;
+  std::optional<double> along_m_per_s, across_m_per_s;
+  std::string preset;  // study/cv_tuning.hpp cv_presets(); the --cv-* options override it
+  double tolerance = 0.01;
+  int max_iterations = 10;
+  double length_mm = 5;
+  std::string write;  // the manifest with the conductances found; empty: none
+  std::vector<std::string> overrides;
+};
+
 // `fibrodem bench accuracy`: ladders of steps and tolerances against a reference.
 struct BenchAccuracyArgs {
   std::string manifest;
@@ -113,6 +126,8 @@ int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
 int vulnerable_window_command(const VulnerableWindowArgs& args);
 int restitution_command(const RestitutionArgs& args);
+int tune_cv_command(const TuneCvArgs& args);
+CLI::App* add_tune_cv_subcommand(CLI::App& app, TuneCvArgs& args);
 int validate_command(const RunArgs& args);
 int plugins_command(bool as_json);
 // `fibrodem plot SPEC.json --out FILE.png` (apps/plot_command.cpp).

@@ -13,7 +13,7 @@ namespace {
 
 // Every subcommand's name, as declared below.
 constexpr const char* kSubcommands[] = {
-    "run",     "resume", "report",       "validate",  "compare", "sweep", "vulnerable-window", "restitution",
+    "run",     "resume", "report",       "validate",  "compare", "sweep", "vulnerable-window", "restitution", "tune-cv",
     "plugins", "plot",   "check-plugin", "new-model", "bench",   "import-cellml", "schema"};
 
 // Edits (insertions, deletions, substitutions) from a to b: Levenshtein's distance.
@@ -148,6 +148,10 @@ int main(int argc, char** argv) {
     window->add_flag("--overwrite", window_args.overwrite, "run every interval again, even those run before with the same manifest");
   }
 
+  fibrodem::cli::TuneCvArgs tune_cv_args;
+  CLI::App* tune_cv = nullptr;
+  if (declared("tune-cv")) tune_cv = fibrodem::cli::add_tune_cv_subcommand(app, tune_cv_args);
+
   fibrodem::cli::RestitutionArgs restitution_args;
   CLI::App* restitution = nullptr;
   if (declared("restitution")) {
@@ -234,6 +238,7 @@ int main(int argc, char** argv) {
   if (chosen(sweep)) return fibrodem::cli::sweep_command(sweep_args);
   if (chosen(window)) return fibrodem::cli::vulnerable_window_command(window_args);
   if (chosen(restitution)) return fibrodem::cli::restitution_command(restitution_args);
+  if (chosen(tune_cv)) return fibrodem::cli::tune_cv_command(tune_cv_args);
   if (chosen(plugins)) return fibrodem::cli::plugins_command(plugins_json);
   if (chosen(plot)) return fibrodem::cli::plot_command(plot_spec, plot_out);
   if (chosen(schema)) return fibrodem::cli::schema_command(schema_args);
