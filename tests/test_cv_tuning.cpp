@@ -39,7 +39,7 @@ TEST_CASE("tune-cv on a strand reaches its target within 1 %, and the written ma
   REQUIRE(r.converged);
   MESSAGE("D_m_nS ", r.D_m_nS, " after ", r.steps.size(), " iterations: ", *r.along_m_per_s, " m/s");
   CHECK(steps_seen == static_cast<int>(r.steps.size()));
-  CHECK(r.steps.size() <= 5);
+  CHECK(r.steps.size() <= 5);  // (3 measured: 0.64, 0.49, 0.50 m/s)
   CHECK(*r.along_m_per_s == doctest::Approx(0.5).epsilon(0.01));
   // Slower than 1000 nS's 0.77 m/s: a lower conductance; on a strand the
   // side conductance follows it.

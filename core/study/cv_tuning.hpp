@@ -77,7 +77,7 @@ enum class CvDirection { along, across };
 
 // The manifest tune-cv runs to measure CV in one direction: the manifest's
 // cells, solver and coupling scheme on a strand (builder `strand`) or a
-// fibrotic_sheet without fibrosis (0.25 mm wide along, 0.5 mm long across),
+// fibrotic_sheet without fibrosis (1 mm wide along, 1 mm long across),
 // `length_mm` long in the wave's direction, paced once in a 0.3 mm band at
 // one edge with stimulus[0]'s amplitude and duration (measured_cv_m_per_s
 // doubles the amplitude until the band fires); electrophysiology and
