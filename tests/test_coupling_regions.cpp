@@ -67,7 +67,7 @@ TEST_CASE("a strip with a quarter of the conductance conducts as a strand of tha
   // Continuous tissue would give sqrt(0.25) = 0.5. The discrete strand is
   // slower than that at 250 nS: its cells are isopotential, so the front
   // crosses each junction with a delay that grows as g falls (Shaw & Rudy
-  // 1997); measured 0.47. Within 0.40-0.50.
+  // 1997); measured 0.476. Within 0.40-0.50.
   CHECK(inside / outside < 0.5);
   CHECK(inside / outside > 0.40);
 }
