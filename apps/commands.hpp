@@ -10,10 +10,12 @@
 #include "cellml/import.hpp"
 #include "model/plugin_registry.hpp"
 #include "run/interrupt.hpp"
+#include "study/study_options.hpp"
 #include "util/manifest_error.hpp"
 
 namespace CLI {
 class App;
+class Validator;
 }
 
 namespace fibrodem::cli {
@@ -57,30 +59,19 @@ struct SweepArgs {
   unsigned jobs = 0;  // 0: one per core
 };
 
-// `fibrodem vulnerable-window`: the S2 coupling intervals that induce re-entry.
+// `fibrodem vulnerable-window` and `fibrodem restitution`: the manifest
+// file, then what the Python module gives as well (study/study_options.hpp:
+// the one options path of both, with each option's default and limits).
 struct VulnerableWindowArgs {
   std::string manifest;
-  std::string out;
-  std::vector<std::string> overrides;
-  double from_ms = 0, to_ms = 0, step_ms = 0;  // 0: the manifest's interval +- 100 ms by 10 ms
-  double resolution_ms = 1;
-  double capture_fraction = 0.5;
-  int seeds = 0;       // > 0: this many tissue seeds
-  unsigned jobs = 0;   // 0: one per core
-  bool overwrite = false;
+  StudyInput input;
+  VulnerableWindowOptions options;
 };
 
-// `fibrodem restitution`: S1-S2 APD restitution and the ERP (study/restitution.hpp).
 struct RestitutionArgs {
   std::string manifest;
-  std::string out;
-  std::vector<std::string> overrides;
-  std::vector<double> intervals_ms;  // empty: from the S1 period down to 100 ms
-  std::vector<int> cells;            // empty: every myocyte
-  double resolution_ms = 1;
-  double capture_fraction = 0.5;
-  unsigned jobs = 0;  // 0: one per core
-  bool overwrite = false;
+  StudyInput input;
+  RestitutionOptions options;
 };
 
 // `fibrodem tune-cv`: conductances for target conduction velocities (study/cv_tuning.hpp).
@@ -124,8 +115,8 @@ int resume_command(const ResumeArgs& args);
 int report_command(const ReportArgs& args);
 int sweep_command(const SweepArgs& args);
 int compare_command(const CompareArgs& args);
-int vulnerable_window_command(const VulnerableWindowArgs& args);
-int restitution_command(const RestitutionArgs& args);
+int vulnerable_window_command(VulnerableWindowArgs& args);
+int restitution_command(RestitutionArgs& args);
 int tune_cv_command(const TuneCvArgs& args);
 CLI::App* add_tune_cv_subcommand(CLI::App& app, TuneCvArgs& args);
 int validate_command(const RunArgs& args);
@@ -156,6 +147,11 @@ struct SchemaArgs {
 int schema_command(const SchemaArgs& args);
 CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& options);
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
+CLI::App* add_vulnerable_window_subcommand(CLI::App& app, VulnerableWindowArgs& args);
+CLI::App* add_restitution_subcommand(CLI::App& app, RestitutionArgs& args);
+// CLI11's check of a study option's limits (study/study_options.hpp), the
+// validator the flag had when it was written out: its description is --help's.
+CLI::Validator within_limits(const StudyNumberOption& option);
 
 // A failure's message on standard error, in one write: under mpirun every
 // rank may print the same one, and pieces written apart would interleave.

@@ -133,20 +133,7 @@ int main(int argc, char** argv) {
 
   fibrodem::cli::VulnerableWindowArgs window_args;
   CLI::App* window = nullptr;
-  if (declared("vulnerable-window")) {
-    window = app.add_subcommand("vulnerable-window", "Scan the S1-S2 coupling interval (stimulus[1] after stimulus[0]) and find the window that induces re-entry, boundaries refined by bisection");
-    window->add_option("manifest", window_args.manifest, "manifest with S1 (stimulus[0]) and S2 (stimulus[1])")->required();
-    window->add_option("--out", window_args.out, "output directory (default out/vulnerable_window_NAME)");
-    window->add_option("--from", window_args.from_ms, "first coupling interval of the scan [ms] (with --to and --step; default: the manifest's interval - 100)")->check(CLI::PositiveNumber);
-    window->add_option("--to", window_args.to_ms, "last coupling interval of the scan [ms]")->check(CLI::PositiveNumber);
-    window->add_option("--step", window_args.step_ms, "the scan's step [ms] (default 10)")->check(CLI::PositiveNumber);
-    window->add_option("--resolution", window_args.resolution_ms, "bisection stops when a boundary is bracketed this closely [ms] (default 1)")->check(CLI::PositiveNumber);
-    window->add_option("--capture-fraction", window_args.capture_fraction, "S2 counts as captured when its beat reaches at least this fraction of the myocytes (default 0.5)")->check(CLI::Range(0.0, 1.0));
-    window->add_option("--seeds", window_args.seeds, "search on K tissue seeds (the manifest's and the next K - 1)")->check(CLI::Range(1, 10000));
-    window->add_option("--jobs", window_args.jobs, "runs at once (default: one per core)");
-    window->add_option("--set", window_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
-    window->add_flag("--overwrite", window_args.overwrite, "run every interval again, even those run before with the same manifest");
-  }
+  if (declared("vulnerable-window")) window = fibrodem::cli::add_vulnerable_window_subcommand(app, window_args);
 
   fibrodem::cli::TuneCvArgs tune_cv_args;
   CLI::App* tune_cv = nullptr;
@@ -154,18 +141,7 @@ int main(int argc, char** argv) {
 
   fibrodem::cli::RestitutionArgs restitution_args;
   CLI::App* restitution = nullptr;
-  if (declared("restitution")) {
-    restitution = app.add_subcommand("restitution", "S1-S2 action-potential restitution: APD90 and APD50 of S2 (stimulus[1]) against the diastolic interval, and the effective refractory period");
-    restitution->add_option("manifest", restitution_args.manifest, "manifest with S1 (stimulus[0], a train with count) and S2 (stimulus[1])")->required();
-    restitution->add_option("--out", restitution_args.out, "output directory (default out/restitution_NAME)");
-    restitution->add_option("--intervals", restitution_args.intervals_ms, "S1-S2 coupling intervals [ms], comma-separated (default: the S1 period, then 800 ... 100)")->delimiter(',')->check(CLI::PositiveNumber);
-    restitution->add_option("--cells", restitution_args.cells, "cells to measure, comma-separated indices (default: every myocyte; medians over them)")->delimiter(',')->check(CLI::NonNegativeNumber);
-    restitution->add_option("--resolution", restitution_args.resolution_ms, "the ERP's bisection stops at this bracket [ms] (default 1; 0: no bisection)")->check(CLI::NonNegativeNumber);
-    restitution->add_option("--capture-fraction", restitution_args.capture_fraction, "S2 counts as captured when at least this fraction of the measured cells fire (default 0.5)")->check(CLI::Range(0.0, 1.0));
-    restitution->add_option("--jobs", restitution_args.jobs, "runs at once (default: one per core)");
-    restitution->add_option("--set", restitution_args.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
-    restitution->add_flag("--overwrite", restitution_args.overwrite, "run every interval again, even those run before with the same manifest");
-  }
+  if (declared("restitution")) restitution = fibrodem::cli::add_restitution_subcommand(app, restitution_args);
 
   bool plugins_json = false;
   CLI::App* plugins = nullptr;

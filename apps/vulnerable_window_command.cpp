@@ -2,7 +2,9 @@
 // [--seeds N] [--jobs N]`: the S1-S2 coupling intervals at which S2 induces
 // re-entry (the engine: study/vulnerable_window.hpp). Each run is a
 // `fibrodem run` process of its own (this executable), as a sweep's points.
+#include <CLI/CLI.hpp>
 #include <boost/dll/runtime_symbol_info.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <iostream>
@@ -10,7 +12,6 @@
 
 #include "apps/commands.hpp"
 #include "scene/scene.hpp"
-#include "study/vulnerable_window.hpp"
 
 namespace fibrodem::cli {
 
@@ -33,27 +34,31 @@ void print_windows(const std::string& what, const std::vector<InducedWindow>& wi
 
 }  // namespace
 
-int vulnerable_window_command(const VulnerableWindowArgs& args) {
+CLI::App* add_vulnerable_window_subcommand(CLI::App& app, VulnerableWindowArgs& args) {
+  namespace option = study_option;
+  VulnerableWindowOptions& o = args.options;
+  auto* sub = app.add_subcommand("vulnerable-window", "Scan the S1-S2 coupling interval (stimulus[1] after stimulus[0]) and find the window that induces re-entry, boundaries refined by bisection");
+  sub->add_option("manifest", args.manifest, "manifest with S1 (stimulus[0]) and S2 (stimulus[1])")->required();
+  sub->add_option("--out", args.input.out, "output directory (default out/vulnerable_window_NAME)");
+  sub->add_option(option::scan_from.flag, o.scan.from_ms, "first coupling interval of the scan [ms] (with --to and --step; default: the manifest's interval - 100)")->check(within_limits(option::scan_from));
+  sub->add_option(option::scan_to.flag, o.scan.to_ms, "last coupling interval of the scan [ms]")->check(within_limits(option::scan_to));
+  sub->add_option(option::scan_step.flag, o.scan.step_ms, "the scan's step [ms] (default 10)")->check(within_limits(option::scan_step));
+  sub->add_option(option::bisection_resolution.flag, o.scan.resolution_ms, "bisection stops when a boundary is bracketed this closely [ms] (default " + fmt::format("{}", o.scan.resolution_ms) + ")")->check(within_limits(option::bisection_resolution));
+  sub->add_option(option::capture_fraction.flag, o.capture_fraction, "S2 counts as captured when its beat reaches at least this fraction of the myocytes (default " + fmt::format("{}", o.capture_fraction) + ")")->check(within_limits(option::capture_fraction));
+  sub->add_option(option::seeds.flag, o.seeds, "search on K tissue seeds (the manifest's and the next K - 1)")->check(within_limits(option::seeds));
+  sub->add_option("--jobs", o.jobs, "runs at once (default: one per core)");
+  sub->add_option("--set", args.input.overrides, "override a value of the manifest: PATH=VALUE (repeatable)");
+  sub->add_flag("--overwrite", o.overwrite, "run every interval again, even those run before with the same manifest");
+  return sub;
+}
+
+int vulnerable_window_command(VulnerableWindowArgs& args) {
   return guarded([&] {
-    json manifest = read_manifest_file(args.manifest);
-    for (const auto& o : args.overrides) apply_override(manifest, o);
-    VulnerableWindowOptions options;
-    options.out = args.out.empty() ? default_vulnerable_window_dir(manifest) : std::filesystem::path(args.out);
+    args.input.manifest = read_manifest_file(args.manifest);
+    VulnerableWindowOptions options = prepare_vulnerable_window(args.input, args.options);
+    json& manifest = args.input.manifest;
     options.runner = ChildProcessRunner{boost::dll::program_location().string()};
-    options.jobs = args.jobs;
-    options.seeds = args.seeds;
-    options.overwrite = args.overwrite;
-    options.capture_fraction = args.capture_fraction;
-    const bool scan_given = args.from_ms > 0 || args.to_ms > 0 || args.step_ms > 0;
-    if (scan_given) {
-      if (!(args.from_ms > 0 && args.to_ms >= args.from_ms && args.step_ms > 0))
-        throw ManifestError("--from/--to/--step", "give all three, with 0 < from <= to and step > 0 (got from " +
-                                                      std::to_string(args.from_ms) + ", to " + std::to_string(args.to_ms) +
-                                                      ", step " + std::to_string(args.step_ms) + ")");
-      options.scan = {args.from_ms, args.to_ms, args.step_ms, args.resolution_ms};
-    } else {
-      options.scan.resolution_ms = args.resolution_ms;
-    }
+    const bool scan_given = options.scan.step_ms > 0;
     if (ensure_reentry_output(manifest))
       std::cerr << "note: the manifest has no output.reentry; added {\"every_ms\": 2, \"tau_ms\": 10} to every run\n";
     if (!scan_given) {

@@ -340,8 +340,10 @@ def compare(a, b=None, out=None, set=None, a_set=None, b_set=None, seeds=0, over
     return Comparison(raw)
 
 
-def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None, resolution_ms=1.0, seeds=0,
-                      jobs=0, capture_fraction=0.5, set=None, overwrite=False, runner=None):
+def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None,
+                      resolution_ms=_core.vulnerable_window_defaults["resolution_ms"], seeds=0, jobs=0,
+                      capture_fraction=_core.vulnerable_window_defaults["capture_fraction"], set=None,
+                      overwrite=False, runner=None):
     """Finds the S1-S2 coupling intervals that induce re-entry, as
     ``fibrodem vulnerable-window`` does (docs/arrhythmia.md), and returns a dict.
 
@@ -369,18 +371,14 @@ def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None
     if any(x is not None for x in scan) and any(x is None for x in scan):
         raise ValueError("vulnerable_window(): give from_ms, to_ms and step_ms together, or none of them")
     for name, x in zip(("from_ms", "to_ms", "step_ms"), scan):
-        if x is not None and (isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0):
-            raise ValueError("vulnerable_window(): %s must be a number > 0, not %r" % (name, x))
+        if x is not None and (isinstance(x, bool) or not isinstance(x, (int, float))):
+            raise TypeError("vulnerable_window(): %s must be a number, not %r" % (name, x))
     if out is not None and not isinstance(out, (str, os.PathLike)):
         raise TypeError("vulnerable_window(): out must be None or a folder path, not %s" % _type_name(out))
     if not isinstance(seeds, int) or isinstance(seeds, bool) or seeds < 0:
         raise TypeError("vulnerable_window(): seeds must be an int >= 0, not %r" % (seeds,))
     if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 0:
         raise TypeError("vulnerable_window(): jobs must be an int >= 0 (0: one per core), not %r" % (jobs,))
-    if not 0 <= capture_fraction <= 1:
-        raise ValueError("vulnerable_window(): capture_fraction must be in [0, 1], not %r" % (capture_fraction,))
-    if not resolution_ms > 0:
-        raise ValueError("vulnerable_window(): resolution_ms must be > 0, not %r" % (resolution_ms,))
     return _core.vulnerable_window(_manifest_source(manifest, "vulnerable_window(): manifest"),
                                    _assignments(set, "vulnerable_window(): set"),
                                    "" if out is None else os.fspath(out),
@@ -388,8 +386,10 @@ def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None
                                    seeds, jobs, float(capture_fraction), overwrite, _executable(runner))
 
 
-def restitution(manifest, out=None, intervals_ms=None, cells=None, resolution_ms=1.0, jobs=0, capture_fraction=0.5,
-                set=None, overwrite=False, runner=None):
+def restitution(manifest, out=None, intervals_ms=None, cells=None,
+                resolution_ms=_core.restitution_defaults["resolution_ms"], jobs=0,
+                capture_fraction=_core.restitution_defaults["capture_fraction"], set=None, overwrite=False,
+                runner=None):
     """S1-S2 action-potential restitution and the effective refractory period,
     as ``fibrodem restitution`` computes them (docs/arrhythmia.md#restitution),
     returned as a dict.
@@ -418,18 +418,14 @@ def restitution(manifest, out=None, intervals_ms=None, cells=None, resolution_ms
         raise TypeError("restitution(): out must be None or a folder path, not %s" % _type_name(out))
     intervals = [] if intervals_ms is None else list(intervals_ms)
     for x in intervals:
-        if isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0:
-            raise ValueError("restitution(): intervals_ms must be numbers > 0, not %r" % (x,))
+        if isinstance(x, bool) or not isinstance(x, (int, float)):
+            raise TypeError("restitution(): intervals_ms must be numbers, not %r" % (x,))
     chosen = [] if cells is None else list(cells)
     for c in chosen:
-        if isinstance(c, bool) or not isinstance(c, int) or c < 0:
-            raise ValueError("restitution(): cells must be cell indices (ints >= 0), not %r" % (c,))
+        if isinstance(c, bool) or not isinstance(c, int):
+            raise TypeError("restitution(): cells must be cell indices (ints), not %r" % (c,))
     if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 0:
         raise TypeError("restitution(): jobs must be an int >= 0 (0: one per core), not %r" % (jobs,))
-    if not 0 < capture_fraction <= 1:
-        raise ValueError("restitution(): capture_fraction must be in (0, 1], not %r" % (capture_fraction,))
-    if not resolution_ms >= 0:
-        raise ValueError("restitution(): resolution_ms must be >= 0, not %r" % (resolution_ms,))
     return _core.restitution(_manifest_source(manifest, "restitution(): manifest"),
                              _assignments(set, "restitution(): set"), "" if out is None else os.fspath(out),
                              [float(x) for x in intervals], chosen, float(resolution_ms), jobs,

@@ -17,9 +17,8 @@
 #include "run/interrupt.hpp"
 #include "scene/scene.hpp"
 #include "study/compare_variants.hpp"
-#include "study/restitution.hpp"
+#include "study/study_options.hpp"
 #include "study/sweep.hpp"
-#include "study/vulnerable_window.hpp"
 
 namespace py = pybind11;
 
@@ -232,20 +231,20 @@ py::list windows_list(const std::vector<InducedWindow>& windows) {
 py::dict vulnerable_window(py::handle source, const py::list& overrides, const std::string& out, double from_ms,
                            double to_ms, double step_ms, double resolution_ms, int seeds, unsigned jobs,
                            double capture_fraction, bool overwrite, const std::string& executable) {
-  json manifest = manifest_of(source, "vulnerable_window(): manifest");
-  for (const auto& s : assignments(overrides, "vulnerable_window(): set")) apply_override(manifest, s);
-  VulnerableWindowOptions options;
-  options.out = out.empty() ? default_vulnerable_window_dir(manifest) : std::filesystem::path(out);
-  options.scan = {from_ms, to_ms, step_ms, resolution_ms};
-  options.seeds = seeds;
-  options.jobs = jobs;
-  options.capture_fraction = capture_fraction;
-  options.overwrite = overwrite;
+  StudyInput input{manifest_of(source, "vulnerable_window(): manifest"),
+                   assignments(overrides, "vulnerable_window(): set"), out};
+  VulnerableWindowOptions given;
+  given.scan = {from_ms, to_ms, step_ms, resolution_ms};
+  given.seeds = seeds;
+  given.jobs = jobs;
+  given.capture_fraction = capture_fraction;
+  given.overwrite = overwrite;
+  VulnerableWindowOptions options = prepare_vulnerable_window(input, given);
   options.runner = point_runner(executable);
   VulnerableWindowResult result;
   {
     py::gil_scoped_release release;
-    result = run_vulnerable_window(manifest, options);
+    result = run_vulnerable_window(input.manifest, options);
   }
   py::list runs, per_seed;
   for (const auto& r : result.search.results) {
@@ -276,21 +275,20 @@ py::dict vulnerable_window(py::handle source, const py::list& overrides, const s
 py::dict restitution(py::handle source, const py::list& overrides, const std::string& out,
                      const std::vector<double>& intervals_ms, const std::vector<int>& cells, double resolution_ms,
                      unsigned jobs, double capture_fraction, bool overwrite, const std::string& executable) {
-  json manifest = manifest_of(source, "restitution(): manifest");
-  for (const auto& s : assignments(overrides, "restitution(): set")) apply_override(manifest, s);
-  RestitutionOptions options;
-  options.out = out.empty() ? default_restitution_dir(manifest) : std::filesystem::path(out);
-  options.intervals_ms = intervals_ms;
-  options.cells = cells;
-  options.erp_resolution_ms = resolution_ms;
-  options.jobs = jobs;
-  options.capture_fraction = capture_fraction;
-  options.overwrite = overwrite;
+  StudyInput input{manifest_of(source, "restitution(): manifest"), assignments(overrides, "restitution(): set"), out};
+  RestitutionOptions given;
+  given.intervals_ms = intervals_ms;
+  given.cells = cells;
+  given.erp_resolution_ms = resolution_ms;
+  given.jobs = jobs;
+  given.capture_fraction = capture_fraction;
+  given.overwrite = overwrite;
+  RestitutionOptions options = prepare_restitution(input, given);
   options.runner = point_runner(executable);
   RestitutionResult result;
   {
     py::gil_scoped_release release;
-    result = run_restitution(manifest, options);
+    result = run_restitution(input.manifest, options);
   }
   py::list points;
   for (const auto& p : result.points) {
@@ -311,6 +309,14 @@ py::dict restitution(py::handle source, const py::list& overrides, const std::st
 }  // namespace
 
 void bind_study(py::module_& m) {
+  // The studies' defaults, as the command line's (study/study_options.hpp),
+  // for the keywords of fibrodem.restitution and fibrodem.vulnerable_window.
+  const RestitutionOptions restitution_defaults;
+  const VulnerableWindowOptions window_defaults;
+  m.attr("restitution_defaults") = py::dict(py::arg("resolution_ms") = restitution_defaults.erp_resolution_ms,
+                                            py::arg("capture_fraction") = restitution_defaults.capture_fraction);
+  m.attr("vulnerable_window_defaults") = py::dict(py::arg("resolution_ms") = window_defaults.scan.resolution_ms,
+                                                  py::arg("capture_fraction") = window_defaults.capture_fraction);
   m.def("restitution", &restitution, py::arg("manifest"), py::arg("overrides"), py::arg("out"),
         py::arg("intervals_ms"), py::arg("cells"), py::arg("resolution_ms"), py::arg("jobs"),
         py::arg("capture_fraction"), py::arg("overwrite"), py::arg("executable"));

@@ -53,7 +53,12 @@ def test_same_curve_and_erp_as_the_command_line(tmp_path):
 
 
 def test_bad_arguments_are_refused():
-    with pytest.raises(ValueError, match="intervals_ms must be numbers > 0"):
+    # The limits of study/study_options.hpp, which the command line's flags obey.
+    with pytest.raises(fibrodem.ManifestError, match=r"--intervals \(intervals_ms\): expected a number > 0, got -1"):
         fibrodem.restitution(CELL, intervals_ms=[400, -1])
-    with pytest.raises(ValueError, match="cells must be cell indices"):
+    with pytest.raises(fibrodem.ManifestError, match=r"cells\): expected a whole number >= 0, got -2"):
         fibrodem.restitution(CELL, cells=[-2])
+    with pytest.raises(fibrodem.ManifestError, match=r"capture_fraction\): expected a number in \[0, 1\], got 1.5"):
+        fibrodem.restitution(CELL, capture_fraction=1.5)
+    with pytest.raises(TypeError, match="cells must be cell indices"):
+        fibrodem.restitution(CELL, cells=[1.5])
