@@ -39,6 +39,7 @@
 #include "apps/commands.hpp"
 #include "scene/scene.hpp"
 #include "util/json_reader.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem::cli {
 
@@ -171,7 +172,7 @@ double worse_by(const Row& r, double ours, double theirs) {
   return std::max(0.0, r.rate ? theirs / ours - 1 : ours / theirs - 1);
 }
 
-std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : "-"; }
+std::string cell(double v) { return std::isfinite(v) ? significant_digits(v, 3) : "-"; }
 
 }  // namespace
 

@@ -1,7 +1,6 @@
 #include "cellml/model_analysis.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <limits>
@@ -9,6 +8,7 @@
 #include <optional>
 
 #include "cellml/import_error.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem::cellml {
 
@@ -122,9 +122,7 @@ void order_equations(Model& m) {
 }  // namespace
 
 double snapped(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.15g", x);
-  return std::strtod(buf, nullptr);
+  return std::strtod(significant_digits(x, 15).c_str(), nullptr);
 }
 
 double Model::factor_to(int v) const {

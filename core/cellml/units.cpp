@@ -1,7 +1,7 @@
 #include "cellml/units.hpp"
+#include "util/number_text.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 namespace fibrodem::cellml {
@@ -44,9 +44,7 @@ std::string Unit::dims_text() const {
 std::string Unit::described_as(const std::string& written) const {
   std::string si = dims_text();
   if (std::fabs(scale - 1.0) > 1e-12) {
-    char factor[32];
-    std::snprintf(factor, sizeof factor, "%g", scale);
-    si = std::string(factor) + " x " + si;
+    si = significant_digits(scale, 6) + " x " + si;
   }
   return si == written ? written : written + " = " + si;
 }

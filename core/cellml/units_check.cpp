@@ -1,19 +1,13 @@
 #include "cellml/units_check.hpp"
+#include "util/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <optional>
 
 namespace fibrodem::cellml {
 
 namespace {
-
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 
 bool has_variables(const Expr& e) {
   if (e.kind == Expr::Kind::variable) return true;
@@ -28,7 +22,7 @@ bool infix(const std::string& op) { return op == "plus" || op == "minus" || op =
 // disagree ("V - Eb"); long ones are cut.
 std::string term(const Expr& e) {
   switch (e.kind) {
-    case Expr::Kind::number: return number(e.value);
+    case Expr::Kind::number: return significant_digits(e.value, 6);
     case Expr::Kind::variable: return e.name;
     case Expr::Kind::constant: return e.op;
     case Expr::Kind::piecewise: return "piecewise(...)";
@@ -71,7 +65,7 @@ Found times(const Found& a, const Found& b, double exponent_b) {
   const std::string b_text = compound(b.units) ? "(" + b.units + ")" : b.units;
   f.units = exponent_b == 1.0 ? a.units + " * " + b_text
             : exponent_b == -1.0 ? a.units + " / " + b_text
-                                 : a.units + " * " + b_text + "^" + number(exponent_b);
+                                 : a.units + " * " + b_text + "^" + significant_digits(exponent_b, 6);
   return f;
 }
 
@@ -79,7 +73,7 @@ Found raised(const Found& base, double p) {
   Found f = base;
   f.unit.scale = std::pow(base.unit.scale, p);
   for (auto& [d, x] : f.unit.dims) x *= p;
-  f.units = (compound(base.units) ? "(" + base.units + ")" : base.units) + "^" + number(p);
+  f.units = (compound(base.units) ? "(" + base.units + ")" : base.units) + "^" + significant_digits(p, 6);
   return f;
 }
 
@@ -139,7 +133,7 @@ class Checker {
     const double ratio = a->unit.scale / b->unit.scale;
     if (std::fabs(ratio - 1.0) < 1e-9) return true;
     const double factor = snapped(std::max(ratio, 1.0 / ratio));
-    issues.push_back({equation_, path, what + " differ in scale by a factor of " + number(factor),
+    issues.push_back({equation_, path, what + " differ in scale by a factor of " + significant_digits(factor, 6),
                       described(term(a_expr), *a), described(b_term, *b), false, factor});
     return false;
   }

@@ -7,6 +7,7 @@
 #include "io/csv_writer.hpp"
 #include "measure/sample_statistics.hpp"
 #include "measure/summary_metrics.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -17,10 +18,7 @@ std::string fixed(double v, int digits) { return fixed_decimals(v, digits); }
 std::string p_text(double p) {
   if (!std::isfinite(p)) return "";
   if (p < 1e-4) return "< 1e-4";
-  std::ostringstream s;
-  s.precision(2);
-  s << p;
-  return s.str();
+  return significant_digits(p, 2);
 }
 
 }  // namespace

@@ -1,26 +1,9 @@
 #include "io/csv_writer.hpp"
 
-#include <charconv>
-#include <system_error>
 #include <cmath>
 #include <stdexcept>
 
 namespace fibrodem {
-
-std::string format_number(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
-std::string fixed_decimals(double value, int digits, const std::string& missing) {
-  if (!std::isfinite(value)) return missing;
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed, digits);
-  return result.ec == std::errc() ? std::string(buffer, result.ptr) : missing;
-}
 
 CsvWriter::CsvWriter(const std::filesystem::path& file, const std::vector<std::string>& header)
     : file_(file), out_(file, std::ios::trunc) {
@@ -58,7 +41,6 @@ CsvWriter& CsvWriter::cell(const std::string& value) {
 
 CsvWriter& CsvWriter::cell(double value) { return cell(format_number(value)); }
 
-std::string format_number_or_empty(double value) { return std::isfinite(value) ? format_number(value) : ""; }
 CsvWriter& CsvWriter::cell(long long value) { return cell(std::to_string(value)); }
 
 void CsvWriter::flush() {

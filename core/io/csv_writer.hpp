@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "util/number_text.hpp"
+
 namespace fibrodem {
 
 class CsvWriter {
@@ -37,11 +39,5 @@ class CsvWriter {
   std::ofstream out_;
   bool first_in_row_ = true;
 };
-
-std::string format_number(double value);  // shortest exact text; "nan", "inf"
-// The same, empty for NaN or infinity (a table's missing value).
-std::string format_number_or_empty(double value);
-// `digits` decimals (tables for people); `missing` for NaN or infinity.
-std::string fixed_decimals(double value, int digits, const std::string& missing = "");
 
 }  // namespace fibrodem

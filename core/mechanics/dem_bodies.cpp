@@ -9,6 +9,7 @@
 #include "mechanics/dem_solver.hpp"
 #include "mechanics/dem_step_inline.hpp"
 #include "mechanics/dem_units.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -28,8 +29,8 @@ DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(m
   if (spec_.multirate) start_multirate();
   bonded_stable_step_ms_ = stable_step_ms_;
   if (spec_.dt_ms > stable_step_ms_)
-    throw std::invalid_argument("mechanics.dt_ms " + dem_number(spec_.dt_ms) + " ms exceeds the stable DEM step " +
-                                dem_number(stable_step_ms_) + " ms");
+    throw std::invalid_argument("mechanics.dt_ms " + significant_digits(spec_.dt_ms, 6) + " ms exceeds the stable DEM step " +
+                                significant_digits(stable_step_ms_, 6) + " ms");
 }
 
 // A body per fibroblast particle and per myocyte (the clump of its

@@ -10,6 +10,7 @@
 
 #include "mechanics/dem_solver.hpp"
 #include "mechanics/dem_units.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -81,8 +82,8 @@ void DemSolver::rebuild_contacts() {
   index_contacts();
   compute_stable_step();
   if (spec_.dt_ms > stable_step_ms_ && steps_ > 0)
-    throw std::invalid_argument("at t = " + dem_number(time_ms()) + " ms new contacts lower the stable DEM step to " +
-                                dem_number(stable_step_ms_) + " ms, below mechanics.dt_ms " + dem_number(spec_.dt_ms) +
+    throw std::invalid_argument("at t = " + significant_digits(time_ms(), 6) + " ms new contacts lower the stable DEM step to " +
+                                significant_digits(stable_step_ms_, 6) + " ms, below mechanics.dt_ms " + significant_digits(spec_.dt_ms, 6) +
                                 " ms: lower mechanics.dt_ms, or leave it out (automatic step)");
 }
 

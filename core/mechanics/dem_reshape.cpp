@@ -6,6 +6,7 @@
 
 #include "mechanics/dem_solver.hpp"
 #include "mechanics/dem_units.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -35,7 +36,7 @@ void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) {
 #pragma omp critical(dem_shape_error)
           if (c < failed) {
             failed = c;
-            error = "cell " + std::to_string(c) + ": length ratio " + dem_number(l) + " outside [0.5, 1.5]";
+            error = "cell " + std::to_string(c) + ": length ratio " + significant_digits(l, 6) + " outside [0.5, 1.5]";
           }
           continue;
         }

@@ -10,13 +10,14 @@
 
 #include "mechanics/dem_step_inline.hpp"
 #include "mechanics/dem_units.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
 void DemSolver::step(double dt_ms) {
   if (!(dt_ms > 0) || dt_ms > stable_step_ms_ * (1 + 1e-12))
-    throw std::invalid_argument("mechanics step " + dem_number(dt_ms) + " ms refused: the stable DEM step is " +
-                                dem_number(stable_step_ms_) + " ms");
+    throw std::invalid_argument("mechanics step " + significant_digits(dt_ms, 6) + " ms refused: the stable DEM step is " +
+                                significant_digits(stable_step_ms_, 6) + " ms");
   const double dt = dt_ms * 1e-3;
   if (!blight_.empty()) {
     step_multirate(dt);
@@ -97,15 +98,15 @@ MechanicsSolver::Motion DemSolver::fastest_motion() const {
 }
 
 std::string DemSolver::report() const {
-  std::string r = std::to_string(steps_) + " steps, stable step now " + dem_number(stable_step_ms_) + " ms; " +
+  std::string r = std::to_string(steps_) + " steps, stable step now " + significant_digits(stable_step_ms_, 6) + " ms; " +
                   std::to_string(bonds_.size()) + " bonds (" + std::to_string(broken_bonds()) + " broken)";
   if (scaled_bodies_ > 0)
     r += "; mass scaling: " + std::to_string(scaled_bodies_) + " bodies heavier, +" +
-         dem_number(100 * added_mass_fraction_) + " % of the mass, +" + dem_number(100 * added_inertia_fraction_) +
+         significant_digits(100 * added_mass_fraction_, 6) + " % of the mass, +" + significant_digits(100 * added_inertia_fraction_, 6) +
          " % of the inertia";
   if (!blight_.empty())
     r += "; multirate: " + std::to_string(light_bodies_.size()) + " light bodies at a step of " +
-         dem_number(light_step_ms()) + " ms, " + std::to_string(substeps_) + " substeps, " +
+         significant_digits(light_step_ms(), 6) + " ms, " + std::to_string(substeps_) + " substeps, " +
          std::to_string(fast_bonds_ + fast_contacts_) + " of the " + std::to_string(bonds_.size() + contacts_.size()) +
          " contacts in them";
   if (detector_)

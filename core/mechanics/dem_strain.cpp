@@ -7,6 +7,7 @@
 
 #include "mechanics/dem_solver.hpp"
 #include "mechanics/dem_units.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -18,7 +19,7 @@ void DemSolver::add_strain(const StrainSums& sums, double dt_s) {
   // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
   if (!std::isfinite(sx + sy + svx + svy))
     throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +
-                             dem_number((time_s_ + dt_s) * 1e3) + " ms (the mechanics went unstable)");
+                             significant_digits((time_s_ + dt_s) * 1e3, 6) + " ms (the mechanics went unstable)");
   if (n < 2) return;
   const double inv_n = 1.0 / static_cast<double>(n);
   const double mx = sx * inv_n, my = sy * inv_n, mvx = svx * inv_n, mvy = svy * inv_n;

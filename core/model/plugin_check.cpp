@@ -11,6 +11,7 @@
 #include "model/plugin_probe.hpp"
 #include "model/plugin_registry.hpp"
 #include "model/simd.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -23,8 +24,6 @@ PluginCheck named(const std::string& name) {
   check.name = name;
   return check;
 }
-
-std::string num(double v) { return fmt::format("{:.6g}", v); }
 
 // The rules of a model's kind that a run checks at set-up (run/population_setup.cpp).
 std::vector<std::string> contract_problems(const ModelInfo& info) {
@@ -123,12 +122,12 @@ PluginCheck check_written(const CellModel& model, const Setting& setting) {
 std::vector<std::string> non_finite(const Probe& p, std::size_t c) {
   std::vector<std::string> bad;
   for (std::size_t k = 0; k < p.info.states.size(); ++k) {
-    if (!std::isfinite(p.a[k * p.n + c])) bad.push_back("a of '" + p.info.states[k].name + "' = " + num(p.a[k * p.n + c]));
-    if (!std::isfinite(p.b[k * p.n + c])) bad.push_back("b of '" + p.info.states[k].name + "' = " + num(p.b[k * p.n + c]));
+    if (!std::isfinite(p.a[k * p.n + c])) bad.push_back("a of '" + p.info.states[k].name + "' = " + significant_digits(p.a[k * p.n + c], 6));
+    if (!std::isfinite(p.b[k * p.n + c])) bad.push_back("b of '" + p.info.states[k].name + "' = " + significant_digits(p.b[k * p.n + c], 6));
   }
   for (std::size_t o = 0; o < p.info.outputs.size(); ++o)
     if (!std::isfinite(p.outputs[o * p.n + c]))
-      bad.push_back("output '" + p.info.outputs[o].name + "' = " + num(p.outputs[o * p.n + c]));
+      bad.push_back("output '" + p.info.outputs[o].name + "' = " + significant_digits(p.outputs[o * p.n + c], 6));
   return bad;
 }
 
@@ -173,7 +172,7 @@ PluginCheck check_finite_over_v(const CellModel& model, const std::vector<Settin
       if (bad_cells)
         check.faults.push_back(fmt::format("{}, other states at their initial values: not finite at {} of {} "
                                            "voltages, first at V = {} mV: {}",
-                                           s.label, bad_cells, n, num(p.state(v, first)), joined(non_finite(p, first))));
+                                           s.label, bad_cells, n, significant_digits(p.state(v, first), 6), joined(non_finite(p, first))));
     });
   return check;
 }
@@ -211,14 +210,14 @@ PluginCheck check_voltage_only(const CellModel& model, const std::vector<Setting
             if (!differ(a0, a1) && !differ(b0, b1)) continue;
             if (!reported.insert({g, c}).second) continue;
             const std::string what =
-                c <= n_states ? fmt::format("state '{}' moves from {} to {}", info.states[j].name, num(s.initial[j]),
-                                            num(p.state(j, c)))
+                c <= n_states ? fmt::format("state '{}' moves from {} to {}", info.states[j].name, significant_digits(s.initial[j], 6),
+                                            significant_digits(p.state(j, c), 6))
                               : std::string("the inputs move (i_ext +100 pA)");
             check.faults.push_back(fmt::format(
                 "gate '{}' is marked voltage_only, but its {} changes from {} to {} when {} (V = {} mV, {}): with "
                 "lookup tables (solver.lookup_tables) its rates would come from a table of V alone",
-                info.states[g].name, differ(a0, a1) ? "a" : "b", num(differ(a0, a1) ? a0 : b0),
-                num(differ(a0, a1) ? a1 : b1), what, num(V), s.label));
+                info.states[g].name, differ(a0, a1) ? "a" : "b", significant_digits(differ(a0, a1) ? a0 : b0, 6),
+                significant_digits(differ(a0, a1) ? a1 : b1, 6), what, significant_digits(V, 6), s.label));
           }
       });
   return check;
@@ -248,7 +247,7 @@ PluginCheck check_linear_forms(const CellModel& model, const std::vector<Setting
           p.state(k, 1 + k) = y + d;
         }
         p.evaluate_all(true);
-        const std::string where = std::isnan(V) ? s.label + ", initial state" : fmt::format("{}, V = {} mV", s.label, num(V));
+        const std::string where = std::isnan(V) ? s.label + ", initial state" : fmt::format("{}, V = {} mV", s.label, significant_digits(V, 6));
         for (std::size_t k = 0; k < n_states; ++k) {
           if (reported.count(k)) continue;
           const StateInfo& st = info.states[k];
@@ -262,19 +261,19 @@ PluginCheck check_linear_forms(const CellModel& model, const std::vector<Setting
           if (st.gate) {
             const double tol_y = 1e-9 * std::max({1.0, std::abs(st.lower), std::abs(st.upper)});
             if (b > 0)
-              fault = fmt::format("gate '{}' has b = {} /ms > 0: it would grow away from y_inf, not relax to it", st.name, num(b));
+              fault = fmt::format("gate '{}' has b = {} /ms > 0: it would grow away from y_inf, not relax to it", st.name, significant_digits(b, 6));
             else if (b < 0 && !(-a / b >= st.lower - tol_y && -a / b <= st.upper + tol_y))
-              fault = fmt::format("gate '{}': y_inf = -a/b = {}, outside its bounds [{}, {}]", st.name, num(-a / b),
-                                  num(st.lower), num(st.upper));
+              fault = fmt::format("gate '{}': y_inf = -a/b = {}, outside its bounds [{}, {}]", st.name, significant_digits(-a / b, 6),
+                                  significant_digits(st.lower, 6), significant_digits(st.upper, 6));
             else if (std::abs(fd - b) > 1e-5 * std::abs(b) + 100 * noise)
               fault = fmt::format("gate '{}': b = {} /ms, but the slope of a + b y in {} is {} /ms (finite difference): "
                                   "its a or b depends on {} itself, so Rush-Larsen's exact step would be wrong",
-                                  st.name, num(b), st.name, num(fd), st.name);
+                                  st.name, significant_digits(b, 6), st.name, significant_digits(fd, 6), st.name);
           } else if (b != 0 && b * fd < 0 && std::abs(fd) > 100 * noise) {
             fault = fmt::format("state '{}': its linear form's b = {} /ms has the opposite sign of the slope of its "
                                 "derivative in {}, {} /ms (finite difference): an exponential step would move it the "
                                 "wrong way",
-                                st.name, num(b), st.name, num(fd));
+                                st.name, significant_digits(b, 6), st.name, significant_digits(fd, 6));
           }
           if (!fault.empty()) {
             reported.insert(k);
@@ -320,8 +319,8 @@ PluginCheck check_bounds_over_beat(const CellModel& model, const std::vector<Set
           const auto slack = [](double bound) { return 1e-6 * std::max(1.0, std::abs(bound)); };
           if (!(p.y[k] >= st.lower - slack(st.lower) && p.y[k] <= st.upper + slack(st.upper))) {
             check.faults.push_back(fmt::format("{}: state '{}' = {} {} at t = {} ms, outside its bounds [{}, {}] ({})",
-                                               s.label, st.name, num(p.y[k]), st.unit, num(t + dt), num(st.lower),
-                                               num(st.upper), protocol));
+                                               s.label, st.name, significant_digits(p.y[k], 6), st.unit, significant_digits(t + dt, 6), significant_digits(st.lower, 6),
+                                               significant_digits(st.upper, 6), protocol));
             return;
           }
         }
@@ -329,7 +328,7 @@ PluginCheck check_bounds_over_beat(const CellModel& model, const std::vector<Set
       check.note += (check.note.empty() ? "" : "; ") + s.label + ": " +
                     (ionic(info) ? info.states[static_cast<std::size_t>(info.voltage_state)].name
                                  : (info.outputs.empty() ? std::string("-") : info.outputs[0].name)) +
-                    " from " + num(lo) + " to " + num(hi);
+                    " from " + significant_digits(lo, 6) + " to " + significant_digits(hi, 6);
     });
   return check;
 }
@@ -373,7 +372,7 @@ PluginCheck check_block_equals_cell(const CellModel& model, const Setting& setti
           if (!same_bits((*values)[k * n + c], other[k * n + c])) {
             check.faults.push_back(fmt::format("cell {} of {}: {} of '{}' is {} in a block but {} evaluated alone: "
                                                "the model mixes cells or depends on where a cell sits in the block",
-                                               c, n, row, name_of(row, k), num((*values)[k * n + c]), num(other[k * n + c])));
+                                               c, n, row, name_of(row, k), significant_digits((*values)[k * n + c], 6), significant_digits(other[k * n + c], 6)));
             return;
           }
       }
@@ -389,13 +388,13 @@ PluginCheck check_block_equals_cell(const CellModel& model, const Setting& setti
           if (!same_bits(x, repeat[k * n + c])) {
             check.faults.push_back(fmt::format("{} of '{}' (cell {}) differs between two evaluations of the same block "
                                                "({} then {}): evaluate() must keep no state",
-                                               row, name_of(row, k), c, num(x), num(repeat[k * n + c])));
+                                               row, name_of(row, k), c, significant_digits(x, 6), significant_digits(repeat[k * n + c], 6)));
             return;
           }
           if (std::abs(x - ref[k * n + c]) > 1e-9 * scale && !(std::isnan(x) && std::isnan(ref[k * n + c]))) {
             check.faults.push_back(fmt::format("{} of '{}' (cell {}) is {} in SIMD lanes but {} on the scalar path "
                                                "(solver.simd false): more than round-off (1e-9 of the row's largest, {})",
-                                               row, name_of(row, k), c, num(x), num(ref[k * n + c]), num(scale)));
+                                               row, name_of(row, k), c, significant_digits(x, 6), significant_digits(ref[k * n + c], 6), significant_digits(scale, 6)));
             return;
           }
         }

@@ -4,9 +4,7 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
-#include <iomanip>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "io/csv_writer.hpp"
@@ -18,6 +16,7 @@
 #include "report/snapshot_frames.hpp"
 #include "report/trace_panels.hpp"
 #include "util/json_reader.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -88,9 +87,7 @@ std::string text_of(const json& v) {
   if (v.is_null()) return "";
   if (v.is_string()) return v.get<std::string>();
   if (v.is_number_float()) {  // 6 significant digits: 500, 0.0886707, 684.763
-    std::ostringstream text;
-    text << std::setprecision(6) << v.get<double>();
-    return text.str();
+    return significant_digits(v.get<double>(), 6);
   }
   return v.dump(-1, ' ', false, json::error_handler_t::replace);
 }

@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <set>
-#include <sstream>
 
 #include "util/manifest_error.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -58,9 +57,7 @@ double bisection_interval_ms(double low_ms, double high_ms, double resolution_ms
 }
 
 std::string interval_text(double ms) {
-  std::ostringstream s;
-  s << std::setprecision(10) << ms;
-  return s.str();
+  return significant_digits(ms, 10);
 }
 
 }  // namespace fibrodem

@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <iomanip>
 #include <map>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "io/plot_png.hpp"
@@ -15,6 +13,7 @@
 #include "study/s1s2_protocol.hpp"
 #include "study/worker_pool.hpp"
 #include "util/manifest_error.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -234,12 +233,7 @@ std::vector<S2Result> run_batch(const SearchRuns& search, const std::vector<S2Pr
   return results;
 }
 
-std::string optional_text(const std::optional<double>& x) {
-  if (!x) return "";
-  std::ostringstream s;
-  s << std::setprecision(10) << *x;
-  return s.str();
-}
+std::string optional_text(const std::optional<double>& x) { return x ? significant_digits(*x, 10) : ""; }
 
 void write_table(const WindowSearch& search, const fs::path& file) {
   std::ofstream out(file);

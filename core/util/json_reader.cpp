@@ -1,7 +1,7 @@
 #include "util/json_reader.hpp"
+#include "util/number_text.hpp"
 
 #include <cmath>
-#include <sstream>
 
 namespace fibrodem {
 
@@ -10,12 +10,10 @@ const json kAbsent;
 thread_local KeyReadLog* active_key_log = nullptr;
 
 std::string range_text(double min, double max) {
-  std::ostringstream s;
-  s.precision(12);
-  if (min > -1e300 && max < 1e300) s << " in [" << min << ", " << max << "]";
-  else if (min > -1e300) s << " >= " << min;
-  else if (max < 1e300) s << " <= " << max;
-  return s.str();
+  if (min > -1e300 && max < 1e300) return " in [" + significant_digits(min, 12) + ", " + significant_digits(max, 12) + "]";
+  if (min > -1e300) return " >= " + significant_digits(min, 12);
+  if (max < 1e300) return " <= " + significant_digits(max, 12);
+  return "";
 }
 }  // namespace
 

@@ -1,10 +1,10 @@
 #include "plot_draw.hpp"
+#include "util/number_text.hpp"
 
 #include <cairo.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -93,11 +93,8 @@ std::vector<Tick> ticks_of(const Axis& a) {
   return ticks;
 }
 
-std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", std::abs(v) < 1e-12 ? 0.0 : v);
-  return buf;
-}
+// A tick label: 6 significant digits, a rounding residue near 0 as 0.
+std::string number_text(double v) { return significant_digits(std::abs(v) < 1e-12 ? 0.0 : v, 6); }
 
 double text_width(cairo_t* c, const std::string& s) {
   cairo_text_extents_t e;

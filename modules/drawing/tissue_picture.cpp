@@ -1,5 +1,6 @@
 #include "cairo_drawing.hpp"
 #include "png_file.hpp"
+#include "util/number_text.hpp"
 
 #include <cairo.h>
 
@@ -7,7 +8,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -71,12 +71,6 @@ void fill_disk(unsigned char* data, int stride, int width, int height, double cx
     auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
     if (x1 >= x0) std::fill(row + x0, row + x1 + 1, pixel);
   }
-}
-
-std::string format_value(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.4g", v);
-  return text;
 }
 
 }  // namespace
@@ -203,9 +197,9 @@ void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_
     cairo_stroke(c);
     cairo_set_font_size(c, 12);
     cairo_move_to(c, x0 + w + 4, y0 + 5);
-    cairo_show_text(c, format_value(hi).c_str());
+    cairo_show_text(c, significant_digits(hi, 4).c_str());
     cairo_move_to(c, x0 + w + 4, y0 + h + 5);
-    cairo_show_text(c, format_value(lo).c_str());
+    cairo_show_text(c, significant_digits(lo, 4).c_str());
     if (!options.value_label.empty()) {
       cairo_move_to(c, x0 - 10, y0 - 8);
       cairo_show_text(c, options.value_label.c_str());

@@ -1,14 +1,13 @@
 // The xml module's .pvd collection (io/pvd_collection.hpp), read and written
 // with pugixml.
 #include "io/pvd_collection.hpp"
+#include "util/number_text.hpp"
 
 #include <pugixml.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <map>
 #include <stdexcept>
-#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -32,11 +31,6 @@ std::map<std::string, double> read_entries(const std::filesystem::path& pvd) {
   return entries;
 }
 
-std::string shortest(double t) {
-  char digits[32];
-  const auto r = std::to_chars(digits, digits + sizeof digits, t);
-  return std::string(digits, r.ptr);
-}
 
 }  // namespace
 
@@ -60,7 +54,7 @@ void PugiPvdWriter::add(const std::filesystem::path& pvd, double t_ms, const std
   pugi::xml_node collection = root.append_child("Collection");
   for (const auto& [t, file] : by_time) {
     pugi::xml_node d = collection.append_child("DataSet");
-    d.append_attribute("timestep") = shortest(t).c_str();  // ms
+    d.append_attribute("timestep") = format_number(t).c_str();  // ms
     d.append_attribute("group") = "";
     d.append_attribute("part") = "0";
     d.append_attribute("file") = file.c_str();

@@ -6,13 +6,13 @@
 #include <mutex>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <valijson/adapters/nlohmann_json_adapter.hpp>
 #include <valijson/schema.hpp>
 #include <valijson/schema_parser.hpp>
 #include <valijson/validator.hpp>
 
 #include "scene/schema/schema_pruning.hpp"
+#include "util/number_text.hpp"
 
 namespace fibrodem {
 
@@ -99,18 +99,11 @@ void applicable(const json& root, const json& node, const json& instance, std::v
   }
 }
 
-std::string number_text(double x) {
-  std::ostringstream s;
-  s.precision(12);
-  s << x;
-  return s.str();
-}
-
 std::string range_text(const json& s) {
   const bool lo = s.contains("minimum"), hi = s.contains("maximum");
-  if (lo && hi) return " in [" + number_text(s["minimum"].get<double>()) + ", " + number_text(s["maximum"].get<double>()) + "]";
-  if (lo) return " >= " + number_text(s["minimum"].get<double>());
-  if (hi) return " <= " + number_text(s["maximum"].get<double>());
+  if (lo && hi) return " in [" + significant_digits(s["minimum"].get<double>(), 12) + ", " + significant_digits(s["maximum"].get<double>(), 12) + "]";
+  if (lo) return " >= " + significant_digits(s["minimum"].get<double>(), 12);
+  if (hi) return " <= " + significant_digits(s["maximum"].get<double>(), 12);
   return "";
 }
 
