@@ -138,13 +138,14 @@ int bench_accuracy_command(const BenchAccuracyArgs& args);
 CLI::App* add_bench_accuracy_subcommand(CLI::App& bench, BenchAccuracyArgs& args);
 int bench_headline_command(const BenchHeadlineArgs& args);
 int import_cellml_command(const cellml::ImportOptions& options);
-// `fibrodem schema [--markdown|--json] [manifest|sweep]`: the manifest's or
-// sweep file's JSON Schema, or its reference in Markdown (docs/reference/).
+// `fibrodem schema [--markdown|--json] [manifest|sweep|command-line]`: the
+// manifest's or sweep file's JSON Schema, or the reference in Markdown of
+// either or of the command line `app` declares (docs/reference/).
 struct SchemaArgs {
   std::string format = "markdown";  // markdown | json
-  std::string kind = "manifest";    // manifest | sweep
+  std::string kind = "manifest";    // manifest | sweep | command-line
 };
-int schema_command(const SchemaArgs& args);
+int schema_command(const SchemaArgs& args, const CLI::App& app);
 CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& options);
 CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& args);
 CLI::App* add_vulnerable_window_subcommand(CLI::App& app, VulnerableWindowArgs& args);

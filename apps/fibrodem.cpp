@@ -65,7 +65,9 @@ int main(int argc, char** argv) {
   const bool names_one = std::find(std::begin(kSubcommands), std::end(kSubcommands), first) != std::end(kSubcommands);
   if (!names_one && !first.empty() && first[0] != '-') return refuse_unknown_subcommand(first);
   const bool version_only = argc == 2 && first == "--version";
-  const auto declared = [&](const char* name) { return names_one ? first == name : !version_only; };
+  // `schema` declares them all too: `schema command-line` writes their reference.
+  const bool declare_all = !names_one || first == "schema";
+  const auto declared = [&](const char* name) { return declare_all ? !version_only : first == name; };
 
   fibrodem::cli::RunArgs run_args;
   CLI::App* run = nullptr;
@@ -192,10 +194,10 @@ int main(int argc, char** argv) {
   fibrodem::cli::SchemaArgs schema_args;
   CLI::App* schema = nullptr;
   if (declared("schema")) {
-    schema = app.add_subcommand("schema", "Print the JSON Schema of the manifest or the sweep file, or its reference in Markdown");
+    schema = app.add_subcommand("schema", "Print the JSON Schema of the manifest or the sweep file, or the reference in Markdown of either or of the command line");
     schema->add_flag_callback("--markdown", [&] { schema_args.format = "markdown"; }, "the reference in Markdown (the default)");
     schema->add_flag_callback("--json", [&] { schema_args.format = "json"; }, "the JSON Schema itself");
-    schema->add_option("kind", schema_args.kind, "manifest (the default) or sweep")->check(CLI::IsMember({"manifest", "sweep"}));
+    schema->add_option("kind", schema_args.kind, "manifest (the default), sweep or command-line (Markdown only)")->check(CLI::IsMember({"manifest", "sweep", "command-line"}));
   }
 
   CLI11_PARSE(app, argc, argv);
@@ -217,7 +219,7 @@ int main(int argc, char** argv) {
   if (chosen(tune_cv)) return fibrodem::cli::tune_cv_command(tune_cv_args);
   if (chosen(plugins)) return fibrodem::cli::plugins_command(plugins_json);
   if (chosen(plot)) return fibrodem::cli::plot_command(plot_spec, plot_out);
-  if (chosen(schema)) return fibrodem::cli::schema_command(schema_args);
+  if (chosen(schema)) return fibrodem::cli::schema_command(schema_args, app);
   if (chosen(import_cellml)) return fibrodem::cli::import_cellml_command(import_args);
   if (chosen(check_plugin)) return fibrodem::cli::check_plugin_command(check_plugin_target);
   if (chosen(new_model)) return fibrodem::cli::new_model_command(new_model_args);
