@@ -130,6 +130,10 @@ TEST_CASE("output.reentry's delay is a whole number of samples") {
                "whole multiple of every_ms");
   expect_error([](json& m) { m["output"]["reentry"] = {{"f_min_hz", 10}, {"f_max_hz", 5}}; },
                "output.reentry.f_max_hz", "more than f_min_hz");
+  expect_error([](json& m) { m["output"]["reentry"] = {{"clinical_f_min_hz", 12}, {"clinical_f_max_hz", 3}}; },
+               "output.reentry.clinical_f_max_hz", "more than clinical_f_min_hz");
+  expect_error([](json& m) { m["output"]["reentry"] = {{"ps_density_bin_mm", 0}}; },
+               "output.reentry.ps_density_bin_mm", "");
 }
 
 TEST_CASE("traces name existing cells and variables") {

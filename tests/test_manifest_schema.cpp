@@ -119,7 +119,8 @@ std::vector<json> coverage_manifests() {
                "checkpoint": {"every_ms": 5, "keep": 2},
                "biomarkers": {"from_ms": 0, "rmp": "pre_upstroke", "rmp_window_ms": 5, "rmp_gap_ms": 2, "cv": "fit"},
                "reentry": {"every_ms": 1, "from_ms": 0, "tau_ms": 10, "V_star_mV": -50, "link_mm": 1,
-                           "f_min_hz": 1, "f_max_hz": 30}},
+                           "f_min_hz": 1, "f_max_hz": 30, "clinical_f_min_hz": 3, "clinical_f_max_hz": 12,
+                           "ps_density_bin_mm": 1}},
     "initial_state": {"from": "some_run", "time_ms": 5},
     "settle": {"ms": 5}
   })");

@@ -276,8 +276,24 @@ TEST_CASE("a run with output.reentry: a planar wave has no phase singularity and
   CHECK(r["cells_with_cycle_length"] == s["cells"]["myocyte"]);
   CHECK(r["beat_maps_drawn"] == 2);
   for (const char* file : {"activation_beat_000.png", "activation_beat_001.png", "dominant_frequency_map.png",
-                           "reentry_maps.vtk"})
+                           "clinical_dominant_frequency_map.png", "phase_singularity_density_map.png",
+                           "phase_singularity_paths.png", "reentry_maps.vtk"})
     CHECK(std::filesystem::exists(dir / file));
+  // No PS: no track, no rotor, no PS time; the density grid (1 mm bins over
+  // the 0.3 x 1 mm sheet and its particles' edges: 1 x 2 bins) all zero.
+  CHECK(r["longest_track"].is_null());
+  CHECK(r["rotors"] == 0);
+  CHECK(r["rotor_time_fraction"] == 0.0);
+  CHECK(r["phase_singularity_seconds"] == 0.0);
+  CHECK(testing::read_file(dir / "phase_singularity_tracks.csv").find('\n') + 1 ==
+        testing::read_file(dir / "phase_singularity_tracks.csv").size());  // the header alone
+  for (const auto& row : testing::csv_rows(dir / "phase_singularity_density.csv"))
+    if (row[0] != "x_mm") CHECK(row[2] == "0");
+  // The clinical band's peak lies in 3-12 Hz whatever the pacing (here 2.5 Hz).
+  CHECK(r["clinical_band_hz"] == json::array({3.0, 12.0}));
+  const double highest = r["highest_dominant_frequency"]["frequency_hz"].get<double>();
+  CHECK(highest >= 3.0);
+  CHECK(highest <= 12.0);
   // report.html shows the section, the maps, and says that there is no PS to draw.
   const std::string page = testing::read_file(write_run_report(dir));
   CHECK(page.find("Re-entry") != std::string::npos);

@@ -7,6 +7,7 @@
 #include <cairo.h>
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 
 #include "measure/beat_activations.hpp"
@@ -231,4 +232,51 @@ TEST_CASE("a long run's maps stay bounded: the first 24 beats drawn, every beat 
   CHECK(vtk.find("activation_beat_23_ms") != std::string::npos);
   CHECK(vtk.find("dominant_frequency_hz") != std::string::npos);
   CHECK(vtk.find("cycle_length_ms") != std::string::npos);
+}
+
+namespace {
+// The pixels of a PNG file that are red (a chirality -1 tip path's colour:
+// no colour of the map's scale, white, black or grey is).
+std::size_t red_pixels(const std::filesystem::path& png) {
+  cairo_surface_t* image = cairo_image_surface_create_from_png(png.c_str());
+  REQUIRE(cairo_surface_status(image) == CAIRO_STATUS_SUCCESS);
+  cairo_surface_flush(image);
+  const unsigned char* data = cairo_image_surface_get_data(image);
+  const int stride = cairo_image_surface_get_stride(image);
+  std::size_t red = 0;
+  for (int y = 0; y < cairo_image_surface_get_height(image); ++y)
+    for (int x = 0; x < cairo_image_surface_get_width(image); ++x) {
+      const auto pixel = *reinterpret_cast<const std::uint32_t*>(data + y * stride + 4 * x);
+      const unsigned r = (pixel >> 16) & 0xff, g = (pixel >> 8) & 0xff, b = pixel & 0xff;
+      red += r > 200 && g < 60 && b < 60;
+    }
+  cairo_surface_destroy(image);
+  return red;
+}
+}  // namespace
+
+TEST_CASE("the tip paths are drawn over the map given, red for chirality -1") {
+  // A 10 x 10 sheet of disks 0.1 mm apart coloured by any per-cell field
+  // (here a ramp, as a strain map would be), a path across its middle.
+  Tissue tissue;
+  for (int c = 0; c < 100; ++c) {
+    const int cell = tissue.add_cell(CellType::myocyte, 100.0 * (c % 10), 100.0 * (c / 10));
+    tissue.add_particle(cell, 100.0 * (c % 10), 100.0 * (c / 10), 50);
+  }
+  tissue.finalise();
+  MapField ramp{{}, "strain", "a ramp"};
+  for (int c = 0; c < 100; ++c) ramp.values.push_back(c / 100.0);
+  SingularityTrack track;
+  track.trajectory = {{0, 0.2, 0.2}, {1, 0.5, 0.4}, {2, 0.7, 0.7}};
+  track.death_ms = 2;
+  const auto dir = testing::scratch_dir("tip_path_map");
+  for (int chirality : {-1, 1}) {
+    track.chirality = chirality;
+    write_tip_path_map(dir / "paths.png", "sheet", tissue, {track}, ramp);
+    CAPTURE(chirality);
+    if (chirality < 0) CHECK(red_pixels(dir / "paths.png") > 50);
+    else CHECK(red_pixels(dir / "paths.png") == 0);  // white
+  }
+  write_tip_path_map(dir / "none.png", "sheet", tissue, {}, ramp);
+  CHECK(red_pixels(dir / "none.png") == 0);
 }

@@ -14,6 +14,13 @@
 
 namespace fibrodem {
 
+// A line drawn over the cells through points in the tissue's plane (a
+// phase singularity's tip path), with a dot at its last point.
+struct PicturePath {
+  std::vector<double> x_um, y_um;
+  bool light = true;  // white, or red (two kinds told apart), each on a black halo
+};
+
 struct PictureOptions {
   int height_px = 1500;            // image height of the tissue (6 mm -> 0.24 px/um)
   double pixels_per_um = 0;        // > 0: fixed scale instead of height_px
@@ -25,6 +32,7 @@ struct PictureOptions {
   // covers, filled directly: drawing and compressing a 3000-cell tissue then
   // costs a fraction (snapshots).
   bool antialias = true;
+  std::vector<PicturePath> paths;  // drawn over the cells
 };
 
 // Throws std::runtime_error if the file cannot be written or `cell_values`

@@ -20,6 +20,10 @@ struct DominantFrequencies {
   double resolution_hz = 0;         // 1 / T
 };
 
+struct FrequencyBand {
+  double f_min_hz = 0, f_max_hz = 0;
+};
+
 // frames: `samples` frames of `cells` values each (frame-major), every_ms
 // apart. Cells whose V spans less than min_range_mV over the record (never
 // excited) are left out (NaN); so are all when fewer than 4 samples, or no
@@ -27,5 +31,12 @@ struct DominantFrequencies {
 DominantFrequencies dominant_frequencies(const std::vector<float>& frames, std::size_t cells, std::size_t samples,
                                          double every_ms, double f_min_hz, double f_max_hz,
                                          double min_range_mV = 20.0);
+
+// The same in each of several bands, from one spectrum over the bins of
+// them all (a band inside another costs no bin more); one result per band.
+std::vector<DominantFrequencies> dominant_frequencies(const std::vector<float>& frames, std::size_t cells,
+                                                      std::size_t samples, double every_ms,
+                                                      const std::vector<FrequencyBand>& bands,
+                                                      double min_range_mV = 20.0);
 
 }  // namespace fibrodem

@@ -8,7 +8,9 @@
 #include "io/csv_writer.hpp"
 #include "measure/cell_triangles.hpp"
 #include "measure/dominant_frequency.hpp"
+#include "measure/driver_maps.hpp"
 #include "measure/singularity_tracking.hpp"
+#include "measure/spiral_measures.hpp"
 
 namespace fibrodem {
 
@@ -34,7 +36,18 @@ json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
 }
 
 namespace {
-// The PS of every frame, tracked; rows of phase_singularities.csv if dir is given.
+// The mean advance of the phase at the three cells of a PS's triangle
+// between two frames (each wrapped: the frames are less than half a cycle
+// apart when every_ms is).
+double tip_phase_turn(const std::array<int, 3>& triangle, const std::vector<double>& now,
+                      const std::vector<double>& before) {
+  double turn = 0;
+  for (int c : triangle) turn += wrap_phase(now[c] - before[c]);
+  return turn / 3;
+}
+
+// The PS of every frame, tracked, with the phase turned at each track's
+// tip; rows of phase_singularities.csv if dir is given.
 SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
                                        const std::filesystem::path& dir) {
   const auto triangles = cell_triangles(tissue);
@@ -42,13 +55,17 @@ SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames
   CsvWriter csv;
   if (!dir.empty()) csv = CsvWriter(dir / "phase_singularities.csv", {"t_ms", "id", "x_mm", "y_mm", "chirality"});
   SingularityTracker tracker(s.link_mm);
-  std::vector<double> phase(frames.cells);
+  std::vector<double> phase(frames.cells), phase_before(frames.cells);
   for (std::size_t k = delay; k < frames.count(); ++k) {
     const float* now = frames.frame(k);
     const float* before = frames.frame(k - delay);
+    phase.swap(phase_before);
     for (std::size_t c = 0; c < frames.cells; ++c) phase[c] = embedding_phase(now[c], before[c], s.V_star_mV);
     const auto found = find_phase_singularities(tissue, triangles, phase);
     const auto ids = tracker.add_frame(frames.t_ms[k], found);
+    for (std::size_t j = 0; j < found.size(); ++j)
+      if (tracker.tracks()[ids[j]].trajectory.size() > 1)  // a step of a track, not a birth
+        tracker.add_phase_turn(ids[j], tip_phase_turn(triangles[found[j].triangle], phase, phase_before));
     if (!csv.is_open()) continue;
     for (std::size_t j = 0; j < found.size(); ++j) {
       csv.cell(frames.t_ms[k]).cell(static_cast<long long>(ids[j])).cell(found[j].x_mm).cell(found[j].y_mm)
@@ -93,6 +110,60 @@ json dominant_frequency_summary(const DominantFrequencies& df) {
   out["dominant_frequency_range_hz"] = {found.front(), found.back()};
   return out;
 }
+
+json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json spiral_json(const SpiralMeasures& m) {
+  return {{"id", m.id}, {"chirality", m.chirality}, {"birth_ms", m.birth_ms}, {"lifetime_ms", m.lifetime_ms},
+          {"rotations", m.rotations}, {"period_ms", number_or_null(m.period_ms)}, {"rotor", m.rotor},
+          {"x_mm", m.x_mm}, {"y_mm", m.y_mm}, {"drift_mm", m.drift_mm},
+          {"drift_speed_mm_per_s", number_or_null(m.drift_speed_mm_per_s)},
+          {"meander_extent_mm", m.meander_extent_mm}, {"meander_area_mm2", m.meander_area_mm2}};
+}
+
+// Each track's spiral measures, the PS density and the rotor time, for
+// summary.json (docs/arrhythmia.md "Spiral measures", "Drivers"); their
+// CSV files into dir unless it is empty.
+json spiral_summary(const Tissue& tissue, const VoltageFrames& frames, const SingularityTracker& tracker,
+                    const ReentrySettings& s, const std::filesystem::path& dir, ReentryMaps* maps) {
+  std::vector<SpiralMeasures> spirals;
+  for (const auto& track : tracker.tracks()) spirals.push_back(spiral_measures(track));
+  const std::size_t delay = static_cast<std::size_t>(std::llround(s.tau_ms / s.every_ms));
+  const std::vector<double> searched(frames.t_ms.begin() + std::min(delay, frames.count()), frames.t_ms.end());
+  const auto b = tissue.bounds_um();
+  const PsDensityGrid grid =
+      ps_density(tracker.tracks(), {b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000}, s.ps_density_bin_mm, s.every_ms);
+  if (!dir.empty()) {
+    write_spiral_measures_csv(dir / "phase_singularity_tracks.csv", spirals);
+    write_ps_density_csv(dir / "phase_singularity_density.csv", grid);
+  }
+  if (maps) maps->ps_density_per_cm2 = grid.per_cell_per_cm2(tissue);
+  // The longest-lived track, the first of equal lives.
+  const SpiralMeasures* longest = nullptr;
+  for (const auto& m : spirals)
+    if (!longest || m.lifetime_ms > longest->lifetime_ms) longest = &m;
+  double ps_seconds = 0, densest = 0;
+  for (double x : grid.ps_seconds) ps_seconds += x, densest = std::max(densest, x / grid.bin_area_cm2());
+  return {{"longest_track", longest ? spiral_json(*longest) : json(nullptr)},
+          {"rotors", std::count_if(spirals.begin(), spirals.end(), [](const auto& m) { return m.rotor; })},
+          {"rotor_time_fraction", number_or_null(rotor_time_fraction(spirals, searched))},
+          {"phase_singularity_seconds", ps_seconds},
+          {"ps_density_bin_mm", s.ps_density_bin_mm},
+          {"ps_density_max_per_cm2", densest}};
+}
+
+// The clinical band's dominant frequency: its median over cells and the highest site.
+json clinical_summary(const Tissue& tissue, const DominantFrequencies& df, const ReentrySettings& s) {
+  const json median = dominant_frequency_summary(df);
+  const HighestFrequencySite site = highest_frequency_site(tissue, df.per_cell_hz);
+  return {{"clinical_band_hz", {s.clinical_f_min_hz, s.clinical_f_max_hz}},
+          {"clinical_dominant_frequency_hz", median["dominant_frequency_hz"]},
+          {"clinical_dominant_frequency_range_hz", median["dominant_frequency_range_hz"]},
+          {"highest_dominant_frequency",
+           site.cells == 0 ? json(nullptr)
+                           : json{{"frequency_hz", site.frequency_hz}, {"cells", site.cells},
+                                  {"x_mm", site.x_mm}, {"y_mm", site.y_mm}}}};
+}
 }  // namespace
 
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
@@ -121,14 +192,22 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
               {"every_ms", s.every_ms},
               {"tau_ms", s.tau_ms},
               {"V_star_mV", s.V_star_mV}};
-  auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms, s.f_min_hz, s.f_max_hz);
-  out.update(dominant_frequency_summary(df));
+  out.update(spiral_summary(tissue, frames, tracker, s, dir, maps));
+  auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms,
+                                 {{s.f_min_hz, s.f_max_hz}, {s.clinical_f_min_hz, s.clinical_f_max_hz}});
+  out.update(dominant_frequency_summary(df[0]));
+  out.update(clinical_summary(tissue, df[1], s));
   out["unreached_fraction_per_beat"] = unreached_fractions(beats);
   std::vector<bool> excitable(tissue.cell_count());
   for (std::size_t c = 0; c < excitable.size(); ++c) excitable[c] = tissue.type[c] == CellType::myocyte;
   auto per_beat = assign_beats(activation_times(frames, s.V_star_mV), onsets, excitable);
   out.update(beats_summary(per_beat));
-  if (maps) *maps = ReentryMaps{std::move(per_beat), std::move(df.per_cell_hz)};
+  if (maps) {
+    maps->beats = std::move(per_beat);
+    maps->dominant_frequency_hz = std::move(df[0].per_cell_hz);
+    maps->clinical_dominant_frequency_hz = std::move(df[1].per_cell_hz);
+    maps->tracks = tracker.tracks();
+  }
   return out;
 }
 

@@ -1,7 +1,11 @@
 // Re-entry measured on V of every cell sampled at a fixed interval
 // (output.reentry, docs/arrhythmia.md): phase singularities found and
-// tracked frame by frame (phase_singularities.csv), activity after the last
-// stimulus, conduction block per beat and the dominant frequency.
+// tracked frame by frame (phase_singularities.csv), each track's spiral
+// measures (phase_singularity_tracks.csv, measure/spiral_measures.hpp), the
+// driver measures of AF mapping (measure/driver_maps.hpp: PS density in
+// phase_singularity_density.csv, rotor time, the highest-DF site), activity
+// after the last stimulus, conduction block per beat and the dominant
+// frequency, in the band asked for and in the clinical band.
 //
 //   activation         an upward crossing of V* between two samples (time
 //                      by linear interpolation)
@@ -23,6 +27,7 @@
 
 #include "measure/beat_activations.hpp"
 #include "measure/biomarkers.hpp"
+#include "measure/singularity_tracking.hpp"
 #include "util/json_reader.hpp"
 
 namespace fibrodem {
@@ -34,6 +39,8 @@ struct ReentrySettings {
   double V_star_mV = -50.0;   // embedding origin and activation threshold
   double link_mm = 1.0;       // PS tracking: largest step between frames
   double f_min_hz = 1.0, f_max_hz = 30.0;  // dominant frequency band
+  double clinical_f_min_hz = 3.0, clinical_f_max_hz = 12.0;  // the band of clinical DF maps
+  double ps_density_bin_mm = 1.0;  // PS density grid
 };
 
 // V of every cell at each sample time, as float (frame-major).
@@ -52,11 +59,15 @@ struct VoltageFrames {
 struct ReentryMaps {
   BeatActivations beats;
   std::vector<double> dominant_frequency_hz;  // per cell; NaN where left out of the spectrum
+  std::vector<double> clinical_dominant_frequency_hz;  // the same in the clinical band
+  std::vector<double> ps_density_per_cm2;  // per cell, its PS density bin's
+  std::vector<SingularityTrack> tracks;    // the tip paths
 };
 
 // summary.json's "reentry"; writes phase_singularities.csv (t_ms, id, x_mm,
-// y_mm, chirality: one row per PS per frame) into dir unless dir is empty;
-// fills `maps` if given.
+// y_mm, chirality: one row per PS per frame), phase_singularity_tracks.csv
+// and phase_singularity_density.csv into dir unless dir is empty; fills
+// `maps` if given.
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& settings,
                      const std::vector<double>& stimulus_onsets_ms, const std::vector<BeatBiomarkers>& beats,
                      const std::filesystem::path& dir, ReentryMaps* maps = nullptr);

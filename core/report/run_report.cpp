@@ -269,13 +269,35 @@ void beats_section(HtmlDocument& page, const fs::path& dir, const json& reentry)
   }
   page.begin_row();
   page.png_figure("Dominant frequency per cell (Hz)", dir / "dominant_frequency_map.png");
+  if (fs::exists(dir / "clinical_dominant_frequency_map.png"))
+    page.png_figure("Dominant frequency per cell, clinical band (Hz)", dir / "clinical_dominant_frequency_map.png");
   // Narrower than the snapshots: full-colour maps, up to kMostBeatMaps of them.
   if (!maps.empty()) page.png_animation("Activation map per beat", animation_frames(maps, kMostAnimationFrames, 480));
   page.end_row();
 }
 
-// With output.reentry: summary.json's reentry, its beats and maps, and the
-// phase singularities' trajectories.
+// The spiral and driver measures of output.reentry: the longest-lived
+// track's measures and the highest-DF site, the tip paths over the last map
+// and the PS density map.
+void drivers_section(HtmlDocument& page, const fs::path& dir, const json& reentry) {
+  std::vector<std::vector<std::string>> rows;
+  for (const char* key : {"longest_track", "highest_dominant_frequency"})
+    for (const auto& [name, value] : member(reentry, key).items()) rows.push_back({key, name, text_of(value)});
+  if (!rows.empty()) {
+    page.heading(3, "Spiral and driver measures");
+    page.table({"of", "measure", "value"}, rows);
+  }
+  const bool paths = fs::exists(dir / "phase_singularity_paths.png");
+  const bool density = fs::exists(dir / "phase_singularity_density_map.png");
+  if (!paths && !density) return;
+  page.begin_row();
+  if (paths) page.png_figure("Tip paths over the last sample", dir / "phase_singularity_paths.png");
+  if (density) page.png_figure("Phase singularity density (PS-s per cm2)", dir / "phase_singularity_density_map.png");
+  page.end_row();
+}
+
+// With output.reentry: summary.json's reentry, its spiral and driver
+// measures, its beats and maps, and the phase singularities' trajectories.
 void reentry_section(HtmlDocument& page, const fs::path& dir, const json& s) {
   if (!s.is_object() || !s.contains("reentry") || !s["reentry"].is_object()) return;
   page.heading(2, "Re-entry", "reentry");
@@ -283,6 +305,7 @@ void reentry_section(HtmlDocument& page, const fs::path& dir, const json& s) {
   for (const auto& [key, value] : s["reentry"].items())
     if (!value.is_array() && !value.is_object()) rows.push_back({key, text_of(value)});
   page.table({"measure", "value"}, rows);
+  drivers_section(page, dir, s["reentry"]);
   beats_section(page, dir, s["reentry"]);
   std::error_code error;
   const auto bytes = fs::file_size(dir / "phase_singularities.csv", error);

@@ -30,13 +30,26 @@ std::string beat_title(const std::string& scene_name, const BeatMap& beat) {
 }  // namespace
 
 std::size_t write_reentry_maps(const std::filesystem::path& dir, const std::string& scene_name, const Tissue& tissue,
-                               const ReentryMaps& maps, const std::string& vtk_format) {
+                               const ReentryMaps& maps, const std::string& vtk_format, const MapField& under_paths) {
   CellFields fields;
   if (maps.dominant_frequency_hz.size() == tissue.cell_count()) {
     write_tissue_png(tissue, dir / "dominant_frequency_map.png", &maps.dominant_frequency_hz,
                      map_picture("dominant frequency (Hz)", scene_name + ": dominant frequency per cell"));
     fields.emplace_back("dominant_frequency_hz", maps.dominant_frequency_hz);
   }
+  if (maps.clinical_dominant_frequency_hz.size() == tissue.cell_count()) {
+    write_tissue_png(tissue, dir / "clinical_dominant_frequency_map.png", &maps.clinical_dominant_frequency_hz,
+                     map_picture("dominant frequency (Hz)",
+                                 scene_name + ": dominant frequency per cell, clinical band"));
+    fields.emplace_back("clinical_dominant_frequency_hz", maps.clinical_dominant_frequency_hz);
+  }
+  if (maps.ps_density_per_cm2.size() == tissue.cell_count()) {
+    write_tissue_png(tissue, dir / "phase_singularity_density_map.png", &maps.ps_density_per_cm2,
+                     map_picture("PS-s per cm2", scene_name + ": phase singularity density"));
+    fields.emplace_back("ps_density_per_cm2", maps.ps_density_per_cm2);
+  }
+  if (under_paths.values.size() == tissue.cell_count())
+    write_tip_path_map(dir / "phase_singularity_paths.png", scene_name, tissue, maps.tracks, under_paths);
   fields.emplace_back("cycle_length_ms", maps.beats.cycle_length_ms);
   const std::size_t drawn = std::min(maps.beats.beats.size(), kMostBeatMaps);
   for (std::size_t k = 0; k < drawn; ++k) {

@@ -223,12 +223,22 @@ void Simulation::Impl::measure_reentry() {
   const auto& spec = scene.output.reentry;
   const ReentrySettings settings{.every_ms = spec.every_ms, .from_ms = spec.from_ms, .tau_ms = spec.tau_ms,
                                  .V_star_mV = spec.V_star_mV, .link_mm = spec.link_mm, .f_min_hz = spec.f_min_hz,
-                                 .f_max_hz = spec.f_max_hz};
+                                 .f_max_hz = spec.f_max_hz, .clinical_f_min_hz = spec.clinical_f_min_hz,
+                                 .clinical_f_max_hz = spec.clinical_f_max_hz,
+                                 .ps_density_bin_mm = spec.ps_density_bin_mm};
   ReentryMaps maps;
   reentry_measured =
       analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats, out, &maps);
-  if (!out.empty())
-    reentry_measured["beat_maps_drawn"] = write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format);
+  if (out.empty()) return;
+  // The tip paths over V at the last sample.
+  MapField last_V;
+  if (reentry_frames.count() > 0) {
+    const float* V = reentry_frames.frame(reentry_frames.count() - 1);
+    last_V = {std::vector<double>(V, V + reentry_frames.cells), "V (mV)",
+              fmt::format("V at t = {:g} ms", reentry_frames.t_ms.back())};
+  }
+  reentry_measured["beat_maps_drawn"] =
+      write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format, last_V);
 }
 
 // A picture or snapshot file, on the writer's thread while the run goes

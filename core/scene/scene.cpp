@@ -73,6 +73,13 @@ ReentrySpec read_reentry(JsonReader r) {
   if (e.f_max_hz <= e.f_min_hz)
     throw ManifestError(r.path_of("f_max_hz"), "expected more than f_min_hz (" + describe_json(e.f_min_hz) +
                                                    " Hz), got " + describe_json(e.f_max_hz));
+  e.clinical_f_min_hz = r.number("clinical_f_min_hz", e.clinical_f_min_hz, 0.0, 1e4);
+  e.clinical_f_max_hz = r.number("clinical_f_max_hz", e.clinical_f_max_hz, 1e-3, 1e4);
+  if (e.clinical_f_max_hz <= e.clinical_f_min_hz)
+    throw ManifestError(r.path_of("clinical_f_max_hz"), "expected more than clinical_f_min_hz (" +
+                                                            describe_json(e.clinical_f_min_hz) + " Hz), got " +
+                                                            describe_json(e.clinical_f_max_hz));
+  e.ps_density_bin_mm = r.number("ps_density_bin_mm", e.ps_density_bin_mm, 1e-3, 1e3);
   r.finish();
   return e;
 }

@@ -61,6 +61,8 @@ struct ReentrySpec {
   double every_ms = 1.0, from_ms = 0.0;
   double tau_ms = 10.0, V_star_mV = -50.0, link_mm = 1.0;
   double f_min_hz = 1.0, f_max_hz = 30.0;
+  double clinical_f_min_hz = 3.0, clinical_f_max_hz = 12.0;
+  double ps_density_bin_mm = 1.0;
 };
 
 // output.checkpoint: the run's whole state every every_ms, the newest `keep`

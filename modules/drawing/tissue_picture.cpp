@@ -73,6 +73,25 @@ void fill_disk(unsigned char* data, int stride, int width, int height, double cx
   }
 }
 
+// The paths over the cells: a black halo under each line, so that it shows
+// on any colour of the map, then the line and a dot at its last point.
+void draw_paths(cairo_t* c, const std::vector<PicturePath>& paths, const auto& px, const auto& py) {
+  cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+  for (const bool halo : {true, false})
+    for (const auto& path : paths) {
+      if (path.x_um.empty() || path.x_um.size() != path.y_um.size()) continue;
+      if (halo) cairo_set_source_rgb(c, 0, 0, 0);
+      else if (path.light) cairo_set_source_rgb(c, 1, 1, 1);
+      else cairo_set_source_rgb(c, 0.9, 0.1, 0.1);
+      cairo_set_line_width(c, halo ? 4 : 2);
+      cairo_move_to(c, px(path.x_um[0]), py(path.y_um[0]));
+      for (std::size_t k = 1; k < path.x_um.size(); ++k) cairo_line_to(c, px(path.x_um[k]), py(path.y_um[k]));
+      cairo_stroke(c);
+      cairo_arc(c, px(path.x_um.back()), py(path.y_um.back()), halo ? 5 : 3.5, 0, 2 * M_PI);
+      cairo_fill(c);
+    }
+}
+
 }  // namespace
 
 void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_um,
@@ -164,6 +183,7 @@ void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_
     }
     cairo_stroke(c);
   }
+  draw_paths(c, options.paths, px, py);
 
   cairo_select_font_face(c, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(c, font);
