@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "measure/beat_activations.hpp"
 #include "measure/dominant_frequency.hpp"
 #include "measure/driver_maps.hpp"
 #include "measure/reentry.hpp"
@@ -18,10 +19,9 @@ using namespace fibrodem;
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-// A track of the tip at position(t) every dt_ms from 0 to end_ms, whose
-// phase turned by turned_rad.
+// A track of the tip at position(t) every dt_ms from 0 to end_ms.
 SingularityTrack track_of(const std::function<std::array<double, 2>(double t_ms)>& position, double dt_ms,
-                          double end_ms, double turned_rad, int chirality = 1) {
+                          double end_ms, int chirality = 1) {
   SingularityTrack track;
   track.chirality = chirality;
   const int steps = static_cast<int>(std::lround(end_ms / dt_ms));
@@ -32,7 +32,6 @@ SingularityTrack track_of(const std::function<std::array<double, 2>(double t_ms)
   }
   track.birth_ms = track.trajectory.front().t_ms;
   track.death_ms = track.trajectory.back().t_ms;
-  track.phase_turned_rad = turned_rad;
   return track;
 }
 
@@ -53,15 +52,15 @@ Tissue grid(int n, double spacing_um) {
 
 TEST_CASE("a tip on a circle: meander extent 2r, the area of its polygon, no drift, its period") {
   // Radius 0.8 mm about (3.1, 2.7) mm, period 200 ms sampled every 2 ms
-  // (100 points a turn), three turns, the tip's phase turning 2 pi a turn.
+  // (100 points a turn), three turns.
   const double r = 0.8, T = 200, x0 = 3.1, y0 = 2.7;
   const auto track = track_of([&](double t) {
     return std::array{x0 + r * std::cos(2 * kPi * t / T), y0 + r * std::sin(2 * kPi * t / T)};
-  }, 2.0, 3 * T, 3 * 2 * kPi);
-  const SpiralMeasures m = spiral_measures(track);
+  }, 2.0, 3 * T);
+  const SpiralMeasures m = spiral_measures(track, T);
   CHECK(m.lifetime_ms == 3 * T);  // the first and last samples' times, exactly
   CHECK(m.rotations == doctest::Approx(3).epsilon(1e-12));
-  CHECK(m.period_ms == doctest::Approx(T).epsilon(1e-12));
+  CHECK(m.period_ms == T);
   CHECK(m.rotor);
   // 100 samples a turn hold antipodal pairs: the diameter is 2r.
   CHECK(m.meander_extent_mm == doctest::Approx(2 * r).epsilon(1e-12));
@@ -82,24 +81,55 @@ TEST_CASE("a tip at constant velocity drifts at that speed, with or without a ro
   // v = (3, 4) mm/s (5 mm/s) for 500 ms sampled every 1 ms: the path is a
   // segment 2.5 mm long, of no area.
   const auto position = [](double t) { return std::array{1.0 + 0.003 * t, -2.0 + 0.004 * t}; };
-  for (double turned : {2.5 * 2 * kPi, 0.0}) {  // period 200 ms (windows of 200 ms), none (half-lives)
-    CAPTURE(turned);
-    const SpiralMeasures m = spiral_measures(track_of(position, 1.0, 500, turned));
+  for (double period : {200.0, std::nan("")}) {  // windows of 200 ms; none: half-lives
+    CAPTURE(period);
+    const SpiralMeasures m = spiral_measures(track_of(position, 1.0, 500), period);
     CHECK(m.drift_speed_mm_per_s == doctest::Approx(5).epsilon(1e-9));
     CHECK(m.meander_extent_mm == doctest::Approx(2.5).epsilon(1e-12));
     CHECK(m.meander_area_mm2 < 1e-12);  // collinear but for rounding
     // Window means at 99.5 and 400.5 ms (period 200), or 124.5 and 375.5 ms (half-lives).
-    CHECK(m.drift_mm == doctest::Approx(5e-3 * (turned > 0 ? 301 : 251)).epsilon(1e-9));
+    CHECK(m.drift_mm == doctest::Approx(5e-3 * (period > 0 ? 301 : 251)).epsilon(1e-9));
   }
-  // Without a turn there is no period, and no rotor.
-  const SpiralMeasures still = spiral_measures(track_of(position, 1.0, 500, 0.0));
+  // Without a period there is no rotation, and no rotor; with one longer
+  // than the life, a fraction of a turn.
+  const SpiralMeasures still = spiral_measures(track_of(position, 1.0, 500), std::nan(""));
   CHECK(std::isnan(still.period_ms));
+  CHECK(still.rotations == 0);
   CHECK_FALSE(still.rotor);
+  const SpiralMeasures part = spiral_measures(track_of(position, 1.0, 500), 625);
+  CHECK(part.rotations == 0.8);
+  CHECK_FALSE(part.rotor);
   // A PS seen in one sample: no life, no drift speed.
-  const SpiralMeasures once = spiral_measures(track_of(position, 1.0, 0, 0.0));
+  const SpiralMeasures once = spiral_measures(track_of(position, 1.0, 0), std::nan(""));
   CHECK(once.lifetime_ms == 0);
   CHECK(once.drift_mm == 0);
   CHECK(std::isnan(once.drift_speed_mm_per_s));
+}
+
+TEST_CASE("the rotation period is the cycle length of the cells around the tip, within its life") {
+  // A tip at (1, 1) mm for 100-700 ms on a 41 x 41 grid 0.1 mm apart. The
+  // cells within 1 mm (a fifth of them) activate every 150 ms through the
+  // life (and once 90 ms before it, which does not count); the others,
+  // the majority, every 400 ms.
+  const Tissue t = grid(41, 100);
+  SingularityTrack track;
+  track.trajectory = {{100, 1.0, 1.0}, {700, 1.0, 1.0}};
+  track.birth_ms = 100, track.death_ms = 700;
+  std::vector<std::vector<double>> activations(t.cell_count());
+  std::size_t near = 0;
+  for (std::size_t c = 0; c < t.cell_count(); ++c) {
+    const bool around = std::hypot(t.x_um[c] / 1000 - 1.0, t.y_um[c] / 1000 - 1.0) <= kTipNeighbourhood_mm;
+    near += around;
+    const double every = around ? 150 : 400;
+    activations[c] = {-80, 10};
+    for (double a = 100 + c % 7; a <= 700; a += every) activations[c].push_back(a);
+  }
+  REQUIRE(near > 0);
+  REQUIRE(2 * near < t.cell_count());
+  CHECK(rotation_period_ms(track, t, activations) == doctest::Approx(150));
+  // A life shorter than a cycle: no cell activates twice in it.
+  track.death_ms = 200;
+  CHECK(std::isnan(rotation_period_ms(track, t, activations)));
 }
 
 TEST_CASE("the convex hull of a square with points inside it is the square") {
@@ -112,8 +142,8 @@ TEST_CASE("a rotating spiral-like field: one phase singularity, its period and c
   // V = V* + 40 cos(omega t - s theta - k rho) about (x0, y0): a spiral of
   // wavelength 2 pi / k turning counter-clockwise for s = +1. With tau a
   // quarter period the embedding phase is omega t - s theta - k rho, whose
-  // charge around the centre is -s. Every cell's phase advances omega
-  // every_ms a sample, so the tip's phase turns once a period, 200 ms.
+  // charge around the centre is -s. Every cell crosses V* upward once a
+  // period, 200 ms: the cycle length of the cells around the tip.
   const Tissue t = grid(21, 100);
   const double x0 = 1033, y0 = 987, period = 200, omega = 2 * kPi / period, k = 2 * kPi / 2000, V_star = -50;
   const ReentrySettings s{.every_ms = 5, .from_ms = 0, .tau_ms = period / 4, .V_star_mV = V_star, .link_mm = 1,
@@ -137,8 +167,9 @@ TEST_CASE("a rotating spiral-like field: one phase singularity, its period and c
     CHECK(spiral["chirality"] == -turn);
     // Seen from the first sample with a delayed one (50 ms) to the last (995 ms).
     CHECK(spiral["lifetime_ms"].get<double>() == doctest::Approx(945));
-    // (V is sampled as float: the phase's rounding is ~1e-7 rad.)
-    CHECK(spiral["period_ms"].get<double>() == doctest::Approx(period).epsilon(1e-6));
+    // Each cell's crossings lie 40 samples apart at the same offset from them.
+    CHECK(spiral["period_ms"].get<double>() == doctest::Approx(period).epsilon(1e-9));
+    CHECK(spiral["rotations"].get<double>() == doctest::Approx(945 / period).epsilon(1e-9));
     CHECK(spiral["rotor"] == true);
     // The centre stays in one triangle: no drift, no meander.
     CHECK(spiral["drift_mm"].get<double>() == 0);

@@ -36,18 +36,7 @@ json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
 }
 
 namespace {
-// The mean advance of the phase at the three cells of a PS's triangle
-// between two frames (each wrapped: the frames are less than half a cycle
-// apart when every_ms is).
-double tip_phase_turn(const std::array<int, 3>& triangle, const std::vector<double>& now,
-                      const std::vector<double>& before) {
-  double turn = 0;
-  for (int c : triangle) turn += wrap_phase(now[c] - before[c]);
-  return turn / 3;
-}
-
-// The PS of every frame, tracked, with the phase turned at each track's
-// tip; rows of phase_singularities.csv if dir is given.
+// The PS of every frame, tracked; rows of phase_singularities.csv if dir is given.
 SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
                                        const std::filesystem::path& dir) {
   const auto triangles = cell_triangles(tissue);
@@ -55,17 +44,13 @@ SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames
   CsvWriter csv;
   if (!dir.empty()) csv = CsvWriter(dir / "phase_singularities.csv", {"t_ms", "id", "x_mm", "y_mm", "chirality"});
   SingularityTracker tracker(s.link_mm);
-  std::vector<double> phase(frames.cells), phase_before(frames.cells);
+  std::vector<double> phase(frames.cells);
   for (std::size_t k = delay; k < frames.count(); ++k) {
     const float* now = frames.frame(k);
     const float* before = frames.frame(k - delay);
-    phase.swap(phase_before);
     for (std::size_t c = 0; c < frames.cells; ++c) phase[c] = embedding_phase(now[c], before[c], s.V_star_mV);
     const auto found = find_phase_singularities(tissue, triangles, phase);
     const auto ids = tracker.add_frame(frames.t_ms[k], found);
-    for (std::size_t j = 0; j < found.size(); ++j)
-      if (tracker.tracks()[ids[j]].trajectory.size() > 1)  // a step of a track, not a birth
-        tracker.add_phase_turn(ids[j], tip_phase_turn(triangles[found[j].triangle], phase, phase_before));
     if (!csv.is_open()) continue;
     for (std::size_t j = 0; j < found.size(); ++j) {
       csv.cell(frames.t_ms[k]).cell(static_cast<long long>(ids[j])).cell(found[j].x_mm).cell(found[j].y_mm)
@@ -125,9 +110,11 @@ json spiral_json(const SpiralMeasures& m) {
 // summary.json (docs/arrhythmia.md "Spiral measures", "Drivers"); their
 // CSV files into dir unless it is empty.
 json spiral_summary(const Tissue& tissue, const VoltageFrames& frames, const SingularityTracker& tracker,
-                    const ReentrySettings& s, const std::filesystem::path& dir, ReentryMaps* maps) {
+                    const std::vector<std::vector<double>>& activations, const ReentrySettings& s,
+                    const std::filesystem::path& dir, ReentryMaps* maps) {
   std::vector<SpiralMeasures> spirals;
-  for (const auto& track : tracker.tracks()) spirals.push_back(spiral_measures(track));
+  for (const auto& track : tracker.tracks())
+    spirals.push_back(spiral_measures(track, rotation_period_ms(track, tissue, activations)));
   const std::size_t delay = static_cast<std::size_t>(std::llround(s.tau_ms / s.every_ms));
   const std::vector<double> searched(frames.t_ms.begin() + std::min(delay, frames.count()), frames.t_ms.end());
   const auto b = tissue.bounds_um();
@@ -192,7 +179,8 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
               {"every_ms", s.every_ms},
               {"tau_ms", s.tau_ms},
               {"V_star_mV", s.V_star_mV}};
-  out.update(spiral_summary(tissue, frames, tracker, s, dir, maps));
+  const auto activations = activation_times(frames, s.V_star_mV);
+  out.update(spiral_summary(tissue, frames, tracker, activations, s, dir, maps));
   auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms,
                                  {{s.f_min_hz, s.f_max_hz}, {s.clinical_f_min_hz, s.clinical_f_max_hz}});
   out.update(dominant_frequency_summary(df[0]));
@@ -200,7 +188,7 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
   out["unreached_fraction_per_beat"] = unreached_fractions(beats);
   std::vector<bool> excitable(tissue.cell_count());
   for (std::size_t c = 0; c < excitable.size(); ++c) excitable[c] = tissue.type[c] == CellType::myocyte;
-  auto per_beat = assign_beats(activation_times(frames, s.V_star_mV), onsets, excitable);
+  auto per_beat = assign_beats(activations, onsets, excitable);
   out.update(beats_summary(per_beat));
   if (maps) {
     maps->beats = std::move(per_beat);

@@ -18,9 +18,6 @@ struct SingularityTrack {
   bool alive = true;    // seen in the latest frame
   struct Point { double t_ms, x_mm, y_mm; };
   std::vector<Point> trajectory;
-  // The phase's advance at the tip summed over the track's steps
-  // (add_phase_turn; measure/spiral_measures.hpp counts its rotations).
-  double phase_turned_rad = 0;
 };
 
 class SingularityTracker {
@@ -31,8 +28,6 @@ class SingularityTracker {
   std::vector<int> add_frame(double t_ms, const std::vector<PhaseSingularity>& found);
 
   const std::vector<SingularityTrack>& tracks() const { return tracks_; }
-  // Adds the phase's advance at track `id`'s tip since the previous frame.
-  void add_phase_turn(int id, double turn_rad) { tracks_[id].phase_turned_rad += turn_rad; }
   // The most PS seen in one frame.
   int max_per_frame() const { return max_per_frame_; }
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "io/csv_writer.hpp"
 
@@ -25,6 +24,12 @@ double diameter(const std::vector<Point2>& hull) {
     for (std::size_t j = i + 1; j < hull.size(); ++j)
       most = std::max(most, std::hypot(hull[j][0] - hull[i][0], hull[j][1] - hull[i][1]));
   return most;
+}
+
+// The median (the upper of two middles, as the re-entry summary's).
+double upper_median(std::vector<double>& values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
 }
 
 struct Window {
@@ -91,15 +96,35 @@ double polygon_area(const std::vector<Point2>& polygon) {
   return twice / 2;
 }
 
-SpiralMeasures spiral_measures(const SingularityTrack& track) {
+double rotation_period_ms(const SingularityTrack& track, const Tissue& tissue,
+                          const std::vector<std::vector<double>>& activations_ms) {
+  if (track.trajectory.empty()) return kNaN;
+  double x = 0, y = 0, reach = 0;
+  for (const auto& p : track.trajectory) x += p.x_mm, y += p.y_mm;
+  x /= track.trajectory.size(), y /= track.trajectory.size();
+  for (const auto& p : track.trajectory) reach = std::max(reach, std::hypot(p.x_mm - x, p.y_mm - y));
+  reach += kTipNeighbourhood_mm;
+  std::vector<double> per_cell, intervals;
+  for (std::size_t c = 0; c < tissue.cell_count() && c < activations_ms.size(); ++c) {
+    if (std::hypot(tissue.x_um[c] / 1000 - x, tissue.y_um[c] / 1000 - y) > reach) continue;
+    intervals.clear();
+    const auto& a = activations_ms[c];
+    for (std::size_t k = 1; k < a.size(); ++k)
+      if (a[k - 1] >= track.birth_ms && a[k] <= track.death_ms) intervals.push_back(a[k] - a[k - 1]);
+    if (!intervals.empty()) per_cell.push_back(upper_median(intervals));
+  }
+  return per_cell.empty() ? kNaN : upper_median(per_cell);
+}
+
+SpiralMeasures spiral_measures(const SingularityTrack& track, double period_ms) {
   SpiralMeasures m;
   m.id = track.id;
   m.chirality = track.chirality;
   m.birth_ms = track.birth_ms;
   m.death_ms = track.death_ms;
   m.lifetime_ms = track.death_ms - track.birth_ms;
-  m.rotations = std::abs(track.phase_turned_rad) / (2 * std::numbers::pi);
-  m.period_ms = m.lifetime_ms > 0 && m.rotations > 0 ? m.lifetime_ms / m.rotations : kNaN;
+  m.period_ms = period_ms > 0 ? period_ms : kNaN;
+  m.rotations = std::isfinite(m.period_ms) ? m.lifetime_ms / m.period_ms : 0.0;
   m.rotor = m.rotations >= 1;
   std::vector<Point2> points;
   points.reserve(track.trajectory.size());

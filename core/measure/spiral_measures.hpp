@@ -6,14 +6,12 @@
 // circle or a line (tests/test_spiral_measures.cpp):
 //
 //   lifetime_ms    death_ms - birth_ms: the first and last samples it was seen in
-//   rotations      |phase turned at the tip| / 2 pi, the phase turned being
-//                  the sum over the track's steps of the mean advance of
-//                  the phase of the three cells of the tip's triangle
-//                  (measure/reentry.cpp). Every site around a rotor runs
-//                  through one phase cycle per rotation (the phase of Gray,
-//                  Pertsov & Jalife 1998, Nature 392:75), so this counts turns
-//   period_ms      lifetime_ms / rotations: the rotation period (NaN without
-//                  a step or a turn)
+//   period_ms      the rotation period: the activation cycle length of the
+//                  cells around the tip (rotation_period_ms below): each
+//                  cell around a rotor is excited once a turn. Not from the
+//                  phase at the tip's own cells: there the phase is
+//                  singular, and their V circles V* in small irregular loops
+//   rotations      lifetime_ms / period_ms
 //   rotor          rotations >= 1: the track lived at least one of its own
 //                  rotation periods (a shorter-lived PS is a transient break)
 //   drift_mm       the distance between the tip's mean position over its
@@ -35,6 +33,7 @@
 #include <vector>
 
 #include "measure/singularity_tracking.hpp"
+#include "tissue/tissue.hpp"
 
 namespace fibrodem {
 
@@ -48,7 +47,21 @@ struct SpiralMeasures {
   double meander_extent_mm = 0, meander_area_mm2 = 0;
 };
 
-SpiralMeasures spiral_measures(const SingularityTrack& track);
+// Cells within kTipNeighbourhood_mm of the tip's path (of its mean position,
+// plus the path's largest distance from it) are "around the tip": eight
+// myocytes along a fibre, forty columns across, near enough to follow this
+// rotor rather than another.
+inline constexpr double kTipNeighbourhood_mm = 1.0;
+
+// The median over the cells around the tip of each one's median interval
+// between successive activations within the track's life (activations_ms:
+// per cell, its activation times, measure/beat_activations.hpp); NaN when
+// no cell there activates twice in it (a life shorter than a turn).
+double rotation_period_ms(const SingularityTrack& track, const Tissue& tissue,
+                          const std::vector<std::vector<double>>& activations_ms);
+
+// period_ms: the track's rotation period (NaN: none).
+SpiralMeasures spiral_measures(const SingularityTrack& track, double period_ms);
 
 // The convex hull of points (x, y), counter-clockwise, without repeated or
 // collinear points (Andrew's monotone chain).
