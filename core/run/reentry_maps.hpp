@@ -5,10 +5,10 @@
 // phase_singularity_density_map.png, activation_beat_<k>.png) and one
 // ParaView file (reentry_maps.vtk, or .vtp with vtk_format "xml") holding
 // them all with each cell's cycle length; and the tip paths over a map
-// (phase_singularity_paths.png, run/tip_path_map.hpp). At most kMostBeatMaps beats are drawn
-// (measure/beat_activations.hpp, which names their pictures), so
-// that a long fibrillating run writes a bounded number of files; every beat
-// stays in summary.json.
+// (phase_singularity_paths.png, run/tip_path_map.hpp). At most
+// kMostBeatMaps beats are drawn (measure/beat_activations.hpp, which names
+// their pictures), so that a long fibrillating run writes a bounded number
+// of files; every beat stays in summary.json.
 #pragma once
 
 #include <filesystem>
