@@ -1,5 +1,6 @@
 // The DEM's checkpoint (MechanicsSolver::save and load): every array that
 // evolves, both contact sets whole, the contact list's state and the clock.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -72,8 +73,8 @@ void DemSolver::save(CheckpointFields& fields) const {
     fields.put("dem.multirate", std::vector<double>{light_step_s_, static_cast<double>(substeps_)});
     fields.put_bytes("dem.multirate.light", blight_.data(), blight_.size());
   }
-  fields.put("dem.clock", std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, strain_[0],
-                                              strain_[1], strain_[2]});
+  const std::array<double, 3>& eps = strain_fit_.strain();
+  fields.put("dem.clock", std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, eps[0], eps[1], eps[2]});
 }
 
 // The light bodies, their step and the substep count; the contacts put in the
@@ -118,7 +119,7 @@ void DemSolver::load(const CheckpointFields& fields) {
   time_s_ = clock[0];
   steps_ = static_cast<std::size_t>(clock[1]);
   stable_step_ms_ = clock[2];
-  strain_ = {clock[3], clock[4], clock[5]};
+  strain_fit_.set_strain({clock[3], clock[4], clock[5]});
   if (fields.has("dem.body.mass")) {
     fields.read_into("dem.body.mass", mass_);
     fields.read_into("dem.body.inertia", inertia_);

@@ -238,7 +238,7 @@ void DemSolver::step_multirate(double dt_s) {
   py_old_.swap(py_);
   move_heavy_bodies(dt_s);
   for (std::size_t j = 1; j <= n; ++j) light_substep(j, n, dt_s / static_cast<double>(n));
-  const StepSums sums = multirate_step_sums(dt_s);
+  const StepSums sums = move_and_sum<false>(dt_s);
   if (detector_ && detector_->needs_rebuild(sums.fit, origin_x_, origin_y_, px_.data(), py_.data(), pr_.data()))
     rebuild_contacts();
   add_strain(sums.strain, dt_s);
@@ -371,42 +371,6 @@ void DemSolver::forces_of_contact_range(std::size_t bond_begin, std::size_t bond
     const std::size_t number = bond ? begin : bonds_.size() + begin;
     contact_block(set, begin, std::min(kBlock, end - begin), number, dt_s, scratch);
   }
-}
-
-// The strain's and the contact list's sums over the step, as move_bodies
-// takes them, from every body's pose at the step's start and end (a light
-// body's velocity now is its last substep's, not its mean over the step).
-DemSolver::StepSums DemSolver::multirate_step_sums(double dt_s) const {
-  const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
-  const double inv_dt = 1 / dt_s;
-  std::array<StepSums, kStepParts> part;
-#pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < kStepParts; ++k) {
-    StepSums sum{};
-    for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
-      const int first = body_particle_start_[b], last = body_particle_start_[b + 1];
-      if (detector_)
-        detector_->add_fit_terms(body_particle_.data() + first, last - first, px_.data(), py_.data(), origin_x_,
-                                 origin_y_, sum.fit);
-      if (by_particle)
-        for (int j = first; j < last; ++j) {
-          const auto i = static_cast<std::size_t>(body_particle_[j]);
-          add_strain_terms(sum.strain, 0.5 * (px_[i] + px_old_[i]) - origin_x_, 0.5 * (py_[i] + py_old_[i]) - origin_y_,
-                           (px_[i] - px_old_[i]) * inv_dt, (py_[i] - py_old_[i]) * inv_dt);
-        }
-      else
-        add_strain_terms(sum.strain, 0.5 * (bx_[b] + bx_start_[b]) - origin_x_,
-                         0.5 * (by_[b] + by_start_[b]) - origin_y_, (bx_[b] - bx_start_[b]) * inv_dt,
-                         (by_[b] - by_start_[b]) * inv_dt);
-    }
-    part[k] = sum;
-  }
-  StepSums total{};
-  for (const auto& p : part) {
-    for (std::size_t j = 0; j < total.strain.size(); ++j) total.strain[j] += p.strain[j];
-    for (std::size_t j = 0; j < total.fit.size(); ++j) total.fit[j] += p.fit[j];
-  }
-  return total;
 }
 
 // The contacts between heavy bodies at t + H; each heavy body's force is

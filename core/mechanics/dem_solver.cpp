@@ -27,7 +27,7 @@ void DemSolver::step(double dt_ms) {
   // (length ratios at the end of the step), particles.
   px_old_.swap(px_);
   py_old_.swap(py_);
-  const StepSums sums = move_bodies(dt);
+  const StepSums sums = move_and_sum<true>(dt);
   if (detector_ && detector_->needs_rebuild(sums.fit, origin_x_, origin_y_, px_.data(), py_.data(), pr_.data()))
     rebuild_contacts();
   add_strain(sums.strain, dt);
@@ -37,15 +37,19 @@ void DemSolver::step(double dt_ms) {
   out_dirty_ = true;
 }
 
-// The first half of a velocity Verlet step for every body, and the sums
-// over the new particles (or bodies) of the strain's least-squares fit and of
-// the contact list's affine fit: one pass over each body and its particles,
-// in kStepParts fixed parts (equal particle counts), each part summed in
-// order and the parts in part order, so the sums have the same bits for any
-// number of threads. (One pass, not one per stage: kick, drift, shape, axis,
+// The first half of a velocity Verlet step for every body (kMove; under
+// multirate the bodies have moved already), and the sums over the new
+// particles (or bodies) of the strain's least-squares fit and of the contact
+// list's affine fit: one pass over each body and its particles, in
+// kStepParts fixed parts (equal work), each part summed in order and the
+// parts in part order, so the sums have the same bits for any number of
+// threads. (One pass, not one per stage: kick, drift, shape, axis,
 // particles and the two fits would be eight passes over the bodies or
-// particles, each ended by a wait for all threads.)
-DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
+// particles, each ended by a wait for all threads.) A body's own velocity
+// over the step: its half-step one (kMove), else from its pose at the
+// step's start (a light body's velocity now is its last substep's).
+template <bool kMove>
+DemSolver::StepSums DemSolver::move_and_sum(double dt_s) {
   const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
   const double h = 0.5 * dt_s, inv_dt = 1 / dt_s;
   std::array<StepSums, kStepParts> part;
@@ -53,9 +57,11 @@ DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
   for (std::size_t k = 0; k < kStepParts; ++k) {
     StepSums sum{};  // (in registers: part[k] could alias the arrays read)
     for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
-      kick_body(b, h);
-      drift_and_reshape(b, dt_s);
-      place_particles_of(b);
+      if constexpr (kMove) {
+        kick_body(b, h);
+        drift_and_reshape(b, dt_s);
+        place_particles_of(b);
+      }
       // (Two loops over the body's particles, which are in L1 by now: the
       // two fits' 17 sums at once would not fit in registers.)
       const int first = body_particle_start_[b], last = body_particle_start_[b + 1];
@@ -65,12 +71,17 @@ DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
       if (by_particle)
         for (int j = first; j < last; ++j) {
           const auto i = static_cast<std::size_t>(body_particle_[j]);
-          add_strain_terms(sum.strain, 0.5 * (px_[i] + px_old_[i]) - origin_x_, 0.5 * (py_[i] + py_old_[i]) - origin_y_,
-                           (px_[i] - px_old_[i]) * inv_dt, (py_[i] - py_old_[i]) * inv_dt);
+          DemStrainFit::add_terms(sum.strain, 0.5 * (px_[i] + px_old_[i]) - origin_x_,
+                                  0.5 * (py_[i] + py_old_[i]) - origin_y_, (px_[i] - px_old_[i]) * inv_dt,
+                                  (py_[i] - py_old_[i]) * inv_dt);
         }
+      else if constexpr (kMove)
+        DemStrainFit::add_terms(sum.strain, bx_[b] - h * bvx_[b] - origin_x_, by_[b] - h * bvy_[b] - origin_y_,
+                                bvx_[b], bvy_[b]);
       else
-        add_strain_terms(sum.strain, bx_[b] - h * bvx_[b] - origin_x_, by_[b] - h * bvy_[b] - origin_y_, bvx_[b],
-                         bvy_[b]);
+        DemStrainFit::add_terms(sum.strain, 0.5 * (bx_[b] + bx_start_[b]) - origin_x_,
+                                0.5 * (by_[b] + by_start_[b]) - origin_y_, (bx_[b] - bx_start_[b]) * inv_dt,
+                                (by_[b] - by_start_[b]) * inv_dt);
     }
     part[k] = sum;
   }
@@ -80,6 +91,14 @@ DemSolver::StepSums DemSolver::move_bodies(double dt_s) {
     for (std::size_t j = 0; j < total.fit.size(); ++j) total.fit[j] += p.fit[j];
   }
   return total;
+}
+
+template DemSolver::StepSums DemSolver::move_and_sum<false>(double dt_s);
+
+// The strain over a step of dt_s, from the move loop's sums.
+void DemSolver::add_strain(const DemStrainFit::Sums& sums, double dt_s) {
+  const std::size_t n = spec_.strain_bodies == StrainBodies::particles ? px_.size() : bx_.size();
+  strain_fit_.add(sums, n, dt_s, (time_s_ + dt_s) * 1e3);
 }
 
 // Reach of a body: its farthest particle's edge from its centroid (a

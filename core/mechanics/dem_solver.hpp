@@ -81,6 +81,7 @@
 #include "mechanics/contact_detector.hpp"
 #include "mechanics/contact_incidence.hpp"
 #include "mechanics/contact_law.hpp"
+#include "mechanics/dem_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
 
 namespace fibrodem {
@@ -95,7 +96,7 @@ class DemSolver final : public MechanicsSolver {
   double stable_step_ms() const override { return stable_step_ms_; }
   void set_cell_length_ratios(const std::vector<double>& ratio) override;
   void step(double dt_ms) override;
-  std::array<double, 3> strain() const override { return strain_; }
+  std::array<double, 3> strain() const override { return strain_fit_.strain(); }
   const std::vector<Particle>& particles() const override;
   std::string report() const override;
   // One pass over the bodies (not part of a step: asked for only when the
@@ -147,10 +148,8 @@ class DemSolver final : public MechanicsSolver {
   double elastic_energy_J() const;
 
  private:
-  // The strain fit's sums: x, y, vx, vy, xx, xy, yy, vx x, vx y, vy x, vy y.
-  using StrainSums = std::array<double, 11>;
   struct StepSums {
-    StrainSums strain;
+    DemStrainFit::Sums strain;
     ContactDetector::FitSums fit;
   };
   static constexpr std::size_t kStepParts = 64;  // fixed by the tissue, not the threads
@@ -165,9 +164,9 @@ class DemSolver final : public MechanicsSolver {
   void kick_body(std::size_t b, double h_s);
   void drift_and_reshape(std::size_t b, double dt_s);
   void place_particles_of(std::size_t b);
-  StepSums move_bodies(double dt_s);
-  static void add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy);
-  void add_strain(const StrainSums& sums, double dt_s);
+  template <bool kMove>
+  StepSums move_and_sum(double dt_s);
+  void add_strain(const DemStrainFit::Sums& sums, double dt_s);
   void compute_forces_and_kick(double dt_s, double h_s);
   struct BlockScratch;
   void contact_block(BondSet& set, std::size_t begin, std::size_t count, std::size_t number, double dt_s,
@@ -207,7 +206,6 @@ class DemSolver final : public MechanicsSolver {
   void forces_of_contact_range(std::size_t bond_begin, std::size_t bond_end, std::size_t contact_begin,
                                std::size_t contact_end, double dt_s);
   void add_fast_forces_of_boundary(std::size_t k, double w, bool last);
-  StepSums multirate_step_sums(double dt_s) const;
   void heavy_forces_and_kick(double dt_s, std::size_t n);
   // Each evolving array with its checkpoint field's name, for save and load
   // alike (Self: DemSolver or const DemSolver).
@@ -290,7 +288,7 @@ class DemSolver final : public MechanicsSolver {
   double light_step_s_ = 0;
   double time_s_ = 0;
   std::size_t steps_ = 0;
-  std::array<double, 3> strain_{0, 0, 0};
+  DemStrainFit strain_fit_;
   double origin_x_ = 0, origin_y_ = 0;  // for the strain sums' conditioning
 
   mutable std::vector<Particle> out_;

@@ -112,11 +112,4 @@ template <class Counted>
   f[2] = tq;
 }
 
-// The terms of the fit alpha = (sum V~ x~^T)(sum x~ x~^T)^+ of one particle
-// or body: position x, y (from the tissue's centre) and velocity vx, vy.
-[[gnu::always_inline]] inline void DemSolver::add_strain_terms(StrainSums& acc, double x, double y, double vx, double vy) {
-  const double terms[11] = {x, y, vx, vy, x * x, x * y, y * y, vx * x, vx * y, vy * x, vy * y};
-  for (std::size_t k = 0; k < 11; ++k) acc[k] += terms[k];
-}
-
 }  // namespace fibrodem

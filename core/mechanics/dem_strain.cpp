@@ -1,25 +1,22 @@
-// The tissue's strain (dem_solver.hpp, "Strain"): the least-squares velocity
-// gradient of the particles (or bodies) each step, its symmetric part summed.
+// The tissue's strain (dem_strain.hpp): the least-squares velocity gradient
+// of the particles (or bodies) each step, its symmetric part summed.
+#include "mechanics/dem_strain.hpp"
+
 #include <Eigen/Dense>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "mechanics/dem_solver.hpp"
-#include "mechanics/dem_units.hpp"
 #include "util/number_text.hpp"
 
 namespace fibrodem {
 
-// Strain rate: the least-squares velocity gradient from the sums over
-// particles or bodies; eps += sym(alpha) dt.
-void DemSolver::add_strain(const StrainSums& sums, double dt_s) {
-  const std::size_t n = spec_.strain_bodies == StrainBodies::particles ? px_.size() : bx_.size();
+void DemStrainFit::add(const Sums& sums, std::size_t n, double dt_s, double t_end_ms) {
   const auto [sx, sy, svx, svy, sxx, sxy, syy, vxx, vxy, vyx, vyy] = sums;
   // Never a silent NaN: a body gone non-finite stops the run here, naming the time.
   if (!std::isfinite(sx + sy + svx + svy))
     throw std::runtime_error("DEM: a body's position or velocity became non-finite at t = " +
-                             significant_digits((time_s_ + dt_s) * 1e3, 6) + " ms (the mechanics went unstable)");
+                             significant_digits(t_end_ms, 6) + " ms (the mechanics went unstable)");
   if (n < 2) return;
   const double inv_n = 1.0 / static_cast<double>(n);
   const double mx = sx * inv_n, my = sy * inv_n, mvx = svx * inv_n, mvy = svy * inv_n;
