@@ -1,84 +1,78 @@
-// The DEM's bodies (dem_solver.hpp, "Bodies"): myocyte clumps and fibroblast
-// disks built from the tissue, their particles, and what they tell.
+// The DEM's bodies (dem_bodies.hpp): myocyte clumps and fibroblast disks
+// built from the tissue, their particles, their parts, and what they tell.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "mechanics/dem_solver.hpp"
+#include "mechanics/dem_bodies.hpp"
 #include "mechanics/dem_step_inline.hpp"
 #include "mechanics/dem_units.hpp"
-#include "util/number_text.hpp"
 
 namespace fibrodem {
 
-DemSolver::DemSolver(const Tissue& t, const DemSpec& spec) : spec_(spec), law_(make_contact_law(spec)) {
-  add_bodies(t);
-  index_particles();
-  partition_bodies();
-  const std::vector<std::pair<int, int>> bonded = form_bonds(t);
-  law_->prepare(bonds_);
-  if (spec_.contact_detection) {
-    detector_ = std::make_unique<ContactDetector>(pbody_, bonded, spec_.contact_skin_um * kUm);
-    rebuild_contacts();
-  } else {
-    index_contacts();
-    compute_stable_step();
-  }
-  if (spec_.multirate) start_multirate();
-  bonded_stable_step_ms_ = stable_step_ms_;
-  if (spec_.dt_ms > stable_step_ms_)
-    throw std::invalid_argument("mechanics.dt_ms " + significant_digits(spec_.dt_ms, 6) + " ms exceeds the stable DEM step " +
-                                significant_digits(stable_step_ms_, 6) + " ms");
-}
+namespace {
 
-// A body per fibroblast particle and per myocyte (the clump of its
-// particles), in order of their first particle.
-void DemSolver::add_bodies(const Tissue& t) {
-  cells_ = t.cell_count();
-  const std::size_t np = t.particles.size();
-  // Every builder that makes a mechanical body bonds the particles of coupled
-  // cells; a tissue with couplings and no bonds is a cell graph only (fibrotic_sheet).
+// Every builder that makes a mechanical body bonds the particles of coupled
+// cells; a tissue with couplings and no bonds is a cell graph only (fibrotic_sheet).
+void refuse_tissue_without_bonds(const Tissue& t) {
   if (!t.cell_edges.empty() && t.bonds.empty())
     throw std::invalid_argument("mechanics: the tissue's " + std::to_string(t.cell_edges.size()) +
                                 " coupled cell pairs have no mechanical bonds (builder fibrotic_sheet makes the "
                                 "cell graph only); leave mechanics out of effects, or use a builder that bonds cells");
-  const double rho = spec_.density_kg_per_m3;  // x 1 m thickness
-  cell_body_.assign(cells_, -1);
-  pbody_.assign(np, -1);
-  pa_.assign(np, 0.0);
+}
+
+}  // namespace
+
+DemBodies::DemBodies(const Tissue& t, const DemSpec& spec)
+    : area_rule(spec.area_rule), length_mode(spec.length_mode), local_damping(spec.local_damping) {
+  refuse_tissue_without_bonds(t);
+  add_bodies(t, spec);
+  index_particles();
+  partition_bodies();
+}
+
+// A body per fibroblast particle and per myocyte (the clump of its
+// particles), in order of their first particle.
+void DemBodies::add_bodies(const Tissue& t, const DemSpec& spec) {
+  cells = t.cell_count();
+  const std::size_t np = t.particles.size();
+  const double rho = spec.density_kg_per_m3;  // x 1 m thickness
+  cell_body.assign(cells, -1);
+  pbody.assign(np, -1);
+  pa.assign(np, 0.0);
 
   // Particles of each myocyte, in tissue order.
-  std::vector<std::vector<int>> members(cells_);
+  std::vector<std::vector<int>> members(cells);
   for (std::size_t i = 0; i < np; ++i) {
     const int c = t.particles[i].cell;
-    if (c < 0 || static_cast<std::size_t>(c) >= cells_)
+    if (c < 0 || static_cast<std::size_t>(c) >= cells)
       throw std::invalid_argument("particle " + std::to_string(i) + " belongs to no cell");
     members[c].push_back(static_cast<int>(i));
   }
 
-  auto add_body = [&](int cell, bool clump, double x, double y, double theta, int n, double r0,
-                      double s0, double mass, double inertia, bool fixed) {
-    bx_.push_back(x);
-    by_.push_back(y);
-    bth_.push_back(theta);
-    bcell_.push_back(cell);
-    bclump_.push_back(clump);
-    bfixed_.push_back(fixed);
-    mass_.push_back(mass);
-    inertia_.push_back(inertia);
-    density_mass_.push_back(mass);
-    density_inertia_.push_back(inertia);
-    inv_m_.push_back(fixed ? 0.0 : 1 / mass);
-    inv_i_.push_back(fixed ? 0.0 : 1 / inertia);
-    brest_.push_back(clump_rest(spec_.area_rule, n, r0, s0));
-    br_.push_back(r0);
-    bs_.push_back(s0);
-    blambda_.push_back(1.0);
-    btarget_r_.push_back(r0);
-    btarget_s_.push_back(s0);
-    return static_cast<int>(bx_.size()) - 1;
+  auto add_body = [&](int c, bool clump, double x, double y, double theta, int n, double r0, double s0, double m,
+                      double i, bool fixed) {
+    bx.push_back(x);
+    by.push_back(y);
+    bth.push_back(theta);
+    bcell.push_back(c);
+    bclump.push_back(clump);
+    bfixed.push_back(fixed);
+    mass.push_back(m);
+    inertia.push_back(i);
+    density_mass.push_back(m);
+    density_inertia.push_back(i);
+    inv_m.push_back(fixed ? 0.0 : 1 / m);
+    inv_i.push_back(fixed ? 0.0 : 1 / i);
+    brest.push_back(clump_rest(spec.area_rule, n, r0, s0));
+    br.push_back(r0);
+    bs.push_back(s0);
+    blambda.push_back(1.0);
+    btarget_r.push_back(r0);
+    btarget_s.push_back(s0);
+    return static_cast<int>(bx.size()) - 1;
   };
 
   // One shape (all the paper's myocytes) -> mass properties computed once.
@@ -100,11 +94,11 @@ void DemSolver::add_bodies(const Tissue& t) {
     if (t.type[c] == CellType::fibroblast) {
       const double r = p.r_um * kUm;
       const double m = rho * M_PI * r * r;
-      pbody_[i] = add_body(c, false, p.x_um * kUm, p.y_um * kUm, 0.0, 1, r, 0.0, m, 0.5 * m * r * r,
-                           spec_.fibroblasts_fixed);
+      pbody[i] = add_body(c, false, p.x_um * kUm, p.y_um * kUm, 0.0, 1, r, 0.0, m, 0.5 * m * r * r,
+                           spec.fibroblasts_fixed);
       continue;
     }
-    if (cell_body_[c] >= 0) continue;
+    if (cell_body[c] >= 0) continue;
     // A myocyte: the clump of all its particles.
     const auto& ids = members[c];
     const int n = static_cast<int>(ids.size());
@@ -140,54 +134,52 @@ void DemSolver::add_bodies(const Tissue& t) {
         const double k = (dx * ux + dy * uy) / s0_um;
         const double k_round = std::round(k + 0.5 * (n - 1)) - 0.5 * (n - 1);
         if (std::abs(k - k_round) > 1e-6) throw std::invalid_argument(where + "particles not equally spaced");
-        pa_[id] = k_round;
+        pa[id] = k_round;
       }
     }
     const double r0 = r0_um * kUm, s0 = s0_um * kUm;
     const ShapeProps sp = props(n, r0, s0);
     const int b = add_body(c, true, cx * kUm, cy * kUm, std::atan2(-ux, uy), n, r0, s0, rho * sp.area,
                            rho * sp.moment, false);
-    cell_body_[c] = b;
-    for (int id : ids) pbody_[id] = b;
+    cell_body[c] = b;
+    for (int id : ids) pbody[id] = b;
   }
 }
 
 // The bodies at rest, their particles placed (each body's particles listed,
 // CSR), and the particles' centre (the origin of the strain sums).
-void DemSolver::index_particles() {
-  const std::size_t nb = bx_.size(), np = pbody_.size();
-  bvx_.assign(nb, 0.0);
-  bvy_.assign(nb, 0.0);
-  bw_.assign(nb, 0.0);
-  bfx_.assign(nb, 0.0);
-  bfy_.assign(nb, 0.0);
-  btq_.assign(nb, 0.0);
-  bsdot_.assign(nb, 0.0);
-  bux_.resize(nb);
-  buy_.resize(nb);
-  next_r_.resize(nb);
-  next_s_.resize(nb);
+void DemBodies::index_particles() {
+  const std::size_t nb = bx.size(), np = pbody.size();
+  bvx.assign(nb, 0.0);
+  bvy.assign(nb, 0.0);
+  bw.assign(nb, 0.0);
+  bfx.assign(nb, 0.0);
+  bfy.assign(nb, 0.0);
+  btq.assign(nb, 0.0);
+  bsdot.assign(nb, 0.0);
+  bux.resize(nb);
+  buy.resize(nb);
+  next_r.resize(nb);
+  next_s.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
-    bux_[b] = -std::sin(bth_[b]);
-    buy_[b] = std::cos(bth_[b]);
+    bux[b] = -std::sin(bth[b]);
+    buy[b] = std::cos(bth[b]);
   }
-  for (auto* v : {&px_, &py_, &px_old_, &py_old_, &pvx_, &pvy_, &pr_, &pw_}) v->assign(np, 0.0);
-  body_particle_start_.assign(nb + 1, 0);
-  for (std::size_t i = 0; i < np; ++i) ++body_particle_start_[pbody_[i] + 1];
-  for (std::size_t b = 0; b < nb; ++b) body_particle_start_[b + 1] += body_particle_start_[b];
-  body_particle_.resize(np);
+  for (auto* v : {&px, &py, &px_old, &py_old, &pvx, &pvy, &pr, &pw}) v->assign(np, 0.0);
+  body_particle_start.assign(nb + 1, 0);
+  for (std::size_t i = 0; i < np; ++i) ++body_particle_start[pbody[i] + 1];
+  for (std::size_t b = 0; b < nb; ++b) body_particle_start[b + 1] += body_particle_start[b];
+  body_particle.resize(np);
   {
-    std::vector<int> fill(body_particle_start_.begin(), body_particle_start_.end() - 1);
-    for (std::size_t i = 0; i < np; ++i) body_particle_[fill[pbody_[i]]++] = static_cast<int>(i);
+    std::vector<int> fill(body_particle_start.begin(), body_particle_start.end() - 1);
+    for (std::size_t i = 0; i < np; ++i) body_particle[fill[pbody[i]]++] = static_cast<int>(i);
   }
   for (std::size_t b = 0; b < nb; ++b) place_particles_of(b);
   for (std::size_t i = 0; i < np; ++i) {
-    origin_x_ += px_[i] / static_cast<double>(np);
-    origin_y_ += py_[i] / static_cast<double>(np);
+    origin_x += px[i] / static_cast<double>(np);
+    origin_y += py[i] / static_cast<double>(np);
   }
 }
-
-namespace {
 
 // `parts` runs of whole bodies of about equal work, from each body's work
 // summed before it (work_before[b]: bodies [0, b)): each part's first body,
@@ -203,16 +195,6 @@ std::vector<std::size_t> parts_of_equal_work(const std::vector<double>& work_bef
   return first;
 }
 
-// `parts` runs of whole bodies [0, nb) of about equal work(b) each.
-template <class Work>
-std::vector<std::size_t> parts_of_bodies(std::size_t nb, std::size_t parts, Work work) {
-  std::vector<double> work_before(nb + 1, 0.0);  // work of bodies [0, b)
-  for (std::size_t b = 0; b < nb; ++b) work_before[b + 1] = work_before[b] + work(b);
-  return parts_of_equal_work(work_before, parts);
-}
-
-}  // namespace
-
 // The step's fixed parts: runs of whole bodies of about equal work, so that
 // the threads, which take equal numbers of parts, finish the move loop
 // together. A body's work there: its kick, drift and fits (2.2 particles'
@@ -222,11 +204,11 @@ std::vector<std::size_t> parts_of_bodies(std::size_t nb, std::size_t parts, Work
 // disks with a third of the myocytes on the other: 1.7x the first's work.)
 // The clumps' shapes (set_cell_length_ratios) have parts of equal clump
 // counts: a disk there is passed over.
-void DemSolver::partition_bodies() {
-  part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return move_work(b); });
+void DemBodies::partition_bodies() {
+  part_first_body = parts_of_bodies(bx.size(), kStepParts, [&](std::size_t b) { return move_work(b); });
   constexpr double kShapeWork = 1.0, kDiskPassWork = 0.02;
-  shape_part_first_body_ = parts_of_bodies(bx_.size(), kStepParts,
-                                           [&](std::size_t b) { return bclump_[b] ? kShapeWork : kDiskPassWork; });
+  shape_part_first_body =
+      parts_of_bodies(bx.size(), kStepParts, [&](std::size_t b) { return bclump[b] ? kShapeWork : kDiskPassWork; });
 }
 
 // The force sums' parts: runs of whole bodies of about equal work there,
@@ -235,74 +217,59 @@ void DemSolver::partition_bodies() {
 // all), not with the move loop's particle counts. Each body's sum is its own,
 // in a fixed order, so the parts change no bits; they are set again whenever
 // the contacts change.
-void DemSolver::partition_force_sums() {
-  sum_part_first_body_ = parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return sum_work(b); });
-  partition_heavy_bodies();
+void DemBodies::partition_force_sums(const ContactIncidence& particle_contacts) {
+  sum_part_first_body =
+      parts_of_bodies(bx.size(), kStepParts, [&](std::size_t b) { return sum_work(b, particle_contacts); });
 }
 
-// Under multirate, the parts of the loops over the heavy bodies alone
-// (move_heavy_bodies, heavy_forces_and_kick): a light body there only has
-// its pose copied or is passed over. The interstitial tissue lists its
-// myocytes (heavy) first, so the parts of the whole step put nearly all of
-// that work on one thread. Set again when the contacts or the light set change.
-void DemSolver::partition_heavy_bodies() {
-  if (blight_.empty()) return;
-  constexpr double kPoseCopyWork = 0.2, kPassWork = 0.1;
-  heavy_part_first_body_ =
-      parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return blight_[b] ? kPoseCopyWork : move_work(b); });
-  heavy_sum_part_first_body_ =
-      parts_of_bodies(bx_.size(), kStepParts, [&](std::size_t b) { return blight_[b] ? kPassWork : sum_work(b); });
-}
-
-double DemSolver::move_work(std::size_t b) const {
+double DemBodies::move_work(std::size_t b) const {
   constexpr double kBodyWork = 2.2;
-  return kBodyWork + (body_particle_start_[b + 1] - body_particle_start_[b]);
+  return kBodyWork + (body_particle_start[b + 1] - body_particle_start[b]);
 }
 
-double DemSolver::sum_work(std::size_t b) const {
+double DemBodies::sum_work(std::size_t b, const ContactIncidence& particle_contacts) const {
   double work = 2.0;  // the kick and the body's own sums, in contact-terms
-  for (int k = body_particle_start_[b]; k < body_particle_start_[b + 1]; ++k) {
-    const auto i = static_cast<std::size_t>(body_particle_[k]);
-    work += 1.0 + static_cast<double>(particle_contacts_.end(i) - particle_contacts_.begin(i));
+  for (int k = body_particle_start[b]; k < body_particle_start[b + 1]; ++k) {
+    const auto i = static_cast<std::size_t>(body_particle[k]);
+    work += 1.0 + static_cast<double>(particle_contacts.end(i) - particle_contacts.begin(i));
   }
   return work;
 }
 
-const std::vector<Particle>& DemSolver::particles() const {
-  if (out_dirty_) {
-    out_.resize(pbody_.size());
-    for (std::size_t i = 0; i < pbody_.size(); ++i) {
-      const int b = pbody_[i];
-      out_[i] = Particle{px_[i] / kUm, py_[i] / kUm, br_[b] / kUm, bcell_[b]};
-    }
-    out_dirty_ = false;
+void DemBodies::export_particles(std::vector<Particle>& out) const {
+  out.resize(pbody.size());
+  for (std::size_t i = 0; i < pbody.size(); ++i) {
+    const int b = pbody[i];
+    out[i] = Particle{px[i] / kUm, py[i] / kUm, br[b] / kUm, bcell[b]};
   }
-  return out_;
 }
 
-DemSolver::BodyState DemSolver::body(std::size_t b) const {
-  return {bx_[b], by_[b], bth_[b], bvx_[b], bvy_[b], bw_[b], mass_[b], inertia_[b],
-          bcell_[b], bclump_[b] != 0, bfixed_[b] != 0};
-}
-
-void DemSolver::set_body_velocity(std::size_t b, double vx, double vy, double w) {
-  if (bfixed_[b]) return;
-  bvx_[b] = vx;
-  bvy_[b] = vy;
-  bw_[b] = w;
-}
-
-ClumpShape DemSolver::cell_shape_um(int cell) const {
-  const int b = cell_body_.at(cell);
+ClumpShape DemBodies::cell_shape_um(int cell) const {
+  const int b = cell_body.at(cell);
   if (b < 0) return {0, 0};
-  return {br_[b] / kUm, bs_[b] / kUm};
+  return {br[b] / kUm, bs[b] / kUm};
 }
 
-double DemSolver::kinetic_energy_J() const {
+double DemBodies::kinetic_energy_J() const {
   double e = 0;
-  for (std::size_t b = 0; b < bx_.size(); ++b)
-    e += 0.5 * mass_[b] * (bvx_[b] * bvx_[b] + bvy_[b] * bvy_[b]) + 0.5 * inertia_[b] * bw_[b] * bw_[b];
+  for (std::size_t b = 0; b < bx.size(); ++b)
+    e += 0.5 * mass[b] * (bvx[b] * bvx[b] + bvy[b] * bvy[b]) + 0.5 * inertia[b] * bw[b] * bw[b];
   return e;
+}
+
+// Reach of a body: its farthest particle's edge from its centroid (a
+// clump's end pebbles; a disk's radius), at its present shape.
+MechanicsSolver::Motion DemBodies::fastest_motion() const {
+  MechanicsSolver::Motion m;
+  for (std::size_t b = 0; b < bx.size(); ++b) {
+    if (bfixed[b]) continue;
+    const double reach = 0.5 * (brest[b].n - 1) * bs[b] + br[b];
+    const double speed = std::hypot(bvx[b], bvy[b]) + std::abs(bw[b]) * reach;
+    const double accel = std::hypot(bfx[b], bfy[b]) * inv_m[b] + std::abs(btq[b]) * inv_i[b] * reach;
+    m.speed_m_per_s = std::max(m.speed_m_per_s, speed);
+    m.acceleration_m_per_s2 = std::max(m.acceleration_m_per_s2, accel);
+  }
+  return m;
 }
 
 }  // namespace fibrodem

@@ -10,20 +10,24 @@
 
 namespace fibrodem {
 
-template <class Self, class F>
-void DemSolver::for_each_evolving_array(Self& self, F&& f) {
-  // Bodies: pose, velocity, force, and the clump's shape on its way to the target.
-  f("dem.body.x", self.bx_), f("dem.body.y", self.by_), f("dem.body.theta", self.bth_);
-  f("dem.body.vx", self.bvx_), f("dem.body.vy", self.bvy_), f("dem.body.omega", self.bw_);
-  f("dem.body.fx", self.bfx_), f("dem.body.fy", self.bfy_), f("dem.body.torque", self.btq_);
-  f("dem.body.r", self.br_), f("dem.body.s", self.bs_), f("dem.body.sdot", self.bsdot_), f("dem.body.lambda", self.blambda_);
-  f("dem.body.target_r", self.btarget_r_), f("dem.body.target_s", self.btarget_s_), f("dem.body.ux", self.bux_), f("dem.body.uy", self.buy_);
-  // Particles, now and a step ago (the strain's half-step velocities).
-  f("dem.particle.x", self.px_), f("dem.particle.y", self.py_), f("dem.particle.x_old", self.px_old_), f("dem.particle.y_old", self.py_old_);
-  f("dem.particle.vx", self.pvx_), f("dem.particle.vy", self.pvy_), f("dem.particle.r", self.pr_), f("dem.particle.omega", self.pw_);
-}
-
 namespace {
+
+// Each evolving array of the bodies with its checkpoint field's name, for
+// save and load alike (Bodies: DemBodies or const DemBodies).
+template <class Bodies, class F>
+void for_each_evolving_array(Bodies& b, F&& f) {
+  // Bodies: pose, velocity, force, and the clump's shape on its way to the target.
+  f("dem.body.x", b.bx), f("dem.body.y", b.by), f("dem.body.theta", b.bth);
+  f("dem.body.vx", b.bvx), f("dem.body.vy", b.bvy), f("dem.body.omega", b.bw);
+  f("dem.body.fx", b.bfx), f("dem.body.fy", b.bfy), f("dem.body.torque", b.btq);
+  f("dem.body.r", b.br), f("dem.body.s", b.bs), f("dem.body.sdot", b.bsdot), f("dem.body.lambda", b.blambda);
+  f("dem.body.target_r", b.btarget_r), f("dem.body.target_s", b.btarget_s), f("dem.body.ux", b.bux);
+  f("dem.body.uy", b.buy);
+  // Particles, now and a step ago (the strain's half-step velocities).
+  f("dem.particle.x", b.px), f("dem.particle.y", b.py), f("dem.particle.x_old", b.px_old);
+  f("dem.particle.y_old", b.py_old), f("dem.particle.vx", b.pvx), f("dem.particle.vy", b.pvy);
+  f("dem.particle.r", b.pr), f("dem.particle.omega", b.pw);
+}
 
 // A BondSet's every array (constants too: contacts come and go with the list).
 template <class Set, class F>
@@ -56,61 +60,41 @@ void get_array(const CheckpointFields& fields, const std::string& name, std::vec
 }  // namespace
 
 void DemSolver::save(CheckpointFields& fields) const {
-  for_each_evolving_array(*this, [&](const std::string& name, const std::vector<double>& v) { fields.put(name, v); });
-  for_each_bond_array(bonds_, "dem.bond.", [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
-  for_each_bond_array(contacts_, "dem.contact.",
+  for_each_evolving_array(bodies_, [&](const std::string& name, const std::vector<double>& v) { fields.put(name, v); });
+  for_each_bond_array(contacts_.bonds, "dem.bond.",
                       [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
-  if (detector_) detector_->save(fields);
+  for_each_bond_array(contacts_.contacts, "dem.contact.",
+                      [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
+  if (contacts_.detects()) contacts_.detector()->save(fields);
   // Masses of motion: mass scaling sets them for the contacts listed (without
   // it they are the density's, and a checkpoint needs none).
-  if (scaling_step_s_ > 0) {
-    fields.put("dem.body.mass", mass_);
-    fields.put("dem.body.inertia", inertia_);
+  if (mass_scaling_.active()) {
+    fields.put("dem.body.mass", bodies_.mass);
+    fields.put("dem.body.inertia", bodies_.inertia);
   }
-  // Multirate: the light bodies' step, set with the contact list (the
-  // substeps' state lives inside a step: nothing else to carry).
-  if (!blight_.empty()) {
-    fields.put("dem.multirate", std::vector<double>{light_step_s_, static_cast<double>(substeps_)});
-    fields.put_bytes("dem.multirate.light", blight_.data(), blight_.size());
-  }
+  if (multirate_.on()) multirate_.save(fields);
   const std::array<double, 3>& eps = strain_fit_.strain();
-  fields.put("dem.clock", std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, eps[0], eps[1], eps[2]});
-}
-
-// The light bodies, their step and the substep count; the contacts put in the
-// multirate order (a no-op on a checkpoint written with multirate).
-void DemSolver::load_multirate(const CheckpointFields& fields) {
-  if (!fields.has("dem.multirate"))
-    throw CheckpointError("it was written without mechanics.multirate, which this run sets");
-  const auto m = fields.numbers("dem.multirate", 2);
-  if (!(m[0] > 0) || !(m[1] >= 0 && m[1] < 1e18)) throw CheckpointError("its DEM multirate state is out of range");
-  light_step_s_ = m[0];
-  substeps_ = static_cast<std::size_t>(m[1]);
-  fields.bytes("dem.multirate.light", blight_.data(), blight_.size());
-  for (std::size_t b = 0; b < blight_.size(); ++b)
-    if (blight_[b] > 1 || (blight_[b] && (bclump_[b] || bfixed_[b])))
-      throw CheckpointError("its DEM body " + std::to_string(b) + " is marked light but is a clump, fixed, or not 0/1");
-  list_light_bodies();
-  fast_bonds_ = order_fast_first(bonds_, false);
-  order_fast_first(contacts_, true);
+  fields.put("dem.clock",
+             std::vector<double>{time_s_, static_cast<double>(steps_), stable_step_ms_, eps[0], eps[1], eps[2]});
 }
 
 void DemSolver::load(const CheckpointFields& fields) {
-  for_each_evolving_array(*this, [&](const std::string& name, std::vector<double>& v) { fields.read_into(name, v); });
-  const long long bonds = static_cast<long long>(bonds_.size());
-  for_each_bond_array(bonds_, "dem.bond.",
-                      [&](const std::string& name, auto& v) { get_array(fields, name, v, bonds); });
-  const long long contacts = static_cast<long long>(fields.integers("dem.contact.p").size());
-  for_each_bond_array(contacts_, "dem.contact.",
-                      [&](const std::string& name, auto& v) { get_array(fields, name, v, contacts); });
-  const long long particles = static_cast<long long>(px_.size());
-  for (std::size_t k = 0; k < bonds_.size() + contacts_.size(); ++k) {
-    const BondSet& set = k < bonds_.size() ? bonds_ : contacts_;
-    const std::size_t i = k < bonds_.size() ? k : k - bonds_.size();
+  for_each_evolving_array(bodies_, [&](const std::string& name, std::vector<double>& v) { fields.read_into(name, v); });
+  BondSet &bonds = contacts_.bonds, &contacts = contacts_.contacts;
+  const long long nbonds = static_cast<long long>(bonds.size());
+  for_each_bond_array(bonds, "dem.bond.",
+                      [&](const std::string& name, auto& v) { get_array(fields, name, v, nbonds); });
+  const long long ncontacts = static_cast<long long>(fields.integers("dem.contact.p").size());
+  for_each_bond_array(contacts, "dem.contact.",
+                      [&](const std::string& name, auto& v) { get_array(fields, name, v, ncontacts); });
+  const long long particles = static_cast<long long>(bodies_.particle_count());
+  for (std::size_t k = 0; k < bonds.size() + contacts.size(); ++k) {
+    const BondSet& set = k < bonds.size() ? bonds : contacts;
+    const std::size_t i = k < bonds.size() ? k : k - bonds.size();
     if (set.p[i] < 0 || set.p[i] >= particles || set.q[i] < 0 || set.q[i] >= particles)
       throw CheckpointError("its DEM contact " + std::to_string(k) + " joins particles outside the tissue");
   }
-  if (detector_) detector_->load(fields);
+  if (contacts_.detects()) contacts_.detector()->load(fields);
   const auto clock = fields.numbers("dem.clock", 6);
   // (A stable step far below the bonded tissue's own would stall the run:
   // contacts never lower it that much.)
@@ -120,18 +104,20 @@ void DemSolver::load(const CheckpointFields& fields) {
   steps_ = static_cast<std::size_t>(clock[1]);
   stable_step_ms_ = clock[2];
   strain_fit_.set_strain({clock[3], clock[4], clock[5]});
+  DemBodies& B = bodies_;
   if (fields.has("dem.body.mass")) {
-    fields.read_into("dem.body.mass", mass_);
-    fields.read_into("dem.body.inertia", inertia_);
+    fields.read_into("dem.body.mass", B.mass);
+    fields.read_into("dem.body.inertia", B.inertia);
   }
-  for (std::size_t b = 0; b < bx_.size(); ++b) {
-    if (bfixed_[b]) continue;
-    if (!(mass_[b] >= density_mass_[b] && inertia_[b] >= density_inertia_[b] && std::isfinite(mass_[b] + inertia_[b])))
+  for (std::size_t b = 0; b < B.size(); ++b) {
+    if (B.bfixed[b]) continue;
+    if (!(B.mass[b] >= B.density_mass[b] && B.inertia[b] >= B.density_inertia[b] &&
+          std::isfinite(B.mass[b] + B.inertia[b])))
       throw CheckpointError("its DEM body " + std::to_string(b) + " is lighter than its density makes it");
-    inv_m_[b] = 1 / mass_[b];
-    inv_i_[b] = 1 / inertia_[b];
+    B.inv_m[b] = 1 / B.mass[b];
+    B.inv_i[b] = 1 / B.inertia[b];
   }
-  if (!blight_.empty()) load_multirate(fields);
+  if (multirate_.on()) multirate_.load(fields, bodies_, contacts_);
   index_contacts();
   out_dirty_ = true;
 }

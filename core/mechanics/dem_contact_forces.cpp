@@ -1,49 +1,37 @@
-// The DEM's contact forces (dem_solver.hpp, "Contacts" and "Threads"): each
-// contact's kinematics and law, block by block, into per-contact arrays; then
-// each body's sum of them in a fixed order, and the step's closing half kick.
+// The DEM's contact forces (dem_contacts.hpp; dem_solver.hpp, "Contacts" and
+// "Threads"): each contact's kinematics and law, block by block, into
+// per-contact arrays (each body's sum of them: dem_step_inline.hpp).
 #include <algorithm>
 #include <cmath>
 
-#include "mechanics/dem_solver.hpp"
-#include "mechanics/dem_step_inline.hpp"
+#include "mechanics/dem_contacts.hpp"
 
 namespace fibrodem {
 
-// Forces per contact in parallel (blocks of bonds, then of contacts), then
-// their sums per body, each from its own contacts in a fixed order, and the
-// closing half kick of h_s with them (bodies in parts of equal contact work:
-// partition_force_sums).
-void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
-  const std::size_t bond_blocks = (bonds_.size() + kBlock - 1) / kBlock;
-  const std::size_t blocks = bond_blocks + (contacts_.size() + kBlock - 1) / kBlock;
-#pragma omp parallel
-  {
-    BlockScratch scratch;
+void DemContacts::forces_of_range(const DemBodies& bodies, std::size_t bond_begin, std::size_t bond_end,
+                                  std::size_t contact_begin, std::size_t contact_end, double dt_s) {
+  BlockScratch scratch;
+  const std::size_t bond_blocks = (bond_end - bond_begin + kBlock - 1) / kBlock;
+  const std::size_t blocks = bond_blocks + (contact_end - contact_begin + kBlock - 1) / kBlock;
 #pragma omp for schedule(static)
-    for (std::size_t k = 0; k < blocks; ++k) {
-      const bool bond = k < bond_blocks;
-      BondSet& set = bond ? bonds_ : contacts_;
-      const std::size_t begin = (bond ? k : k - bond_blocks) * kBlock;
-      const std::size_t number = bond ? begin : bonds_.size() + begin;
-      contact_block(set, begin, std::min(kBlock, set.size() - begin), number, dt_s, scratch);
-    }
-#pragma omp for schedule(static)
-    for (std::size_t k = 0; k < kStepParts; ++k)
-      for (std::size_t b = sum_part_first_body_[k]; b < sum_part_first_body_[k + 1]; ++b) {
-        sum_forces_on_body(b);
-        kick_body(b, h_s);
-      }
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const bool bond = k < bond_blocks;
+    BondSet& set = bond ? bonds : contacts;
+    const std::size_t begin = bond ? bond_begin + k * kBlock : contact_begin + (k - bond_blocks) * kBlock;
+    const std::size_t end = bond ? bond_end : contact_end;
+    const std::size_t number = bond ? begin : bonds.size() + begin;
+    block(bodies, set, begin, std::min(kBlock, end - begin), number, dt_s, scratch);
   }
 }
 
 // Contacts [begin, begin + count) of a set, numbered from `number` on: their
 // kinematics, the law, and the forces and moments they put on their ends.
-void DemSolver::contact_block(BondSet& set, std::size_t begin, std::size_t count, std::size_t number,
-                              double dt_s, BlockScratch& s) {
+void DemContacts::block(const DemBodies& bodies, BondSet& set, std::size_t begin, std::size_t count,
+                        std::size_t number, double dt_s, BlockScratch& s) {
   const int* const P = set.p.data() + begin;
   const int* const Q = set.q.data() + begin;
-  const double *const x = px_.data(), *const y = py_.data(), *const r = pr_.data();
-  const double *const vx = pvx_.data(), *const vy = pvy_.data(), *const w = pw_.data();
+  const double *const x = bodies.px.data(), *const y = bodies.py.data(), *const r = bodies.pr.data();
+  const double *const vx = bodies.pvx.data(), *const vy = bodies.pvy.data(), *const w = bodies.pw.data();
 #pragma omp simd
   for (std::size_t j = 0; j < count; ++j) {
     const int p = P[j], q = Q[j];
@@ -70,22 +58,13 @@ void DemSolver::contact_block(BondSet& set, std::size_t begin, std::size_t count
   law_->update(set, BondBlock{begin, count, s.gap, s.dn, s.ds, s.dth, s.fn, s.fs, s.mt}, dt_s);
   // Force on q (minus on p); moments on each end: the law's, and the shear
   // force's about the centre: (c - x_q) x f = -lq fs, (c - x_p) x (-f) = -lp fs.
-  ContactForce* const out = contact_force_.data() + number;
+  Force* const out = force.data() + number;
   for (std::size_t j = 0; j < count; ++j) {
     out[j].fx = s.fn[j] * s.nx[j] - s.fs[j] * s.ny[j];
     out[j].fy = s.fn[j] * s.ny[j] + s.fs[j] * s.nx[j];
     out[j].moment[0] = -s.mt[j] - s.lp[j] * s.fs[j];
     out[j].moment[1] = s.mt[j] - s.lq[j] * s.fs[j];
   }
-}
-
-// Body b's force and moment about its centroid from all its contacts.
-void DemSolver::sum_forces_on_body(std::size_t b) {
-  double f[3];
-  sum_body_contacts(b, bx_[b], by_[b], kEveryContact, f);
-  bfx_[b] = f[0];
-  bfy_[b] = f[1];
-  btq_[b] = f[2];
 }
 
 }  // namespace fibrodem

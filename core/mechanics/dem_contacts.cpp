@@ -1,56 +1,72 @@
-// The DEM's contacts (dem_solver.hpp, "Contacts"): the tissue's bonds, the
-// Verlet list of unbonded contacts, their constants, and the indexes the
-// force sums and the stable step read them by.
+// The DEM's contacts (dem_contacts.hpp): the tissue's bonds, the Verlet list
+// of unbonded contacts, their constants, and the indexes the force sums and
+// the stable step read them by.
+#include "mechanics/dem_contacts.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "mechanics/dem_solver.hpp"
 #include "mechanics/dem_units.hpp"
-#include "util/number_text.hpp"
 
 namespace fibrodem {
 
+namespace {
+
+template <class T>
+void permute(std::vector<T>& v, const std::vector<std::size_t>& order) {
+  std::vector<T> out(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) out[k] = v[order[k]];
+  v.swap(out);
+}
+
+}  // namespace
+
+DemContacts::DemContacts(const DemSpec& spec) : spec_(spec), law_(make_contact_law(spec)) {}
+
 // Bonds: formed at the start, unloaded (reference gap = the gap now).
-// Returns each bond's particles (the pairs contact detection passes over).
-std::vector<std::pair<int, int>> DemSolver::form_bonds(const Tissue& t) {
-  const std::size_t np = pbody_.size();
-  bonds_.resize(t.bonds.size());
+void DemContacts::form_bonds(const Tissue& t, const DemBodies& bodies) {
+  const std::vector<int>& pbody = bodies.pbody;
+  const std::vector<double> &px = bodies.px, &py = bodies.py, &br = bodies.br;
+  const std::size_t np = pbody.size();
+  bonds.resize(t.bonds.size());
   std::vector<std::pair<int, int>> bonded(t.bonds.size());
   for (std::size_t k = 0; k < t.bonds.size(); ++k) {
     const int p = t.bonds[k].p, q = t.bonds[k].q;
     if (p < 0 || q < 0 || static_cast<std::size_t>(p) >= np || static_cast<std::size_t>(q) >= np || p == q)
       throw std::invalid_argument("bond " + std::to_string(k) + " joins invalid particles");
-    if (pbody_[p] == pbody_[q])
+    if (pbody[p] == pbody[q])
       throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
-    set_contact_constants(bonds_, k, p, q);
-    bonds_.ref_gap[k] = std::hypot(px_[q] - px_[p], py_[q] - py_[p]) - br_[pbody_[p]] - br_[pbody_[q]];
-    bonds_.kb[k] = law_->bending_stiffness(bonds_.kn[k], br_[pbody_[p]], br_[pbody_[q]]);
-    bonds_.intact[k] = 1;
+    set_constants(bonds, k, p, q, bodies);
+    bonds.ref_gap[k] = std::hypot(px[q] - px[p], py[q] - py[p]) - br[pbody[p]] - br[pbody[q]];
+    bonds.kb[k] = law_->bending_stiffness(bonds.kn[k], br[pbody[p]], br[pbody[q]]);
+    bonds.intact[k] = 1;
     bonded[k] = {p, q};
   }
-  return bonded;
+  law_->prepare(bonds);
+  if (spec_.contact_detection)
+    detector_ = std::make_unique<ContactDetector>(pbody, bonded, spec_.contact_skin_um * kUm);
 }
 
 // Stiffness by inheritance and cell types, effective mass of the two bodies (a
 // fixed body's partner alone); state zeroed, reference gap 0 and no bending
 // (a contact).
-void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q) const {
+void DemContacts::set_constants(BondSet& set, std::size_t k, int p, int q, const DemBodies& bodies) const {
   const double series = spec_.stiffness_inheritance == StiffnessInheritance::series ? 0.5 : 1.0;
-  const int bp = pbody_[p], bq = pbody_[q];
-  const bool fib = !bclump_[bp] || !bclump_[bq];
+  const int bp = bodies.pbody[p], bq = bodies.pbody[q];
+  const bool fib = !bodies.bclump[bp] || !bodies.bclump[bq];
   const double factor = series * (fib ? spec_.fibroblast_stiffness_factor : 1.0);
   set.p[k] = p;
   set.q[k] = q;
   set.kn[k] = spec_.kn_N_per_m * factor;
   set.ks[k] = spec_.ks_N_per_m * factor;
-  const double mp = density_mass_[bp], mq = density_mass_[bq];
-  set.m_eff[k] = bfixed_[bp] && !bfixed_[bq]   ? mq
-                 : bfixed_[bq] && !bfixed_[bp] ? mp
-                                               : mp * mq / (mp + mq);
+  const double mp = bodies.density_mass[bp], mq = bodies.density_mass[bq];
+  const bool fixed_p = bodies.bfixed[bp], fixed_q = bodies.bfixed[bq];
+  set.m_eff[k] = fixed_p && !fixed_q ? mq : fixed_q && !fixed_p ? mp : mp * mq / (mp + mq);
   set.ref_gap[k] = 0;
   set.kb[k] = 0;
   set.fn[k] = 0;
@@ -60,61 +76,83 @@ void DemSolver::set_contact_constants(BondSet& set, std::size_t k, int p, int q)
 }
 
 // A new Verlet list of unbonded contacts; a pair on the old list keeps its
-// shear force (both lists in contact_order_less's order, merged); the stable
-// step follows.
-void DemSolver::rebuild_contacts() {
-  detector_->build(px_.data(), py_.data(), pr_.data(), candidate_pairs_);
-  partition_candidates_fast_first();  // (multirate only)
+// shear force (both lists in `order`, merged).
+void DemContacts::rebuild_list(const DemBodies& bodies, const ContactOrder& order) {
+  detector_->build(bodies.px.data(), bodies.py.data(), bodies.pr.data(), candidate_pairs_);
+  if (order.light) {  // (the detector lists them by (p, q): the fast ones moved first)
+    candidate_scratch_.clear();
+    for (const auto& [p, q] : candidate_pairs_)
+      if (order.fast(p, q)) candidate_scratch_.emplace_back(p, q);
+    for (const auto& [p, q] : candidate_pairs_)
+      if (!order.fast(p, q)) candidate_scratch_.emplace_back(p, q);
+    candidate_pairs_.swap(candidate_scratch_);
+  }
   const std::size_t n = candidate_pairs_.size();
   next_contacts_.resize(n);
   std::size_t old = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const auto [p, q] = candidate_pairs_[k];
-    set_contact_constants(next_contacts_, k, p, q);
-    while (old < contacts_.size() && contact_order_less(contacts_.p[old], contacts_.q[old], p, q)) ++old;
-    if (old < contacts_.size() && contacts_.p[old] == p && contacts_.q[old] == q) {
-      next_contacts_.fn[k] = contacts_.fn[old];
-      next_contacts_.fs[k] = contacts_.fs[old];
+    set_constants(next_contacts_, k, p, q, bodies);
+    while (old < contacts.size() && order.less(contacts.p[old], contacts.q[old], p, q)) ++old;
+    if (old < contacts.size() && contacts.p[old] == p && contacts.q[old] == q) {
+      next_contacts_.fn[k] = contacts.fn[old];
+      next_contacts_.fs[k] = contacts.fs[old];
     }
   }
   law_->prepare(next_contacts_);
-  std::swap(contacts_, next_contacts_);
-  index_contacts();
-  compute_stable_step();
-  if (spec_.dt_ms > stable_step_ms_ && steps_ > 0)
-    throw std::invalid_argument("at t = " + significant_digits(time_ms(), 6) + " ms new contacts lower the stable DEM step to " +
-                                significant_digits(stable_step_ms_, 6) + " ms, below mechanics.dt_ms " + significant_digits(spec_.dt_ms, 6) +
-                                " ms: lower mechanics.dt_ms, or leave it out (automatic step)");
+  std::swap(contacts, next_contacts_);
 }
 
-// The per-contact force arrays and each particle's list of contacts, after
-// the contacts changed.
-void DemSolver::index_contacts() {
-  const std::size_t n = bonds_.size() + contacts_.size();
-  contact_force_.resize(n);
-  contact_kt_.resize(n);
-  contact_kr_.resize(2 * n);
-  body_kt_.resize(bx_.size());
-  body_kr_.resize(bx_.size());
-  particle_contacts_.build(px_.size(), bonds_, contacts_);
-  body_contacts_.build(bx_.size(), bonds_, contacts_, pbody_.data());
-  partition_force_sums();
-  index_multirate();
+// A set's fast contacts moved first, both parts in their order (by_pairs:
+// in `order`'s, which rebuild_list's merge needs); returns how many are
+// fast. (At the start, a reclassification and a checkpoint's load.)
+std::size_t DemContacts::reorder(const ContactOrder& order) {
+  auto order_set = [&order](BondSet& set, bool by_pairs) {
+    std::vector<std::size_t> perm(set.size());
+    std::iota(perm.begin(), perm.end(), std::size_t{0});
+    auto fast = [&](std::size_t k) { return order.fast(set.p[k], set.q[k]); };
+    if (by_pairs)
+      std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {
+        return order.less(set.p[a], set.q[a], set.p[b], set.q[b]);
+      });
+    else
+      std::stable_partition(perm.begin(), perm.end(), fast);
+    const auto mid = std::partition_point(perm.begin(), perm.end(), fast);
+    permute(set.p, perm), permute(set.q, perm), permute(set.kn, perm), permute(set.ks, perm);
+    permute(set.m_eff, perm), permute(set.ref_gap, perm), permute(set.cn, perm), permute(set.cs, perm);
+    permute(set.kb, perm), permute(set.fn, perm), permute(set.fs, perm), permute(set.mb, perm);
+    permute(set.intact, perm);
+    return static_cast<std::size_t>(mid - perm.begin());
+  };
+  const std::size_t fast_bonds = order_set(bonds, false);
+  order_set(contacts, true);
+  return fast_bonds;
 }
 
-std::size_t DemSolver::broken_bonds() const {
-  return static_cast<std::size_t>(std::count(bonds_.intact.begin(), bonds_.intact.end(), 0));
+void DemContacts::index(const DemBodies& bodies) {
+  const std::size_t n = bonds.size() + contacts.size();
+  force.resize(n);
+  contact_kt.resize(n);
+  contact_kr.resize(2 * n);
+  body_kt.resize(bodies.size());
+  body_kr.resize(bodies.size());
+  particle_contacts.build(bodies.particle_count(), bonds, contacts);
+  body_contacts.build(bodies.size(), bonds, contacts, bodies.pbody.data());
 }
 
-std::size_t DemSolver::touching_contacts() const {
+std::size_t DemContacts::broken_bonds() const {
+  return static_cast<std::size_t>(std::count(bonds.intact.begin(), bonds.intact.end(), 0));
+}
+
+std::size_t DemContacts::touching_contacts() const {
   std::size_t n = 0;
-  for (std::size_t k = 0; k < contacts_.size(); ++k) n += contacts_.fn[k] > 0;
+  for (std::size_t k = 0; k < contacts.size(); ++k) n += contacts.fn[k] > 0;
   return n;
 }
 
-double DemSolver::elastic_energy_J() const {
+double DemContacts::elastic_energy_J() const {
   double e = 0;
-  for (const BondSet* set : {&bonds_, &contacts_})
+  for (const BondSet* set : {&bonds, &contacts})
     for (std::size_t k = 0; k < set->size(); ++k) {
       e += 0.5 * set->fn[k] * set->fn[k] / set->kn[k];
       if (set->ks[k] > 0) e += 0.5 * set->fs[k] * set->fs[k] / set->ks[k];

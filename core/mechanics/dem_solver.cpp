@@ -1,5 +1,6 @@
 // A DEM step (dem_solver.hpp, "Motion" and "Threads"): the fused move loop,
-// the contact list's check, the strain, then the forces and the closing kick.
+// the contact list's check, the strain, then the forces and the closing kick;
+// under multirate, the heavy bodies' step around the light ones' substeps.
 #include "mechanics/dem_solver.hpp"
 
 #include <algorithm>
@@ -9,31 +10,72 @@
 #include <string>
 
 #include "mechanics/dem_step_inline.hpp"
-#include "mechanics/dem_units.hpp"
 #include "util/number_text.hpp"
 
 namespace fibrodem {
 
+DemSolver::DemSolver(const Tissue& t, const DemSpec& spec)
+    : spec_(spec),
+      contacts_(spec),
+      bodies_(t, spec),
+      mass_scaling_(spec.mass_scaling, kLongestStep_ms * 1e-3 / spec.safety_factor) {
+  contacts_.form_bonds(t, bodies_);
+  if (contacts_.detects())
+    rebuild_contacts();
+  else {
+    index_contacts();
+    compute_stable_step();
+  }
+  if (spec_.multirate && multirate_.start(bodies_, contacts_)) {
+    index_contacts();
+    compute_stable_step();
+  }
+  bonded_stable_step_ms_ = stable_step_ms_;
+  if (spec_.dt_ms > stable_step_ms_)
+    throw std::invalid_argument("mechanics.dt_ms " + significant_digits(spec_.dt_ms, 6) +
+                                " ms exceeds the stable DEM step " + significant_digits(stable_step_ms_, 6) + " ms");
+}
+
 void DemSolver::step(double dt_ms) {
   if (!(dt_ms > 0) || dt_ms > stable_step_ms_ * (1 + 1e-12))
-    throw std::invalid_argument("mechanics step " + significant_digits(dt_ms, 6) + " ms refused: the stable DEM step is " +
-                                significant_digits(stable_step_ms_, 6) + " ms");
+    throw std::invalid_argument("mechanics step " + significant_digits(dt_ms, 6) +
+                                " ms refused: the stable DEM step is " + significant_digits(stable_step_ms_, 6) +
+                                " ms");
   const double dt = dt_ms * 1e-3;
-  if (!blight_.empty()) {
+  if (multirate_.on()) {
     step_multirate(dt);
     return;
   }
   // Half kick with the forces of the present state, drift, new geometry
   // (length ratios at the end of the step), particles.
-  px_old_.swap(px_);
-  py_old_.swap(py_);
-  const StepSums sums = move_and_sum<true>(dt);
-  if (detector_ && detector_->needs_rebuild(sums.fit, origin_x_, origin_y_, px_.data(), py_.data(), pr_.data()))
-    rebuild_contacts();
-  add_strain(sums.strain, dt);
+  bodies_.px_old.swap(bodies_.px);
+  bodies_.py_old.swap(bodies_.py);
+  update_list_and_strain(move_and_sum<true>(dt), dt);
   compute_forces_and_kick(dt, 0.5 * dt);
   time_s_ += dt;
   ++steps_;
+  out_dirty_ = true;
+}
+
+// The multirate scheme's step (dem_multirate_step.cpp): the heavy bodies'
+// first half, the light bodies' n substeps, the sums over the step, the
+// heavy bodies' forces and closing half kick.
+void DemSolver::step_multirate(double dt_s) {
+  const std::size_t n = DemMultirate::substeps_of(dt_s, multirate_.light_step_s());
+  bodies_.px_old.swap(bodies_.px);
+  bodies_.py_old.swap(bodies_.py);
+  multirate_.move_heavy_bodies(bodies_, dt_s);
+  for (std::size_t j = 1; j <= n; ++j)
+    multirate_.light_substep(bodies_, contacts_, j, n, dt_s / static_cast<double>(n));
+  update_list_and_strain(move_and_sum<false>(dt_s), dt_s);
+  multirate_.heavy_forces_and_kick(bodies_, contacts_, dt_s, n);
+  if (multirate_.reclassify_pending() && multirate_.reclassify(bodies_, contacts_)) {
+    index_contacts();
+    compute_stable_step();
+  }
+  time_s_ += dt_s;
+  ++steps_;
+  multirate_.count_substeps(n);
   out_dirty_ = true;
 }
 
@@ -52,36 +94,39 @@ template <bool kMove>
 DemSolver::StepSums DemSolver::move_and_sum(double dt_s) {
   const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
   const double h = 0.5 * dt_s, inv_dt = 1 / dt_s;
+  DemBodies& B = bodies_;
+  const ContactDetector* const detector = contacts_.detector();
+  const double ox = B.origin_x, oy = B.origin_y;
   std::array<StepSums, kStepParts> part;
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < kStepParts; ++k) {
     StepSums sum{};  // (in registers: part[k] could alias the arrays read)
-    for (std::size_t b = part_first_body_[k]; b < part_first_body_[k + 1]; ++b) {
+    for (std::size_t b = B.part_first_body[k]; b < B.part_first_body[k + 1]; ++b) {
       if constexpr (kMove) {
-        kick_body(b, h);
-        drift_and_reshape(b, dt_s);
-        place_particles_of(b);
+        B.kick(b, h);
+        B.drift_and_reshape(b, dt_s);
+        B.place_particles_of(b);
       }
       // (Two loops over the body's particles, which are in L1 by now: the
       // two fits' 17 sums at once would not fit in registers.)
-      const int first = body_particle_start_[b], last = body_particle_start_[b + 1];
-      if (detector_)
-        detector_->add_fit_terms(body_particle_.data() + first, last - first, px_.data(), py_.data(), origin_x_,
-                                 origin_y_, sum.fit);
+      const int first = B.body_particle_start[b], last = B.body_particle_start[b + 1];
+      if (detector)
+        detector->add_fit_terms(B.body_particle.data() + first, last - first, B.px.data(), B.py.data(), ox, oy,
+                                sum.fit);
       if (by_particle)
         for (int j = first; j < last; ++j) {
-          const auto i = static_cast<std::size_t>(body_particle_[j]);
-          DemStrainFit::add_terms(sum.strain, 0.5 * (px_[i] + px_old_[i]) - origin_x_,
-                                  0.5 * (py_[i] + py_old_[i]) - origin_y_, (px_[i] - px_old_[i]) * inv_dt,
-                                  (py_[i] - py_old_[i]) * inv_dt);
+          const auto i = static_cast<std::size_t>(B.body_particle[j]);
+          DemStrainFit::add_terms(sum.strain, 0.5 * (B.px[i] + B.px_old[i]) - ox, 0.5 * (B.py[i] + B.py_old[i]) - oy,
+                                  (B.px[i] - B.px_old[i]) * inv_dt, (B.py[i] - B.py_old[i]) * inv_dt);
         }
       else if constexpr (kMove)
-        DemStrainFit::add_terms(sum.strain, bx_[b] - h * bvx_[b] - origin_x_, by_[b] - h * bvy_[b] - origin_y_,
-                                bvx_[b], bvy_[b]);
-      else
-        DemStrainFit::add_terms(sum.strain, 0.5 * (bx_[b] + bx_start_[b]) - origin_x_,
-                                0.5 * (by_[b] + by_start_[b]) - origin_y_, (bx_[b] - bx_start_[b]) * inv_dt,
-                                (by_[b] - by_start_[b]) * inv_dt);
+        DemStrainFit::add_terms(sum.strain, B.bx[b] - h * B.bvx[b] - ox, B.by[b] - h * B.bvy[b] - oy, B.bvx[b],
+                                B.bvy[b]);
+      else {
+        const std::vector<double> &x0 = multirate_.bx_start(), &y0 = multirate_.by_start();
+        DemStrainFit::add_terms(sum.strain, 0.5 * (B.bx[b] + x0[b]) - ox, 0.5 * (B.by[b] + y0[b]) - oy,
+                                (B.bx[b] - x0[b]) * inv_dt, (B.by[b] - y0[b]) * inv_dt);
+      }
     }
     part[k] = sum;
   }
@@ -93,44 +138,103 @@ DemSolver::StepSums DemSolver::move_and_sum(double dt_s) {
   return total;
 }
 
-template DemSolver::StepSums DemSolver::move_and_sum<false>(double dt_s);
-
-// The strain over a step of dt_s, from the move loop's sums.
-void DemSolver::add_strain(const DemStrainFit::Sums& sums, double dt_s) {
-  const std::size_t n = spec_.strain_bodies == StrainBodies::particles ? px_.size() : bx_.size();
-  strain_fit_.add(sums, n, dt_s, (time_s_ + dt_s) * 1e3);
+// From the move loop's sums: the contact list rebuilt if some pair may have
+// come into contact, and the strain over the step of dt_s.
+void DemSolver::update_list_and_strain(const StepSums& sums, double dt_s) {
+  const ContactDetector* detector = contacts_.detector();
+  if (detector && detector->needs_rebuild(sums.fit, bodies_.origin_x, bodies_.origin_y, bodies_.px.data(),
+                                          bodies_.py.data(), bodies_.pr.data()))
+    rebuild_contacts();
+  const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
+  strain_fit_.add(sums.strain, by_particle ? bodies_.particle_count() : bodies_.size(), dt_s,
+                  (time_s_ + dt_s) * 1e3);
 }
 
-// Reach of a body: its farthest particle's edge from its centroid (a
-// clump's end pebbles; a disk's radius), at its present shape.
-MechanicsSolver::Motion DemSolver::fastest_motion() const {
-  Motion m;
-  for (std::size_t b = 0; b < bx_.size(); ++b) {
-    if (bfixed_[b]) continue;
-    const double reach = 0.5 * (brest_[b].n - 1) * bs_[b] + br_[b];
-    const double speed = std::hypot(bvx_[b], bvy_[b]) + std::abs(bw_[b]) * reach;
-    const double accel = std::hypot(bfx_[b], bfy_[b]) * inv_m_[b] + std::abs(btq_[b]) * inv_i_[b] * reach;
-    m.speed_m_per_s = std::max(m.speed_m_per_s, speed);
-    m.acceleration_m_per_s2 = std::max(m.acceleration_m_per_s2, accel);
+// Forces per contact in parallel (blocks of bonds, then of contacts), then
+// their sums per body, each from its own contacts in a fixed order, and the
+// closing half kick of h_s with them (bodies in parts of equal contact work:
+// DemBodies::partition_force_sums).
+void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
+  DemBodies& B = bodies_;
+#pragma omp parallel
+  {
+    contacts_.forces_of_range(B, 0, contacts_.bonds.size(), 0, contacts_.contacts.size(), dt_s);
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < kStepParts; ++k)
+      for (std::size_t b = B.sum_part_first_body[k]; b < B.sum_part_first_body[k + 1]; ++b) {
+        double f[3];
+        contacts_.sum_body(B, b, B.bx[b], B.by[b], kEveryContact, f);
+        B.bfx[b] = f[0];
+        B.bfy[b] = f[1];
+        B.btq[b] = f[2];
+        B.kick(b, h_s);
+      }
   }
-  return m;
 }
+
+// A new Verlet list of unbonded contacts, then the stable step.
+void DemSolver::rebuild_contacts() {
+  contacts_.rebuild_list(bodies_, multirate_.order(bodies_));
+  index_contacts();
+  compute_stable_step();
+  if (spec_.dt_ms > stable_step_ms_ && steps_ > 0)
+    throw std::invalid_argument("at t = " + significant_digits(time_ms(), 6) +
+                                " ms new contacts lower the stable DEM step to " +
+                                significant_digits(stable_step_ms_, 6) + " ms, below mechanics.dt_ms " +
+                                significant_digits(spec_.dt_ms, 6) +
+                                " ms: lower mechanics.dt_ms, or leave it out (automatic step)");
+}
+
+// Everything indexed by the contacts, after they changed: their arrays and
+// incidences, the force sums' parts, the multirate boundary.
+void DemSolver::index_contacts() {
+  contacts_.index(bodies_);
+  bodies_.partition_force_sums(contacts_.particle_contacts);
+  multirate_.index(bodies_, contacts_);
+}
+
+void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) { bodies_.set_cell_length_ratios(ratio); }
+
+const std::vector<Particle>& DemSolver::particles() const {
+  if (out_dirty_) {
+    bodies_.export_particles(out_);
+    out_dirty_ = false;
+  }
+  return out_;
+}
+
+DemSolver::BodyState DemSolver::body(std::size_t b) const {
+  const DemBodies& B = bodies_;
+  return {B.bx[b], B.by[b], B.bth[b], B.bvx[b], B.bvy[b], B.bw[b], B.mass[b], B.inertia[b],
+          B.bcell[b], B.bclump[b] != 0, B.bfixed[b] != 0};
+}
+
+void DemSolver::set_body_velocity(std::size_t b, double vx, double vy, double w) {
+  if (bodies_.bfixed[b]) return;
+  bodies_.bvx[b] = vx;
+  bodies_.bvy[b] = vy;
+  bodies_.bw[b] = w;
+}
+
+MechanicsSolver::Motion DemSolver::fastest_motion() const { return bodies_.fastest_motion(); }
 
 std::string DemSolver::report() const {
-  std::string r = std::to_string(steps_) + " steps, stable step now " + significant_digits(stable_step_ms_, 6) + " ms; " +
-                  std::to_string(bonds_.size()) + " bonds (" + std::to_string(broken_bonds()) + " broken)";
-  if (scaled_bodies_ > 0)
-    r += "; mass scaling: " + std::to_string(scaled_bodies_) + " bodies heavier, +" +
-         significant_digits(100 * added_mass_fraction_, 6) + " % of the mass, +" + significant_digits(100 * added_inertia_fraction_, 6) +
-         " % of the inertia";
-  if (!blight_.empty())
-    r += "; multirate: " + std::to_string(light_bodies_.size()) + " light bodies at a step of " +
-         significant_digits(light_step_ms(), 6) + " ms, " + std::to_string(substeps_) + " substeps, " +
-         std::to_string(fast_bonds_ + fast_contacts_) + " of the " + std::to_string(bonds_.size() + contacts_.size()) +
-         " contacts in them";
-  if (detector_)
+  std::string r = std::to_string(steps_) + " steps, stable step now " + significant_digits(stable_step_ms_, 6) +
+                  " ms; " + std::to_string(contacts_.bonds.size()) + " bonds (" + std::to_string(broken_bonds()) +
+                  " broken)";
+  if (scaled_bodies() > 0)
+    r += "; mass scaling: " + std::to_string(scaled_bodies()) + " bodies heavier, +" +
+         significant_digits(100 * added_mass_fraction(), 6) + " % of the mass, +" +
+         significant_digits(100 * added_inertia_fraction(), 6) + " % of the inertia";
+  if (multirate_.on())
+    r += "; multirate: " + std::to_string(light_bodies()) + " light bodies at a step of " +
+         significant_digits(light_step_ms(), 6) + " ms, " + std::to_string(substeps()) + " substeps, " +
+         std::to_string(multirate_.fast_bonds() + multirate_.fast_contacts()) + " of the " +
+         std::to_string(contacts_.bonds.size() + contacts_.contacts.size()) + " contacts in them";
+  if (contacts_.detects())
     r += "; unbonded contacts: " + std::to_string(touching_contacts()) + " touching of " +
-         std::to_string(contacts_.size()) + " listed, list built " + std::to_string(detector_->builds()) + " times";
+         std::to_string(contacts_.contacts.size()) + " listed, list built " + std::to_string(contact_list_builds()) +
+         " times";
   else
     r += "; no contact detection";
   return r;
