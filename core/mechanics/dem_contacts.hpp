@@ -78,9 +78,10 @@ class DemContacts {
   std::size_t touching_contacts() const;
   std::size_t list_builds() const { return detector_ ? detector_->builds() : 0; }
   double elastic_energy_J() const;
-  // The contact list's fit and rebuild check (contact_detector.hpp); the
-  // detector itself, for the checkpoint (null without detection).
-  ContactDetector* detector() const { return detector_.get(); }
+  // The contact list's detector (contact_detector.hpp: its fit, rebuild
+  // check and checkpoint fields); null without detection.
+  const ContactDetector* detector() const { return detector_.get(); }
+  ContactDetector* detector() { return detector_.get(); }
 
   // Bonds, then unbonded contacts (numbered so, 0.. bonds.size() + contacts.size()).
   BondSet bonds, contacts;

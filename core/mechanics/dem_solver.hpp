@@ -64,16 +64,16 @@
 // step.
 //
 // Parts and files (each part with its own state; DemSolver owns them and
-// orchestrates the step): DemBodies (dem_bodies.hpp: bodies, particles, their parts;
-// dem_bodies.cpp, dem_reshape.cpp for the clumps' shapes), DemContacts
-// (dem_contacts.hpp: bonds, the contact list, forces, incidences;
-// dem_contacts.cpp, dem_contact_forces.cpp), DemMultirate (dem_multirate.hpp:
-// the classes, boundary and scratch of the multirate scheme;
-// dem_multirate.cpp, dem_multirate_step.cpp for its step), DemMassScaling
-// (dem_mass_scaling.hpp), DemStrainFit (dem_strain.hpp). The per-body and
-// per-particle pieces the step's loops inline: dem_step_inline.hpp. The
-// solver itself: dem_solver.cpp (the step and its fused move loop),
-// dem_stable_step.cpp, dem_checkpoint.cpp.
+// orchestrates the step): DemBodies (dem_bodies.hpp: bodies, particles and
+// their parts; dem_bodies.cpp, dem_reshape.cpp for the clumps' shapes),
+// DemContacts (dem_contacts.hpp: bonds, the contact list, forces,
+// incidences; dem_contacts.cpp, dem_contact_forces.cpp), DemMultirate
+// (dem_multirate.hpp: the classes, boundary and scratch of the multirate
+// scheme; dem_multirate.cpp, dem_multirate_step.cpp for its step),
+// DemMassScaling (dem_mass_scaling.hpp), DemStrainFit (dem_strain.hpp). The
+// per-body and per-particle pieces the step's loops inline:
+// dem_step_inline.hpp. The solver itself: dem_solver.cpp (the step and its
+// fused move loop), dem_stable_step.cpp, dem_checkpoint.cpp.
 #pragma once
 
 #include <array>
