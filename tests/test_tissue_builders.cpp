@@ -74,6 +74,13 @@ bool same_tissue(const Tissue& a, const Tissue& b) {
 
 }  // namespace
 
+TEST_CASE("the column pitch, a compile-time constant, is sqrt((2r)^2 - (d/2)^2) to the last bit") {
+  // 23.57 um: the seed paper's geometry (section 2.2.2), as std::sqrt gives it.
+  const double r = kParticleRadius_um, d = kParticleSpacing_um;
+  CHECK(kColumnPitch_um == std::sqrt(4 * r * r - d * d / 4));
+  CHECK(kColumnPitch_um == doctest::Approx(23.5702).epsilon(1e-5));
+}
+
 TEST_CASE("in_series: the paper's tissue and F-M ratio, no overlap along a fibre, one connected graph") {
   // Paper (Fig. 3): 1.16 x 6.27 mm, ~2289 myocytes and 936 fibroblasts, F-M 0.41.
   const Tissue t = testing::build_tissue({{"builder", "in_series"}, {"width_mm", 1.16}, {"height_mm", 6.27},

@@ -25,11 +25,11 @@ constexpr double kStimulusStart_ms = 2;
 // per unit of conductance: sigma_yy = kEnd g_e + kSideAlong g_s, sigma_xx =
 // kSideAcross g_s, from each cell's two end-to-end junctions 125 um away
 // and four side-to-side ones 62.5 um along and 23.57 um across it.
-const double kEnd = 2 * kMyocyteLength_um * kMyocyteLength_um;
-const double kSideAlong = 4 * (kMyocyteLength_um / 2) * (kMyocyteLength_um / 2);
-const double kSideAcross = 4 * kColumnPitch_um * kColumnPitch_um;
+constexpr double kEnd = 2 * kMyocyteLength_um * kMyocyteLength_um;
+constexpr double kSideAlong = 4 * (kMyocyteLength_um / 2) * (kMyocyteLength_um / 2);
+constexpr double kSideAcross = 4 * kColumnPitch_um * kColumnPitch_um;
 // Along, the side junctions count as this share of an end-to-end one.
-const double kSideWeight = kSideAlong / kEnd;
+constexpr double kSideWeight = kSideAlong / kEnd;
 
 double continuum_ratio(double g_e, double g_s) {  // CV across / along
   return std::sqrt(kSideAcross * g_s / (kEnd * g_e + kSideAlong * g_s));

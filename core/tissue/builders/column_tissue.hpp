@@ -28,12 +28,17 @@
 
 namespace fibrodem {
 
-inline const double kColumnPitch_um =
-    std::sqrt(4 * kParticleRadius_um * kParticleRadius_um -
-              kParticleSpacing_um * kParticleSpacing_um / 4);
+// A constant expression, so that constants derived from it elsewhere are
+// never read before it is set (namespace-scope initialisation order).
+inline constexpr double kColumnPitch_um = [] {
+  const double square = 4 * kParticleRadius_um * kParticleRadius_um - kParticleSpacing_um * kParticleSpacing_um / 4;
+  double root = square;  // Newton's iteration for sqrt: std::sqrt is not constexpr
+  for (int i = 0; i < 60; ++i) root = (root + square / root) / 2;
+  return root;
+}();
 // Largest overlap allowed between particles of two cells placed by the column
 // generator (the in-series lateral overlap); fibroblast fill particles never overlap.
-inline const double kAllowedOverlap_um = 2 * kParticleRadius_um - kColumnPitch_um + 1e-9;
+inline constexpr double kAllowedOverlap_um = 2 * kParticleRadius_um - kColumnPitch_um + 1e-9;
 // Relative tolerance under which two particles count as touching.
 inline constexpr double kTouchTolerance = 1e-3;
 
