@@ -157,3 +157,31 @@ TEST_CASE("mechanics: a lone myocyte has no contacts, yet DEM steps and its part
   // Its 7 particles close up along the fibre (y) as it shortens by ~10 %.
   CHECK(s["peak_strain"]["yy"].get<double>() < -0.02);
 }
+
+TEST_CASE("mechano-electric feedback: cell_types switches the stretch-activated current per cell type") {
+  // Rice's series elastic afterload pulls SL towards SLset (KSE (SLset - SL)):
+  // with SLset 2.0 um above the initial SL of 1.9 um the unstimulated cell is
+  // stretched (lambda up to 2.0 / 1.9 = 1.05), so the default current (5 nS at
+  // lambda_max 1.1, E 0 mV, at rest ~-75 mV) depolarises it.
+  json m = em_cell(R"(["electrophysiology", "mechano_electric_feedback"])");
+  m["duration_ms"] = 40;
+  m["stimulus"] = json::array();
+  m["cells"]["myocyte"]["myofilament"] = {{"model", "rice"}, {"parameters", {{"SLset", 2.0}}}};
+  json ep = m;
+  ep["effects"] = {"electrophysiology"};
+  const Run none = run(ep), by_default = run(m, true);
+  CHECK(by_default.SL.back() > 1.01 * by_default.SL.front());  // stretched
+  CHECK(by_default.V.back() > none.V.back() + 0.01);          // depolarised by I_SAC
+  m["mechano_electric_feedback"] = {{"cell_types", {"myocyte"}}};
+  CHECK(run(m).V == by_default.V);  // listed: as the default (the myocytes have the myofilament)
+  m["mechano_electric_feedback"] = {{"cell_types", json::array()}};
+  CHECK(run(m).V == none.V);  // off for every type: V of the scene without feedback, bit for bit
+  // A type listed without a myofilament model has no stretch: refused, naming the key.
+  m["mechano_electric_feedback"] = {{"cell_types", {"myocyte", "fibroblast"}}};
+  CHECK_THROWS_WITH_AS(Simulation(parse_scene(m)),
+                       doctest::Contains("mechano_electric_feedback.cell_types: the stretch-activated current of "
+                                         "fibroblast cells needs their stretch"),
+                       ManifestError);
+  m["mechano_electric_feedback"] = {{"cell_types", {"myocytes"}}};
+  CHECK_THROWS_WITH_AS(parse_scene(m), doctest::Contains("mechano_electric_feedback.cell_types"), ManifestError);
+}

@@ -203,3 +203,42 @@ TEST_CASE("the command refuses a manifest without S2, naming it") {
   CHECK(WEXITSTATUS(status) == 2);
   CHECK(testing::read_file(dir / "err.txt").find("stimulus") != std::string::npos);
 }
+
+TEST_CASE("the search runs with mechanics on: a small electromechanical sheet, each run classified") {
+  // The strand of the case above, 0.1 mm wide (4 columns), with Rice
+  // myofilaments and the DEM (the sheet is bonded): three intervals, each a
+  // run with mechanics that completes and is classified as on the strand
+  // without mechanics (the DEM does not feed back to V without
+  // mechano_electric_feedback; with it, the stretch-activated current is on).
+  const auto dir = testing::scratch_dir("vulnerable_window_em");
+  json m = json::parse(R"({"fibrodem": 1, "name": "em_strand", "duration_ms": 400, "seed": 1,
+    "effects": ["electrophysiology", "coupling", "contraction", "mechanics", "mechano_electric_feedback"],
+    "tissue": {"builder": "fibrotic_sheet", "width_mm": 0.1, "length_mm": 3},
+    "cells": {"myocyte": {"model": "colman", "variant": "colman2013_caf", "myofilament": "rice"}},
+    "coupling": {"D_m_nS": 5},
+    "stimulus": [
+      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000},
+      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 200, "duration_ms": 2, "amplitude_pA": 4000}],
+    "solver": {"method": "auto"},
+    "output": {"report": false}})");
+  VulnerableWindowOptions options;
+  options.out = dir / "search";
+  options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_BINARY_DIR)};
+  options.jobs = 2;
+  options.scan = {60, 200, 70, 70};  // 60, 130, 200 ms; the resolution leaves no bisection
+  const VulnerableWindowResult found = run_vulnerable_window(m, options);
+  REQUIRE(found.search.results.size() == 3);
+  std::map<double, S2Outcome> outcome;
+  for (const auto& r : found.search.results) {
+    CAPTURE(r.error);
+    CHECK(r.outcome != S2Outcome::failed);
+    outcome[r.probe.interval_ms] = r.outcome;
+  }
+  // As on the strand without mechanics: re-entry below its boundary (60-100
+  // ms), S2 not captured at 130 ms, captured without re-entry at 200 ms.
+  CHECK(outcome.at(60) == S2Outcome::reentry);
+  CHECK(outcome.at(130) == S2Outcome::no_capture);
+  CHECK(outcome.at(200) == S2Outcome::no_reentry);
+  const json summary = json::parse(testing::read_file(options.out / "runs" / "ci_200ms_seed_1" / "summary.json"));
+  CHECK(summary.contains("peak_strain"));
+}

@@ -41,7 +41,7 @@ void CellSystem::block_inputs(std::size_t p, std::size_t begin, std::size_t end)
   double* held = gap_current_pA.empty() ? nullptr : gap_current_pA[p].data();
   if (refresh_gap_current_) coupler->current_into(V_mV.data(), cells + begin, end - begin, held + begin);
   const Myofilament* stretch_source = nullptr;
-  if (sac.on)
+  if (sac.on && sac.host_on[p])
     for (const auto& m : myofilaments)
       if (m.host == static_cast<int>(p)) stretch_source = &m;
   double* in = pop.i_ext();

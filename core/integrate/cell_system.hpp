@@ -33,9 +33,11 @@ struct Myofilament {
 
 // Stretch-activated current, I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E)
 // for lambda > 1, lambda = SL / SL_rest (mechano_electric_feedback).
+// On for the populations whose host_on is set (mechano_electric_feedback.cell_types).
 struct StretchActivatedCurrent {
   bool on = false;
   double G_nS = 0, E_mV = 0, lambda_max = 1.1;
+  std::vector<char> host_on;  // per ionic population
 };
 
 struct CellSystem {

@@ -14,13 +14,13 @@ namespace fibrodem {
 
 namespace {
 
-// Every builder that makes a mechanical body bonds the particles of coupled
-// cells; a tissue with couplings and no bonds is a cell graph only (fibrotic_sheet).
+// Every builder bonds the particles of coupled cells (the cell graph is
+// derived from the bonds): couplings without bonds are a cell graph only.
 void refuse_tissue_without_bonds(const Tissue& t) {
   if (!t.cell_edges.empty() && t.bonds.empty())
     throw std::invalid_argument("mechanics: the tissue's " + std::to_string(t.cell_edges.size()) +
-                                " coupled cell pairs have no mechanical bonds (builder fibrotic_sheet makes the "
-                                "cell graph only); leave mechanics out of effects, or use a builder that bonds cells");
+                                " coupled cell pairs have no mechanical bonds; leave mechanics out of effects, or "
+                                "use a builder that bonds cells");
 }
 
 }  // namespace
@@ -34,10 +34,12 @@ DemBodies::DemBodies(const Tissue& t, const DemSpec& spec)
 }
 
 // A body per fibroblast particle and per myocyte (the clump of its
-// particles), in order of their first particle.
+// particles), in order of their first particle; then a disk per collagen
+// particle (of no cell).
 void DemBodies::add_bodies(const Tissue& t, const DemSpec& spec) {
   cells = t.cell_count();
-  const std::size_t np = t.particles.size();
+  cell_particles = t.particles.size();
+  const std::size_t np = t.particles.size() + t.collagen.size();
   const double rho = spec.density_kg_per_m3;  // x 1 m thickness
   cell_body.assign(cells, -1);
   pbody.assign(np, -1);
@@ -45,7 +47,7 @@ void DemBodies::add_bodies(const Tissue& t, const DemSpec& spec) {
 
   // Particles of each myocyte, in tissue order.
   std::vector<std::vector<int>> members(cells);
-  for (std::size_t i = 0; i < np; ++i) {
+  for (std::size_t i = 0; i < cell_particles; ++i) {
     const int c = t.particles[i].cell;
     if (c < 0 || static_cast<std::size_t>(c) >= cells)
       throw std::invalid_argument("particle " + std::to_string(i) + " belongs to no cell");
@@ -88,7 +90,7 @@ void DemBodies::add_bodies(const Tissue& t, const DemSpec& spec) {
     return shapes.back();
   };
 
-  for (std::size_t i = 0; i < np; ++i) {
+  for (std::size_t i = 0; i < cell_particles; ++i) {
     const Particle& p = t.particles[i];
     const int c = p.cell;
     if (t.type[c] == CellType::fibroblast) {
@@ -143,6 +145,12 @@ void DemBodies::add_bodies(const Tissue& t, const DemSpec& spec) {
                            rho * sp.moment, false);
     cell_body[c] = b;
     for (int id : ids) pbody[id] = b;
+  }
+  for (std::size_t k = 0; k < t.collagen.size(); ++k) {
+    const Particle& p = t.collagen[k];
+    const double r = p.r_um * kUm;
+    const double m = rho * M_PI * r * r;
+    pbody[cell_particles + k] = add_body(-1, false, p.x_um * kUm, p.y_um * kUm, 0.0, 1, r, 0.0, m, 0.5 * m * r * r, false);
   }
 }
 
@@ -237,8 +245,8 @@ double DemBodies::sum_work(std::size_t b, const ContactIncidence& particle_conta
 }
 
 void DemBodies::export_particles(std::vector<Particle>& out) const {
-  out.resize(pbody.size());
-  for (std::size_t i = 0; i < pbody.size(); ++i) {
+  out.resize(cell_particles);  // (the cells' particles: collagen is in no picture)
+  for (std::size_t i = 0; i < cell_particles; ++i) {
     const int b = pbody[i];
     out[i] = Particle{px[i] / kUm, py[i] / kUm, br[b] / kUm, bcell[b]};
   }

@@ -1,6 +1,7 @@
 // The DEM's bodies and their particles (dem_solver.hpp, "Bodies"): a body
 // per myocyte (the rigid clump of its collinear particles) and per
-// fibroblast particle (a disk), in order of their first particle; their
+// fibroblast particle (a disk), in order of their first particle, then a
+// disk per collagen particle (of no cell: bcell -1); their
 // state in structure-of-arrays (SI), each body's particles (CSR), and the
 // fixed parts of bodies the step's loops take (dem_solver.hpp, "Threads").
 // The per-body pieces of a step (kick, drift_and_reshape,
@@ -74,12 +75,13 @@ class DemBodies {
 
   MechanicsSolver::Motion fastest_motion() const;
   double kinetic_energy_J() const;
-  // The particles [um], in the tissue's order.
+  // The cells' particles [um], in the tissue's order (not the collagen's).
   void export_particles(std::vector<Particle>& out) const;
   // A myocyte's present pebble radius and spacing [um]; {0, 0} for a fibroblast.
   ClumpShape cell_shape_um(int cell) const;
 
   std::size_t cells = 0;
+  std::size_t cell_particles = 0;  // the cells' particles, before the collagen's
   AreaRule area_rule;
   LengthMode length_mode;
   double local_damping = 0;  // PFC's alpha (spec local_damping)

@@ -28,20 +28,24 @@ void permute(std::vector<T>& v, const std::vector<std::size_t>& order) {
 
 DemContacts::DemContacts(const DemSpec& spec) : spec_(spec), law_(make_contact_law(spec)) {}
 
-// Bonds: formed at the start, unloaded (reference gap = the gap now).
+// Bonds: formed at the start, unloaded (reference gap = the gap now); the
+// tissue's bonds, then its bonds through collagen.
 void DemContacts::form_bonds(const Tissue& t, const DemBodies& bodies) {
   const std::vector<int>& pbody = bodies.pbody;
   const std::vector<double> &px = bodies.px, &py = bodies.py, &br = bodies.br;
   const std::size_t np = pbody.size();
-  bonds.resize(t.bonds.size());
-  std::vector<std::pair<int, int>> bonded(t.bonds.size());
-  for (std::size_t k = 0; k < t.bonds.size(); ++k) {
-    const int p = t.bonds[k].p, q = t.bonds[k].q;
+  const std::size_t n = t.bonds.size() + t.collagen_bonds.size();
+  bonds.resize(n);
+  std::vector<std::pair<int, int>> bonded(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool collagen = k >= t.bonds.size();
+    const Bond& bond = collagen ? t.collagen_bonds[k - t.bonds.size()] : t.bonds[k];
+    const int p = bond.p, q = bond.q;
     if (p < 0 || q < 0 || static_cast<std::size_t>(p) >= np || static_cast<std::size_t>(q) >= np || p == q)
       throw std::invalid_argument("bond " + std::to_string(k) + " joins invalid particles");
     if (pbody[p] == pbody[q])
       throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
-    set_constants(bonds, k, p, q, bodies);
+    set_constants(bonds, k, p, q, bodies, collagen);
     bonds.ref_gap[k] = std::hypot(px[q] - px[p], py[q] - py[p]) - br[pbody[p]] - br[pbody[q]];
     bonds.kb[k] = law_->bending_stiffness(bonds.kn[k], br[pbody[p]], br[pbody[q]]);
     bonds.intact[k] = 1;
@@ -52,14 +56,20 @@ void DemContacts::form_bonds(const Tissue& t, const DemBodies& bodies) {
     detector_ = std::make_unique<ContactDetector>(pbody, bonded, spec_.contact_skin_um * kUm);
 }
 
-// Stiffness by inheritance and cell types, effective mass of the two bodies (a
+// Stiffness by inheritance and cell types (collagen's where either end is a
+// collagen particle or the bond runs through collagen, else fibroblasts'
+// where either end is a fibroblast), effective mass of the two bodies (a
 // fixed body's partner alone); state zeroed, reference gap 0 and no bending
 // (a contact).
-void DemContacts::set_constants(BondSet& set, std::size_t k, int p, int q, const DemBodies& bodies) const {
+void DemContacts::set_constants(BondSet& set, std::size_t k, int p, int q, const DemBodies& bodies,
+                                bool through_collagen) const {
   const double series = spec_.stiffness_inheritance == StiffnessInheritance::series ? 0.5 : 1.0;
   const int bp = bodies.pbody[p], bq = bodies.pbody[q];
+  const bool collagen = through_collagen || bodies.bcell[bp] < 0 || bodies.bcell[bq] < 0;
   const bool fib = !bodies.bclump[bp] || !bodies.bclump[bq];
-  const double factor = series * (fib ? spec_.fibroblast_stiffness_factor : 1.0);
+  const double factor = series * (collagen ? spec_.collagen_stiffness_factor
+                                  : fib    ? spec_.fibroblast_stiffness_factor
+                                           : 1.0);
   set.p[k] = p;
   set.q[k] = q;
   set.kn[k] = spec_.kn_N_per_m * factor;

@@ -44,7 +44,8 @@ class DemContacts {
 
   explicit DemContacts(const DemSpec& spec);
 
-  // The tissue's bonds, unloaded (reference gap = the gap now); throws
+  // The tissue's bonds and its bonds through collagen (which take
+  // spec collagen_stiffness_factor), unloaded (reference gap = the gap now); throws
   // std::invalid_argument for a bond that joins invalid particles or two of
   // one clump. With contact detection, the detector, which passes them over.
   void form_bonds(const Tissue& tissue, const DemBodies& bodies);
@@ -104,7 +105,8 @@ class DemContacts {
     alignas(64) double gap[kBlock], dn[kBlock], ds[kBlock], dth[kBlock], nx[kBlock], ny[kBlock];
     alignas(64) double lp[kBlock], lq[kBlock], fn[kBlock], fs[kBlock], mt[kBlock];
   };
-  void set_constants(BondSet& set, std::size_t k, int p, int q, const DemBodies& bodies) const;
+  void set_constants(BondSet& set, std::size_t k, int p, int q, const DemBodies& bodies,
+                     bool through_collagen = false) const;
   void block(const DemBodies& bodies, BondSet& set, std::size_t begin, std::size_t count, std::size_t number,
              double dt_s, BlockScratch& s);
 

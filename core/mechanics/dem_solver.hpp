@@ -7,7 +7,9 @@
 // length mode and area rule (clump_geometry.hpp), the centroid and axis stay.
 // A fibroblast particle is a rigid disk of constant radius, free (or fixed with
 // `fibroblasts_fixed`); the particles of a multi-particle fibroblast are
-// separate disks held by their bonds.
+// separate disks held by their bonds. A collagen particle (of no cell) is a
+// free disk too; contacts with one, and the tissue's bonds through collagen,
+// take mechanics.collagen_stiffness_factor.
 //
 // Contacts: the tissue's bonds (formed at the start, never re-formed; they can
 // break), and, with `contact_detection`, the contacts between particles that

@@ -51,6 +51,7 @@ DemSpec read_dem_spec(JsonReader& r) {
   s.local_damping = r.number("local_damping", s.local_damping, 0, 1);
   s.fibroblast_stiffness_factor =
       r.number("fibroblast_stiffness_factor", s.fibroblast_stiffness_factor, 1e-6, 1e6);
+  s.collagen_stiffness_factor = r.number("collagen_stiffness_factor", s.collagen_stiffness_factor, 1e-6, 1e6);
   s.bond_radius_multiplier = r.number("bond_radius_multiplier", s.bond_radius_multiplier, 0, 1e3);
   s.stiffness_inheritance =
       r.text("stiffness_inheritance", "contact", {"contact", "series"}) == "series"

@@ -55,6 +55,14 @@ struct DemSpec {
   // 0.7 in PFC 4; the seed lists only the dashpots).
   double local_damping = 0.0;
   double fibroblast_stiffness_factor = 1.0;  // kn, ks x this if either end is a fibroblast (seed: 1.5)
+  // kn, ks x this for contacts with collagen particles and bonds through
+  // collagen (fibrotic_sheet's `collagen: particles`): the ratio of Young's
+  // moduli of scar and myocardium, 55 / 18 kPa (Berry et al. 2006, Am J
+  // Physiol Heart Circ Physiol 290:H2196, AFM of infarct scar and normal rat
+  // myocardium); a contact of two equal disks of unit thickness has kn
+  // proportional to E (PFC's deformability: kn = E* A / L = E* t), so the same
+  // disks of scar are stiffer by that ratio.
+  double collagen_stiffness_factor = 55.0 / 18.0;
   // `linear_parallel_bond` only: the bond's half-width R = this x min(r_p, r_q)
   // (PFC's pb_rmul), which sets its bending stiffness kn R^2 / 3.
   double bond_radius_multiplier = 1.0;
@@ -87,7 +95,7 @@ struct DemSpec {
 // solver, contact_law (loaded from the plugin search path to check it and its
 // contact_law_parameters), contact_law_parameters, kn_N_per_m, ks_N_per_m, damping_ratio_normal,
 // damping_ratio_shear, tensile_strength_N, shear_strength_N, friction, local_damping,
-// fibroblast_stiffness_factor, bond_radius_multiplier, stiffness_inheritance (contact|series),
+// fibroblast_stiffness_factor, collagen_stiffness_factor, bond_radius_multiplier, stiffness_inheritance (contact|series),
 // density_kg_per_m3, safety_factor, mass_scaling, multirate, skip_at_rest, dt_ms, area_rule (union|capsule|rectangle),
 // length_mode (spacing|total), fibroblasts_fixed, strain_bodies
 // (particles|bodies), contact_detection, contact_skin_um. Errors name the JSON path. Does not call finish(): the

@@ -118,8 +118,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   double states = 0, cells = static_cast<double>(system.cell_count());
   for (const auto& pop : system.populations) states += static_cast<double>(pop.size() * pop.n_states());
   for (const auto& m : system.myofilaments) states += static_cast<double>(m.pop.size() * m.pop.n_states());
-  const double particles = static_cast<double>(tissue.particles.size());
-  const double bonds = static_cast<double>(tissue.bonds.size());
+  const double particles = static_cast<double>(tissue.particles.size() + tissue.collagen.size());
+  const double bonds = static_cast<double>(tissue.bonds.size() + tissue.collagen_bonds.size());
   const double edges = static_cast<double>(tissue.cell_edges.size());
   e.memory.push_back({"program, libraries, plugins and threads", kProgramBytes, ""});
   // y per state, its inputs and outputs and the populations' per-cell
@@ -242,11 +242,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   for (const auto& block : tr.blocks) columns += static_cast<double>(block.cells.size() * block.variables.size());
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
-  if (mechanics)
-    e.memory.push_back({fmt::format("DEM: {} particles, {} bonds", tissue.particles.size(), tissue.bonds.size()),
-                        256.0 * static_cast<double>(tissue.particles.size()) +
-                            64.0 * static_cast<double>(tissue.bonds.size()),
-                        "a smaller tissue"});
+  if (mechanics) e.memory.push_back(dem_memory(tissue));
   if (!scene.output.dir.empty()) {
     e.output.push_back({"traces.csv", trace_samples * (24 * columns + 24),
                         "output.traces: fewer cells or variables, or a larger every_ms"});
@@ -269,6 +265,22 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     }
   }
   return e;
+}
+
+ResourceEstimate::Part dem_memory(const Tissue& tissue) {
+  const std::size_t particles = tissue.particles.size() + tissue.collagen.size();
+  const std::size_t bonds = tissue.bonds.size() + tissue.collagen_bonds.size();
+  return {fmt::format("DEM: {} particles, {} bonds", particles, bonds),
+          256.0 * static_cast<double>(particles) + 64.0 * static_cast<double>(bonds), "a smaller tissue"};
+}
+
+void check_dem_memory(const Tissue& tissue, double available_memory) {
+  const ResourceEstimate::Part dem = dem_memory(tissue);
+  if (dem.bytes > 0.9 * available_memory)
+    throw ManifestError("tissue", fmt::format("mechanics on this tissue needs about {} for the {} alone, more than "
+                                              "the {} of memory available: try a smaller tissue, or leave mechanics "
+                                              "out of effects",
+                                              size_text(dem.bytes), dem.what, size_text(available_memory)));
 }
 
 void check_resources(const ResourceEstimate& estimate, double available_memory, double available_disk) {

@@ -29,6 +29,13 @@ struct ResourceEstimate {
 ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, const CellSystem& system,
                                     bool mechanics);
 
+// The DEM's memory for a tissue (its bodies, particles with the collagen's,
+// and bonds), and the check made before the DEM is built: throws
+// ManifestError (path `tissue`) with the estimate if it alone exceeds 0.9 x
+// `available_memory_bytes`.
+ResourceEstimate::Part dem_memory(const Tissue& tissue);
+void check_dem_memory(const Tissue& tissue, double available_memory_bytes);
+
 // Throws ManifestError naming the largest part and its remedy if the memory
 // estimate exceeds `available_memory_bytes` or the output estimate exceeds
 // `available_disk_bytes`.

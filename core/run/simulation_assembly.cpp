@@ -174,11 +174,31 @@ void Simulation::Impl::build_myofilaments() {
     if (spec.calcium_feedback) connect_calcium_feedback(host, m, spec);
     system.myofilaments.push_back(std::move(m));
   }
-  if (plan.has("mechano_electric_feedback")) {
-    system.sac.on = true;
-    system.sac.G_nS = scene.mechano_electric.G_SAC_nS;
-    system.sac.E_mV = scene.mechano_electric.E_SAC_mV;
-    system.sac.lambda_max = scene.mechano_electric.lambda_max;
+  if (plan.has("mechano_electric_feedback")) connect_stretch_activated_current();
+}
+
+// The stretch-activated current on the populations of the cell types that
+// mechano_electric_feedback.cell_types lists (by default every type with a
+// myofilament model); a listed type needs a myofilament model for its stretch.
+void Simulation::Impl::connect_stretch_activated_current() {
+  const MechanoElectricSpec& mef = scene.mechano_electric;
+  system.sac.on = true;
+  system.sac.G_nS = mef.G_SAC_nS;
+  system.sac.E_mV = mef.E_SAC_mV;
+  system.sac.lambda_max = mef.lambda_max;
+  system.sac.host_on.assign(system.populations.size(), 0);
+  for (std::size_t p = 0; p < system.populations.size(); ++p)
+    system.sac.host_on[p] = mef.on_for(system.populations[p].type);
+  if (!mef.cell_types_listed) return;
+  for (std::size_t t = 0; t < kCellTypeNames.size(); ++t) {
+    const auto type = static_cast<CellType>(t);
+    if (!mef.on_for(type)) continue;
+    const auto spec = scene.cells.find(type);
+    if (spec == scene.cells.end() || !spec->second.myofilament)
+      throw ManifestError("mechano_electric_feedback.cell_types",
+                          std::string("the stretch-activated current of ") + kCellTypeNames[t] +
+                              " cells needs their stretch, but cells." + kCellTypeNames[t] +
+                              " has no myofilament model");
   }
 }
 
@@ -241,6 +261,7 @@ void Simulation::Impl::build_coupling() {
 // it (built on every rank: a spec it refuses stops every rank alike).
 void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
+  check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
   if (!ranks) return;
   mechanics_over_ranks =

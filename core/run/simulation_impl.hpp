@@ -136,6 +136,7 @@ struct Simulation::Impl : StepObserver {
   void settle(Population& pop, const CellTypeSpec& spec);
   void derive_contraction_from_traces();
   void build_myofilaments();
+  void connect_stretch_activated_current();
   void connect_calcium_feedback(Population& host, Myofilament& m, const CellTypeSpec& spec);
   void warn_of_shadowed_plugins();
   void build_coupling();

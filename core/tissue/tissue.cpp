@@ -38,6 +38,11 @@ int Tissue::add_particle(int cell, double x, double y, double r) {
   return static_cast<int>(particles.size()) - 1;
 }
 
+int Tissue::add_collagen_particle(double x, double y, double r) {
+  collagen.push_back({x, y, r, -1});
+  return static_cast<int>(collagen.size()) - 1;
+}
+
 void Tissue::add_bond(int p, int q) {
   bonds.push_back({p, q});
   const int a = particles[p].cell, b = particles[q].cell;

@@ -1,6 +1,8 @@
 // The geometry and connectivity of a tissue: cells, the particles that make
 // them up (for mechanics), bonds between particles, and the cell graph that
 // carries gap-junction currents (two cells are neighbours if a bond joins them).
+// Collagen particles belong to no cell: they are the mechanics' only, with
+// bonds of their own that couple no cells.
 #pragma once
 
 #include <array>
@@ -28,6 +30,14 @@ struct Tissue {
   std::vector<Particle> particles;
   std::vector<Bond> bonds;
   std::vector<std::pair<int, int>> cell_edges;  // unique, i < j, sorted
+  // Collagen (fibrotic_sheet's `collagen: particles`): particles of no cell
+  // (cell -1), for the mechanics only (in no picture, no cell graph), and the
+  // bonds through collagen, which couple no cells and take the collagen's
+  // stiffness: bonds to a collagen particle and, across an interstitial
+  // septum, between the particles of two cells. Their particle indices count
+  // `particles` first, then `collagen` (index particles.size() + k is collagen[k]).
+  std::vector<Particle> collagen;
+  std::vector<Bond> collagen_bonds;
 
   std::size_t cell_count() const { return type.size(); }
   std::size_t count(CellType t) const;
@@ -38,6 +48,10 @@ struct Tissue {
   int add_particle(int cell, double x_um, double y_um, double r_um);
   // Bonds particles p and q and records the cell edge if they belong to two cells.
   void add_bond(int p, int q);
+  // A collagen particle (returns its index in `collagen`) and a bond through
+  // collagen (indices counted over particles, then collagen: see `collagen_bonds`).
+  int add_collagen_particle(double x_um, double y_um, double r_um);
+  void add_collagen_bond(int p, int q) { collagen_bonds.push_back({p, q}); }
   // Sorts and de-duplicates the cell edges; call once the builder is done.
   void finalise();
 };

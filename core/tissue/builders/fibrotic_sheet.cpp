@@ -16,18 +16,28 @@
 //   holes carry no current); for the interstitial pattern the cells stay and
 //   the collagen septa cut their side-to-side couplings instead (de Jong et
 //   al. 2011; Kazbanov et al. 2016: interstitial fibrosis as removed
-//   transverse connections).
+//   transverse connections). `fibrosis.collagen` says what the collagen is
+//   mechanically: `voids` (default; holes are empty, septa cut the fibres
+//   apart) or `particles` (holes hold passive collagen particles, septa stay
+//   as bonds through collagen; both take mechanics.collagen_stiffness_factor).
 //
-// The cells get the paper's particles (7 per myocyte, one per fibroblast) for
-// the pictures and VTK files, but no bonds: the builder makes the cell graph,
-// not a DEM body (mechanics is refused, mechanics/dem_bodies.cpp), so it serves
-// electrophysiology.
+// Bonds (the DEM body, and the cell graph: two cells are coupled where a bond
+// joins them) as the column tissues make them (column_tissue.hpp): every pair
+// of touching particles of two neighbouring slots. A myocyte is the paper's 7
+// particles; on this layout each touches 3 particles of each side neighbour
+// (centres 23.94 um apart, 1.06 um overlap) and its end particle the next
+// cell's (25 um apart). A fibrotic slot's fibroblast or collagen is the same 7
+// disks, each a body of its own bonded to the next: a fibroblast particle of
+// the in-series layout's size (r 12.5 um) at a myocyte's spacing, so that it
+// touches its neighbours as a myocyte would (a single disk in the 125 um slot
+// would touch none). So the bonds give exactly the brick wall's cell graph.
 // The seed paper's Fig. 8 patch (`fibrotic_patch`, in-series arrangement) is
 // the compact pattern as fibroblasts: density = patch area / tissue area
 // (0.6 x 1.0 mm in 2.32 x 6.27 mm: 0.0413), aspect = 1.0 / 0.6, centred; that
 // builder stays for the paper's particle geometry (one-particle fibroblasts
 // 25 um tall, so ~930 of them, against ~40 brick slots here).
 #include <cmath>
+#include <stdexcept>
 
 #include "tissue/builders/column_tissue.hpp"
 #include "tissue/fibrosis_pattern.hpp"
@@ -37,19 +47,44 @@ namespace fibrodem {
 namespace {
 
 enum class FibrosisAs { fibroblasts, collagen };
+enum class CollagenAs { voids, particles };
+
+// The particles of one slot: [first, first + count) of the tissue's
+// particles, or of its collagen particles.
+struct SlotParticles {
+  int first = 0, count = 0;
+  bool collagen = false;
+};
+
+// The 7 disks of a myocyte's geometry along a fibrotic slot centred at (x, y),
+// as a fibroblast cell's particles or as collagen particles.
+SlotParticles add_slot_disks(Tissue& tissue, double x, double y, bool collagen) {
+  SlotParticles s;
+  s.collagen = collagen;
+  const int cell = collagen ? -1 : tissue.add_cell(CellType::fibroblast, x, y);
+  for (int k = 0; k < kMyocyteParticles; ++k) {
+    const double py = y - kMyocyteEndOffset_um + k * kParticleSpacing_um;
+    const int id = collagen ? tissue.add_collagen_particle(x, py, kParticleRadius_um)
+                            : tissue.add_particle(cell, x, py, kParticleRadius_um);
+    if (k == 0) s.first = id;
+  }
+  s.count = kMyocyteParticles;
+  return s;
+}
 
 class FibroticSheetBuilder final : public TissueBuilder {
  public:
-  FibroticSheetBuilder(SheetGrid grid, FibrosisSpec fibrosis, FibrosisAs as)
-      : grid_(grid), fibrosis_(fibrosis), as_(as) {}
+  FibroticSheetBuilder(SheetGrid grid, FibrosisSpec fibrosis, FibrosisAs as, CollagenAs collagen)
+      : grid_(grid), fibrosis_(fibrosis), as_(as), collagen_(collagen) {}
 
   Tissue build(std::uint64_t seed) const override {
     BuilderRandom rng(seed);
     const std::vector<char> fibrotic = fibrotic_slots(grid_, fibrosis_, rng);
     const bool septa = as_ == FibrosisAs::collagen && fibrosis_.pattern == FibrosisPattern::interstitial;
     const bool holes = as_ == FibrosisAs::collagen && !septa;
+    const bool particles = collagen_ == CollagenAs::particles;
     Tissue tissue;
-    std::vector<int> cell_of(grid_.slots(), -1);
+    std::vector<SlotParticles> slot(grid_.slots());
     tissue.type.reserve(grid_.slots());
     tissue.x_um.reserve(grid_.slots());
     tissue.y_um.reserve(grid_.slots());
@@ -57,21 +92,51 @@ class FibroticSheetBuilder final : public TissueBuilder {
     for (int c = 0; c < grid_.columns; ++c)
       for (int r = 0; r < grid_.rows; ++r) {
         const std::size_t s = grid_.slot(c, r);
-        if (holes && fibrotic[s]) continue;
         const double x = grid_.x_um(c), y = grid_.y_um(c, r);
-        cell_of[s] = fibrotic[s] && !septa ? add_round_fibroblast(tissue, x, y)
-                                            : add_vertical_myocyte(tissue, x, y - kMyocyteLength_um / 2);
+        if (holes && fibrotic[s]) {
+          if (particles) slot[s] = add_slot_disks(tissue, x, y, true);
+        } else if (fibrotic[s] && !septa) {
+          slot[s] = add_slot_disks(tissue, x, y, false);
+        } else {
+          slot[s] = {static_cast<int>(tissue.particles.size()), kMyocyteParticles, false};
+          add_vertical_myocyte(tissue, x, y - kMyocyteLength_um / 2);
+        }
       }
-    // Edges in increasing (i, j): cells are numbered column by column, bottom
-    // to top, so the cell above and those of the next column come later.
-    tissue.cell_edges.reserve(3 * tissue.cell_count());
-    auto couple = [&](std::size_t a, std::size_t b) {
-      if (cell_of[a] >= 0 && cell_of[b] >= 0) tissue.cell_edges.emplace_back(cell_of[a], cell_of[b]);
+    const int cell_particles = static_cast<int>(tissue.particles.size());
+    auto index = [&](const SlotParticles& s, int k) { return (s.collagen ? cell_particles : 0) + s.first + k; };
+    auto at = [&](const SlotParticles& s, int k) -> const Particle& {
+      return s.collagen ? tissue.collagen[s.first + k] : tissue.particles[s.first + k];
+    };
+    // Bonds inside a slot of disks: each to the next (16.67 um apart).
+    for (const SlotParticles& s : slot)
+      if (s.count > 0 && (s.collagen || tissue.type[tissue.particles[s.first].cell] == CellType::fibroblast))
+        for (int k = 0; k + 1 < s.count; ++k) {
+          if (s.collagen) tissue.add_collagen_bond(index(s, k), index(s, k + 1));
+          else tissue.add_bond(index(s, k), index(s, k + 1));
+        }
+    // Between neighbouring slots: every touching pair; through collagen where
+    // either slot is collagen or a septum lies between them.
+    auto bond = [&](std::size_t a, std::size_t b, bool septum) {
+      const SlotParticles &sa = slot[a], &sb = slot[b];
+      if (sa.count == 0 || sb.count == 0 || (septum && !particles)) return;
+      const bool through_collagen = septum || sa.collagen || sb.collagen;
+      int made = 0;
+      for (int i = 0; i < sa.count; ++i)
+        for (int j = 0; j < sb.count; ++j) {
+          const Particle &p = at(sa, i), &q = at(sb, j);
+          const double reach = (p.r_um + q.r_um) * (1 + kTouchTolerance);
+          const double dx = q.x_um - p.x_um, dy = q.y_um - p.y_um;
+          if (dx * dx + dy * dy > reach * reach) continue;
+          if (through_collagen) tissue.add_collagen_bond(index(sa, i), index(sb, j));
+          else tissue.add_bond(index(sa, i), index(sb, j));
+          ++made;
+        }
+      if (made == 0) throw std::logic_error("fibrotic_sheet: neighbouring slots whose particles do not touch");
     };
     for (int c = 0; c < grid_.columns; ++c)
       for (int r = 0; r < grid_.rows; ++r) {
         const std::size_t s = grid_.slot(c, r);
-        if (r + 1 < grid_.rows) couple(s, grid_.slot(c, r + 1));
+        if (r + 1 < grid_.rows) bond(s, grid_.slot(c, r + 1), false);
         if (c + 1 == grid_.columns) continue;
         // Beside cell r of an even column: rows r - 1 and r of the (shifted)
         // odd column; of an odd column: rows r and r + 1 of the even one.
@@ -79,8 +144,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
         for (int rn = first; rn <= first + 1; ++rn) {
           if (rn < 0 || rn >= grid_.rows) continue;
           const std::size_t n = grid_.slot(c + 1, rn);
-          if (septa && (fibrotic[s] || fibrotic[n])) continue;
-          couple(s, n);
+          bond(s, n, septa && (fibrotic[s] || fibrotic[n]));
         }
       }
     tissue.finalise();
@@ -91,6 +155,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
   SheetGrid grid_;
   FibrosisSpec fibrosis_;
   FibrosisAs as_;
+  CollagenAs collagen_;
 };
 
 SheetGrid read_sheet_grid(JsonReader& tissue) {
@@ -106,7 +171,7 @@ SheetGrid read_sheet_grid(JsonReader& tissue) {
   return grid;
 }
 
-FibrosisSpec read_fibrosis(JsonReader& f, FibrosisAs* as) {
+FibrosisSpec read_fibrosis(JsonReader& f, FibrosisAs* as, CollagenAs* collagen) {
   FibrosisSpec spec;
   spec.density = f.number("density", std::nullopt, 0, 1);
   if (spec.density >= 1)
@@ -114,6 +179,10 @@ FibrosisSpec read_fibrosis(JsonReader& f, FibrosisAs* as) {
   spec.pattern = fibrosis_pattern_from_name(f.text("pattern", std::nullopt, kFibrosisPatternNames));
   *as = f.text("as", std::string("collagen"), {"fibroblasts", "collagen"}) == "fibroblasts" ? FibrosisAs::fibroblasts
                                                                                          : FibrosisAs::collagen;
+  *collagen = f.text("collagen", std::string("voids"), {"voids", "particles"}) == "particles" ? CollagenAs::particles
+                                                                                           : CollagenAs::voids;
+  if (*collagen == CollagenAs::particles && *as != FibrosisAs::collagen)
+    throw ManifestError(f.path_of("collagen"), "collagen particles need `as: collagen`, got `as: fibroblasts`");
   switch (spec.pattern) {
     case FibrosisPattern::patchy:
       spec.correlation_length_um = f.number("correlation_length_mm", 0.5, 0.01, 20) * 1000;
@@ -139,11 +208,12 @@ std::unique_ptr<TissueBuilder> make_fibrotic_sheet_builder(JsonReader& tissue) {
   const SheetGrid grid = read_sheet_grid(tissue);
   FibrosisSpec fibrosis;
   FibrosisAs as = FibrosisAs::collagen;
+  CollagenAs collagen = CollagenAs::voids;
   if (tissue.has("fibrosis")) {
     JsonReader f = tissue.object("fibrosis");
-    fibrosis = read_fibrosis(f, &as);
+    fibrosis = read_fibrosis(f, &as, &collagen);
   }
-  return std::make_unique<FibroticSheetBuilder>(grid, fibrosis, as);
+  return std::make_unique<FibroticSheetBuilder>(grid, fibrosis, as, collagen);
 }
 
 }  // namespace fibrodem
