@@ -16,10 +16,12 @@
 //   holes carry no current); for the interstitial pattern the cells stay and
 //   the collagen septa cut their side-to-side couplings instead (de Jong et
 //   al. 2011; Kazbanov et al. 2016: interstitial fibrosis as removed
-//   transverse connections). `fibrosis.collagen` says what the collagen is
-//   mechanically: `voids` (default; holes are empty, septa cut the fibres
-//   apart) or `particles` (holes hold passive collagen particles, septa stay
-//   as bonds through collagen; both take mechanics.collagen_stiffness_factor).
+//   transverse connections). `fibrosis.collagen` says what the holes are
+//   mechanically: `voids` (default: empty) or `particles` (passive collagen
+//   particles). Septa stay mechanically, as bonds through collagen (collagen
+//   insulates but transmits force; and the side neighbours overlap by 1.06
+//   um, so without a bond they would push apart as unbonded contacts).
+//   Collagen particles and septa take mechanics.collagen_stiffness_factor.
 //
 // Bonds (the DEM body, and the cell graph: two cells are coupled where a bond
 // joins them) as the column tissues make them (column_tissue.hpp): every pair
@@ -115,10 +117,10 @@ class FibroticSheetBuilder final : public TissueBuilder {
           else tissue.add_bond(index(s, k), index(s, k + 1));
         }
     // Between neighbouring slots: every touching pair; through collagen where
-    // either slot is collagen or a septum lies between them.
+    // either slot is collagen or a septum lies between them (no coupling).
     auto bond = [&](std::size_t a, std::size_t b, bool septum) {
       const SlotParticles &sa = slot[a], &sb = slot[b];
-      if (sa.count == 0 || sb.count == 0 || (septum && !particles)) return;
+      if (sa.count == 0 || sb.count == 0) return;
       const bool through_collagen = septum || sa.collagen || sb.collagen;
       int made = 0;
       for (int i = 0; i < sa.count; ++i)
