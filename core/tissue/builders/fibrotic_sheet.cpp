@@ -105,6 +105,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
         }
       }
     const int cell_particles = static_cast<int>(tissue.particles.size());
+    tissue.bonds.reserve(7 * grid_.slots());  // a slot: 1 to the next up, 3 to each of 2 in the next column
     auto index = [&](const SlotParticles& s, int k) { return (s.collagen ? cell_particles : 0) + s.first + k; };
     auto at = [&](const SlotParticles& s, int k) -> const Particle& {
       return s.collagen ? tissue.collagen[s.first + k] : tissue.particles[s.first + k];
