@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <stdexcept>
+#include <string>
 
 #include "io/csv_writer.hpp"
 #include "measure/cell_triangles.hpp"
@@ -36,13 +38,36 @@ json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
 }
 
 namespace {
-// The PS of every frame, tracked; rows of phase_singularities.csv if dir is given.
+// The fibre stretch at a PS of frame k: the mean of its triangle's cells' (analyse_reentry).
+double stretch_at(const StretchFrames& stretch, std::size_t k, const std::array<int, 3>& triangle) {
+  const float* frame = stretch.frame(k);
+  double sum = 0;
+  int n = 0;
+  for (int c : triangle)
+    if (std::isfinite(frame[c])) sum += frame[c], ++n;
+  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+void check_same_times(const VoltageFrames& frames, const StretchFrames& stretch) {
+  const bool same = stretch.t_ms == frames.t_ms && (frames.count() == 0 || stretch.cells == frames.cells);
+  if (!same)
+    throw std::invalid_argument("re-entry: the stretch was sampled at " + std::to_string(stretch.count()) +
+                                " times, V at " + std::to_string(frames.count()) +
+                                " (expected the same times, every cell)");
+}
+
+// The PS of every frame, tracked; rows of phase_singularities.csv if dir is
+// given, with each PS's stretch if given.
 SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
-                                       const std::filesystem::path& dir) {
+                                       const std::filesystem::path& dir, const StretchFrames* stretch) {
   const auto triangles = cell_triangles(tissue);
   const std::size_t delay = static_cast<std::size_t>(std::llround(s.tau_ms / s.every_ms));
   CsvWriter csv;
-  if (!dir.empty()) csv = CsvWriter(dir / "phase_singularities.csv", {"t_ms", "id", "x_mm", "y_mm", "chirality"});
+  if (!dir.empty()) {
+    std::vector<std::string> columns{"t_ms", "id", "x_mm", "y_mm", "chirality"};
+    if (stretch) columns.emplace_back("stretch");
+    csv = CsvWriter(dir / "phase_singularities.csv", columns);
+  }
   SingularityTracker tracker(s.link_mm);
   std::vector<double> phase(frames.cells);
   for (std::size_t k = delay; k < frames.count(); ++k) {
@@ -55,6 +80,7 @@ SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames
     for (std::size_t j = 0; j < found.size(); ++j) {
       csv.cell(frames.t_ms[k]).cell(static_cast<long long>(ids[j])).cell(found[j].x_mm).cell(found[j].y_mm)
           .cell(static_cast<long long>(found[j].chirality));
+      if (stretch) csv.cell(stretch_at(*stretch, k, triangles[static_cast<std::size_t>(found[j].triangle)]));
       csv.end_row();
     }
   }
@@ -155,8 +181,9 @@ json clinical_summary(const Tissue& tissue, const DominantFrequencies& df, const
 
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
                      const std::vector<double>& onsets, const std::vector<BeatBiomarkers>& beats,
-                     const std::filesystem::path& dir, ReentryMaps* maps) {
-  const SingularityTracker tracker = track_singularities(tissue, frames, s, dir);
+                     const std::filesystem::path& dir, ReentryMaps* maps, const StretchFrames* stretch) {
+  if (stretch) check_same_times(frames, *stretch);
+  const SingularityTracker tracker = track_singularities(tissue, frames, s, dir, stretch);
   double longest_ms = 0;
   for (const auto& track : tracker.tracks()) longest_ms = std::max(longest_ms, track.death_ms - track.birth_ms);
 

@@ -27,6 +27,7 @@
 
 #include "measure/beat_activations.hpp"
 #include "measure/biomarkers.hpp"
+#include "measure/cell_strain.hpp"
 #include "measure/singularity_tracking.hpp"
 #include "util/json_reader.hpp"
 
@@ -67,10 +68,16 @@ struct ReentryMaps {
 // summary.json's "reentry"; writes phase_singularities.csv (t_ms, id, x_mm,
 // y_mm, chirality: one row per PS per frame), phase_singularity_tracks.csv
 // and phase_singularity_density.csv into dir unless dir is empty; fills
-// `maps` if given.
+// `maps` if given. Given the cells' fibre stretch at the same sample times
+// (a run with mechanics), phase_singularities.csv's last column is
+// `stretch`, each PS's: the mean over its triangle's cells that have one
+// (linear interpolation at the triangle's centroid, where the PS is
+// placed), NaN if none has. Throws std::invalid_argument if the stretch
+// frames' times are not the V frames'.
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& settings,
                      const std::vector<double>& stimulus_onsets_ms, const std::vector<BeatBiomarkers>& beats,
-                     const std::filesystem::path& dir, ReentryMaps* maps = nullptr);
+                     const std::filesystem::path& dir, ReentryMaps* maps = nullptr,
+                     const StretchFrames* stretch = nullptr);
 
 // Per beat, the fraction of the myocytes measured in it that it did not
 // reach ([{beat, fraction, myocytes}]).

@@ -169,6 +169,7 @@ void Simulation::Impl::release_run_buffers() {
   std::vector<double>().swap(own_V_mV);
   std::vector<double>().swap(own_dVdt);
   reentry_frames = VoltageFrames();
+  strain_fields.reset();
   std::vector<double>().swap(V_previous);
   std::vector<double>().swap(reentry_own_V);
   std::vector<double>().swap(reentry_gathered_V);
@@ -249,6 +250,7 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
     mechanics->advance(t_new, system);  // times itself
     measured = Clock::now();
   }
+  if (strain_fields) strain_fields->complete(mechanics->solver());  // the re-entry samples' strain
   snapshot_if_due(t_new);
   reclaim_writer_core();
   if (measured - last_flush > std::chrono::seconds(1)) {

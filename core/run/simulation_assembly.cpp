@@ -263,10 +263,11 @@ void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
   check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
+  strain_fields = make_strain_fields(tissue, scene.output, plan.notes);
   if (!ranks) return;
   mechanics_over_ranks =
       std::make_unique<MechanicsOverRanks>(*ranks, share.owned, cells_in_rank_order, rank_cell_counts, rank_cell_offsets);
-  if (ranks->rank() != 0) mechanics.reset();
+  if (ranks->rank() != 0) mechanics.reset(), strain_fields.reset();
 }
 
 // solver.lookup_tables: a table of the voltage_only gates' rates per ionic

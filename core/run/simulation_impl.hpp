@@ -34,6 +34,7 @@
 #include "run/mechanics_over_ranks.hpp"
 #include "run/resource_estimate.hpp"
 #include "run/run_clock.hpp"
+#include "run/strain_fields.hpp"
 #include "run/simulation.hpp"
 #include "run/trace_recorder.hpp"
 
@@ -88,6 +89,9 @@ struct Simulation::Impl : StepObserver {
   std::vector<double> V_previous;
   long long reentry_next_sample = 0;  // index k of the next sample time from_ms + k every_ms
   json reentry_measured;
+  // With mechanics, where an output asks for it: the cells' strain at the
+  // snapshots and re-entry samples (run/strain_fields.hpp); else null.
+  std::unique_ptr<StrainFields> strain_fields;
   // Split over ranks: this rank's cells' V at a sample (share.owned's
   // order), and on rank 0 every cell's as gathered (rank order) and as the
   // frame (by tissue number); sized when the sampling starts.

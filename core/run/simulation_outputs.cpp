@@ -141,8 +141,10 @@ void Simulation::Impl::snapshot_if_due(double t) {
     // (The tissue itself is shared with the frame, not copied: the writer
     // finishes before the simulation, and so the tissue, goes.)
     const std::shared_ptr<const Tissue> built(std::shared_ptr<void>(), &tissue);
+    const bool with_strain = strain_fields && (snap.vtk || snap.strain);
     auto frame = std::make_shared<SnapshotFrame>(
-        take_snapshot(t, snap, built, mechanics_solver(), ranks ? every_cell : system.V_mV));
+        take_snapshot(t, snap, built, mechanics_solver(), ranks ? every_cell : system.V_mV,
+                      with_strain ? &strain_fields->now(mechanics->solver()) : nullptr));
     write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.output.vtk_format, scene.name, *frame); });
   }
 }
@@ -168,6 +170,7 @@ void Simulation::Impl::start_reentry_sampling(double t) {
   if (std::abs(t - (spec.from_ms + static_cast<double>(reentry_next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
     if (ranks) add_reentry_frame_over_ranks(t, nullptr);
     else reentry_frames.add(t, system.V_mV);
+    if (strain_fields) strain_fields->sample_now(t, mechanics->solver());
     ++reentry_next_sample;
   }
 }
@@ -181,6 +184,7 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
     ++reentry_next_sample;
     if (next < t_old - kTimeEpsilon_ms) continue;  // before a resumed run's start
     const double w = t_new > t_old ? std::clamp((next - t_old) / (t_new - t_old), 0.0, 1.0) : 1.0;
+    if (strain_fields) strain_fields->due(next, w, mechanics->solver());  // (the DEM is still at t_old)
     if (ranks) {
       add_reentry_frame_over_ranks(next, &w);
       continue;
@@ -227,18 +231,23 @@ void Simulation::Impl::measure_reentry() {
                                  .clinical_f_max_hz = spec.clinical_f_max_hz,
                                  .ps_density_bin_mm = spec.ps_density_bin_mm};
   ReentryMaps maps;
-  reentry_measured =
-      analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats, out, &maps);
+  const StretchFrames* stretch = strain_fields ? &strain_fields->stretch_frames() : nullptr;
+  reentry_measured = analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats,
+                                     out, &maps, stretch);
   if (out.empty()) return;
-  // The tip paths over V at the last sample.
-  MapField last_V;
-  if (reentry_frames.count() > 0) {
+  // The tip paths over the fibre stretch (with mechanics) or V at the last sample.
+  MapField last;
+  if (stretch && stretch->count() > 0) {
+    const float* lambda = stretch->frame(stretch->count() - 1);
+    last = {std::vector<double>(lambda, lambda + stretch->cells), "fibre stretch",
+            fmt::format("fibre stretch at t = {:g} ms", stretch->t_ms.back())};
+  } else if (reentry_frames.count() > 0) {
     const float* V = reentry_frames.frame(reentry_frames.count() - 1);
-    last_V = {std::vector<double>(V, V + reentry_frames.cells), "V (mV)",
-              fmt::format("V at t = {:g} ms", reentry_frames.t_ms.back())};
+    last = {std::vector<double>(V, V + reentry_frames.cells), "V (mV)",
+            fmt::format("V at t = {:g} ms", reentry_frames.t_ms.back())};
   }
   reentry_measured["beat_maps_drawn"] =
-      write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format, last_V);
+      write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format, last);
 }
 
 // A picture or snapshot file, on the writer's thread while the run goes

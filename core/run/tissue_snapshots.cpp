@@ -3,6 +3,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -24,6 +25,23 @@ std::string write_vtk_file(const std::string& vtk_format, const Tissue& tissue, 
   if (xml) write_tissue_vtp(tissue, dir / name, fields, with_bonds, displacement_um);
   else write_tissue_vtk(tissue, dir / name, fields, with_bonds, displacement_um);
   return name;
+}
+
+// strain_<t>_ms.png: the deformed tissue coloured by its cells' fibre strain
+// E_yy over the frame's own range; cells without a strain (too few
+// neighbours) grey, and counted in the title.
+void write_strain_png(const std::filesystem::path& dir, const std::string& scene_name, const SnapshotFrame& frame) {
+  const auto unresolved = std::count_if(frame.strain.E_yy.begin(), frame.strain.E_yy.end(),
+                                        [](double e) { return std::isnan(e); });
+  PictureOptions picture;
+  picture.value_label = "fibre strain E_yy";
+  picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, frame.t_ms);
+  if (unresolved > 0) picture.title += fmt::format(" ({} cells without a strain, grey)", unresolved);
+  picture.pixels_per_um = frame.pixels_per_um;
+  picture.antialias = false;
+  char name[64];
+  std::snprintf(name, sizeof name, "strain_%09.3f_ms.png", frame.t_ms);
+  write_tissue_png(*frame.now, dir / name, &frame.strain.E_yy, picture);
 }
 
 }  // namespace
@@ -50,13 +68,15 @@ Tissue present_tissue(const Tissue& tissue, const MechanicsSolver* mechanics,
 }
 
 SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const std::shared_ptr<const Tissue>& tissue,
-                            const MechanicsSolver* mechanics, const std::vector<double>& V_mV) {
+                            const MechanicsSolver* mechanics, const std::vector<double>& V_mV,
+                            const CellStrainField* strain) {
   SnapshotFrame frame;
   frame.t_ms = t;
   frame.now = mechanics ? std::make_shared<const Tissue>(present_tissue(
                               *tissue, mechanics, spec.vtk ? &frame.displacement : nullptr))
                         : tissue;
   frame.V_mV = V_mV;
+  if (strain) frame.strain = *strain;
   // The scale of the undeformed tissue, so that every snapshot shows the
   // deformation at the same magnification.
   const auto box = tissue->bounds_um();
@@ -78,8 +98,14 @@ void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, 
     picture.antialias = false;  // one picture per frame: the cheap kind
     write_tissue_png(*frame.now, dir / (std::string(stem) + ".png"), &frame.V_mV, picture);
   }
+  const CellStrainField& strain = frame.strain;
+  if (spec.strain && !strain.E_yy.empty()) write_strain_png(dir, scene_name, frame);
   if (spec.vtk) {
-    const std::string name = write_vtk_file(vtk_format, *frame.now, dir, stem, {{"V_mV", frame.V_mV}}, false,
+    CellFields fields{{"V_mV", frame.V_mV}};
+    if (!strain.E_yy.empty())
+      fields.insert(fields.end(), {{"E_xx", strain.E_xx}, {"E_yy", strain.E_yy}, {"E_xy", strain.E_xy},
+                                   {"fibre_stretch", strain.fibre_stretch}, {"max_shear", strain.max_shear}});
+    const std::string name = write_vtk_file(vtk_format, *frame.now, dir, stem, fields, false,
                                             frame.displacement.empty() ? nullptr : &frame.displacement);
     // Listed once written: the collection names only whole files.
     if (vtk_format == "xml") add_to_pvd(dir / kSnapshotCollection, frame.t_ms, name);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "measure/biomarkers.hpp"
+#include "measure/cell_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"
@@ -37,15 +38,20 @@ struct SnapshotFrame {
   std::shared_ptr<const Tissue> now;                // deformed, with mechanics; else the tissue itself
   std::vector<std::array<double, 2>> displacement;  // per particle, with mechanics and VTK
   std::vector<double> V_mV;
+  CellStrainField strain;                           // per cell, with mechanics (else empty)
   double pixels_per_um = 0;                         // of the undeformed tissue
 };
-// `tissue` is the run's own (shared, not copied, when nothing moves it).
+// `tissue` is the run's own (shared, not copied, when nothing moves it);
+// `strain` the cells' strain now, with mechanics (null: none).
 SnapshotFrame take_snapshot(double t, const SnapshotSpec& spec, const std::shared_ptr<const Tissue>& tissue,
-                            const MechanicsSolver* mechanics, const std::vector<double>& V_mV);
+                            const MechanicsSolver* mechanics, const std::vector<double>& V_mV,
+                            const CellStrainField* strain = nullptr);
 
 // The tissue coloured by membrane potential at the frame's time (the step's
 // end): snapshot_<t>_ms.png and/or .vtk (.vtp, then added to
-// snapshots.pvd) in dir, as spec asks.
+// snapshots.pvd) in dir, as spec asks; with the frame's strain, the VTK
+// file's fields E_xx, E_yy, E_xy, fibre_stretch, max_shear and, with
+// spec.strain, strain_<t>_ms.png (the deformed tissue coloured by E_yy).
 void write_snapshot(const std::filesystem::path& dir, const SnapshotSpec& spec, const std::string& vtk_format,
                     const std::string& scene_name, const SnapshotFrame& frame);
 

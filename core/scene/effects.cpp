@@ -49,11 +49,18 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
         plan.built.push_back({"mechanics", "output.traces records the tissue strain " + v});
         plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});
       }
+    if (scene.output.snapshots.strain && !plan.has("mechanics")) {
+      plan.built.push_back({"mechanics", "output.snapshots.strain draws the cells' strain"});
+      plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});
+    }
     if (!tissue.cell_edges.empty())
       plan.built.push_back({"coupling", std::to_string(tissue.cell_edges.size()) +
                                             " cell pairs share gap junctions and their potentials "
                                             "are recorded"});
   }
+  if (scene.output.snapshots.strain && !plan.has("mechanics"))
+    throw ManifestError("output.snapshots.strain", "draws the cells' strain, which needs the effect mechanics "
+                                                   "(add \"mechanics\" to effects, or set strain false)");
   if (!plan.has("contraction"))
     for (const auto& [type, spec] : scene.cells) {
       if (spec.myofilament)

@@ -99,6 +99,7 @@ OutputSpec read_output(JsonReader r) {
     o.snapshots.from_ms = sn.number("from_ms", 0.0, 0.0, kInf);
     o.snapshots.png = sn.boolean("png", true);
     o.snapshots.vtk = sn.boolean("vtk", true);
+    o.snapshots.strain = sn.boolean("strain", false);
     sn.finish();
   }
   if (r.has("checkpoint")) {

@@ -51,6 +51,7 @@ struct SnapshotSpec {
   double every_ms = 0;  // 0: none
   double from_ms = 0;
   bool png = true, vtk = true;
+  bool strain = false;  // also strain_<t>_ms.png, the cells' fibre strain (needs mechanics)
 };
 
 // output.reentry: V of every cell sampled every every_ms from from_ms for
