@@ -30,11 +30,32 @@ std::vector<Particle> moved(const Tissue& t, const std::function<std::array<doub
   return out;
 }
 
-// Every cell's fields within 1e-12 of the given ones (all cells resolved).
-void check_uniform(const CellStrainField& f, double Exx, double Eyy, double Exy) {
+// Whether cell c's neighbours span the plane, from the tissue alone: two of
+// its separations from them are not parallel.
+bool spanned(const Tissue& t, int c) {
+  std::vector<std::array<double, 2>> d;
+  for (const auto& [i, j] : t.cell_edges)
+    if (i == c || j == c) {
+      const int o = i == c ? j : i;
+      d.push_back({t.x_um[o] - t.x_um[c], t.y_um[o] - t.y_um[c]});
+    }
+  for (std::size_t a = 0; a < d.size(); ++a)
+    for (std::size_t b = a + 1; b < d.size(); ++b)
+      if (std::abs(d[a][0] * d[b][1] - d[a][1] * d[b][0]) > 1e-3 * std::hypot(d[a][0], d[a][1]) * std::hypot(d[b][0], d[b][1]))
+        return true;
+  return false;
+}
+
+// Every cell's fields within 1e-12 of the given ones; NaN exactly in the
+// cells whose neighbours do not span the plane.
+void check_uniform(const Tissue& t, const CellStrainField& f, double Exx, double Eyy, double Exy) {
   const double stretch = std::sqrt(1 + 2 * Eyy), shear = std::hypot(0.5 * (Exx - Eyy), Exy);
   for (std::size_t c = 0; c < f.E_xx.size(); ++c) {
     CAPTURE(c);
+    if (!spanned(t, static_cast<int>(c))) {
+      CHECK(std::isnan(f.E_xx[c]));
+      continue;
+    }
     CHECK(std::abs(f.E_xx[c] - Exx) < 1e-12);
     CHECK(std::abs(f.E_yy[c] - Eyy) < 1e-12);
     CHECK(std::abs(f.E_xy[c] - Exy) < 1e-12);
@@ -48,9 +69,16 @@ TEST_CASE("cell strain: a sheet at rest has zero strain in every cell, exactly")
   const Tissue t = sheet();
   CellStrain strain(t);
   REQUIRE(t.cell_count() > 50);
-  CHECK(strain.unresolved_cells() == 0);  // every brick has neighbours to its side and along the fibre
-  check_uniform(strain.compute(t.particles), 0, 0, 0);
-  for (double e : strain.field().E_yy) CHECK(e == 0.0);  // no displacement: no round-off either
+  // Myocytes have neighbours along the fibre and to their sides; a few
+  // fibroblast disks in series touch only the cells above and below them in
+  // their column (3 of this sheet's 73 cells).
+  CHECK(strain.unresolved_cells() > 0);
+  CHECK(strain.unresolved_cells() < t.cell_count() / 10);
+  strain.compute(t.particles);
+  for (std::size_t c = 0; c < t.cell_count(); ++c)
+    if (std::isnan(strain.field().E_xx[c])) CHECK(t.type[c] == CellType::fibroblast);
+  check_uniform(t, strain.field(), 0, 0, 0);
+  for (double e : strain.field().E_yy) CHECK((e == 0.0 || std::isnan(e)));  // no displacement: no round-off either
 }
 
 TEST_CASE("cell strain: a uniform stretch gives its Green-Lagrange strain in every cell") {
@@ -61,8 +89,7 @@ TEST_CASE("cell strain: a uniform stretch gives its Green-Lagrange strain in eve
   strain.compute(moved(t, [](double x, double y) {
     return std::array<double, 2>{40 + 1.1 * (x - 40) + 3, -70 + 0.95 * (y + 70) + 5};
   }));
-  check_uniform(strain.field(), (1.1 * 1.1 - 1) / 2, (0.95 * 0.95 - 1) / 2, 0);
-  CHECK(strain.field().fibre_stretch[0] == doctest::Approx(0.95).epsilon(1e-12));
+  check_uniform(t, strain.field(), (1.1 * 1.1 - 1) / 2, (0.95 * 0.95 - 1) / 2, 0);
 }
 
 TEST_CASE("cell strain: a rigid rotation by 30 degrees and a translation give zero strain") {
@@ -72,7 +99,7 @@ TEST_CASE("cell strain: a rigid rotation by 30 degrees and a translation give ze
   strain.compute(moved(t, [&](double x, double y) {
     return std::array<double, 2>{c * x - s * y + 250, s * x + c * y - 120};
   }));
-  check_uniform(strain.field(), 0, 0, 0);  // (fibre stretch 1, |F e_y| of a rotation)
+  check_uniform(t, strain.field(), 0, 0, 0);  // (fibre stretch 1, |F e_y| of a rotation)
 }
 
 TEST_CASE("cell strain: simple shear x += 0.2 y gives E_xy = 0.1 and E_yy = 0.02") {
@@ -81,7 +108,7 @@ TEST_CASE("cell strain: simple shear x += 0.2 y gives E_xy = 0.1 and E_yy = 0.02
   const Tissue t = sheet();
   CellStrain strain(t);
   strain.compute(moved(t, [&](double x, double y) { return std::array<double, 2>{x + g * y, y}; }));
-  check_uniform(strain.field(), 0, g * g / 2, g / 2);
+  check_uniform(t, strain.field(), 0, g * g / 2, g / 2);
 }
 
 TEST_CASE("cell strain: a cell whose neighbours lie on one line through it, or that has none, is NaN") {
@@ -140,7 +167,8 @@ TEST_CASE("cell strain: a twitching DEM sheet's field is the same bits on 1 and 
   // And the field is the twitch's: the tissue shortened along the fibres
   // (its fitted strain eps_yy is negative), and so did the mean cell.
   double mean_E_yy = 0;
-  for (double e : fields[0].E_yy) mean_E_yy += e / static_cast<double>(t.cell_count());
+  for (double e : fields[0].E_yy)
+    if (!std::isnan(e)) mean_E_yy += e / static_cast<double>(t.cell_count() - strain.unresolved_cells());
   CAPTURE(mean_E_yy);
   CAPTURE(dem.strain()[1]);
   CHECK(dem.strain()[1] < -0.02);
