@@ -202,13 +202,15 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on) {
-    // V of every cell at every sample, as float, and the spectrum's bins.
+    // V of every cell at every sample, as float (with mechanics its fibre
+    // stretch too, run/strain_fields.hpp), and the spectrum's bins.
     const double frames = samples(scene.duration_ms, re.from_ms, re.every_ms);
     // (one spectrum over the bins of both bands, measure/dominant_frequency.hpp)
     const double band_hz = std::max(re.f_max_hz, re.clinical_f_max_hz) - std::min(re.f_min_hz, re.clinical_f_min_hz);
     const double bins = std::max(0.0, band_hz * frames * re.every_ms / 1000.0) + 1;
-    stepping.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples", cells, frames),
-                        4 * cells * frames + 16 * cells * bins,
+    stepping.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples{}", cells, frames,
+                                    mechanics ? " (V and fibre stretch)" : ""),
+                        (mechanics ? 8 : 4) * cells * frames + 16 * cells * bins,
                         "output.reentry: a larger every_ms, a later from_ms, or a smaller tissue"});
   }
   // A picture drawn on the background thread while the cells step
