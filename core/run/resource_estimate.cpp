@@ -60,8 +60,11 @@ double png_frame_bytes(const Tissue& tissue) {
 // (io/vtk_xml_writer.hpp) at most its raw binary arrays, 33 bytes a particle
 // (points 12, radius 4, cell 4, type 1, V 4, vertex connectivity and offsets
 // 8) before zlib, which leaves 6-8 (Fig. 3: 7.5; a 5 x 5 cm sheet: 6).
-double vtk_frame_bytes(const std::string& vtk_format, double particles) {
-  return (vtk_format == "xml" ? 33.0 : 120.0) * particles;
+// With mechanics, the cells' five strain fields add per particle 5 numbers
+// of ~16 characters as text, or 5 Float32 before zlib.
+double vtk_frame_bytes(const std::string& vtk_format, double particles, bool mechanics) {
+  const bool xml = vtk_format == "xml";
+  return ((xml ? 33.0 : 120.0) + (mechanics ? (xml ? 20.0 : 80.0) : 0.0)) * particles;
 }
 
 // Sample count of a series every `every_ms` from `from_ms` to the end.
@@ -252,8 +255,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     const double frames = samples(scene.duration_ms, snap.from_ms, snap.every_ms);
     e.output.push_back({fmt::format("{:.0f} snapshots", frames),
                         frames * ((snap.png ? png_frame_bytes(tissue) : 0.0) +
-                                  (snap.vtk ? vtk_frame_bytes(scene.output.vtk_format, particles) : 0.0)),
-                        "output.snapshots: a larger every_ms, or png/vtk false"});
+                                  (snap.strain && mechanics ? png_frame_bytes(tissue) : 0.0) +
+                                  (snap.vtk ? vtk_frame_bytes(scene.output.vtk_format, particles, mechanics) : 0.0)),
+                        "output.snapshots: a larger every_ms, or png/vtk/strain false"});
     e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * cells + 300.0 * particles + 1e5, ""});
     if (scene.output.checkpoint.every_ms > 0) {
       // A checkpoint: the states (with inputs and outputs, ~1.5 x), the

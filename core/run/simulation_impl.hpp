@@ -34,8 +34,8 @@
 #include "run/mechanics_over_ranks.hpp"
 #include "run/resource_estimate.hpp"
 #include "run/run_clock.hpp"
-#include "run/strain_fields.hpp"
 #include "run/simulation.hpp"
+#include "run/strain_fields.hpp"
 #include "run/trace_recorder.hpp"
 
 namespace fibrodem {
