@@ -28,15 +28,29 @@ std::string write_vtk_file(const std::string& vtk_format, const Tissue& tissue, 
 }
 
 // strain_<t>_ms.png: the deformed tissue coloured by its cells' fibre strain
-// E_yy over the frame's own range; cells without a strain (too few
+// E_yy, the colour bar spanning the frame's 2nd to 98th percentile (a few
+// cells at the sheet's edges, strained far less or more than the rest,
+// would otherwise take the whole range); cells without a strain (too few
 // neighbours) grey, and counted in the title.
 void write_strain_png(const std::filesystem::path& dir, const std::string& scene_name, const SnapshotFrame& frame) {
-  const auto unresolved = std::count_if(frame.strain.E_yy.begin(), frame.strain.E_yy.end(),
-                                        [](double e) { return std::isnan(e); });
+  std::vector<double> finite;
+  for (double e : frame.strain.E_yy)
+    if (std::isfinite(e)) finite.push_back(e);
+  const std::size_t unresolved = frame.strain.E_yy.size() - finite.size();
   PictureOptions picture;
   picture.value_label = "fibre strain E_yy";
   picture.title = fmt::format("{}   t = {:.1f} ms", scene_name, frame.t_ms);
-  if (unresolved > 0) picture.title += fmt::format(" ({} cells without a strain, grey)", unresolved);
+  if (unresolved > 0)
+    picture.title += fmt::format(" ({} cell{} without a strain, grey)", unresolved, unresolved == 1 ? "" : "s");
+  if (!finite.empty()) {
+    const auto at = [&](double q) {
+      auto k = finite.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(finite.size() - 1));
+      std::nth_element(finite.begin(), k, finite.end());
+      return *k;
+    };
+    picture.value_min = at(0.02);
+    picture.value_max = at(0.98);
+  }
   picture.pixels_per_um = frame.pixels_per_um;
   picture.antialias = false;
   char name[64];
