@@ -40,26 +40,27 @@ void CellSystem::block_inputs(std::size_t p, std::size_t begin, std::size_t end)
   const bool gap = coupler && !implicit_coupling;
   double* held = gap_current_pA.empty() ? nullptr : gap_current_pA[p].data();
   if (refresh_gap_current_) coupler->current_into(V_mV.data(), cells + begin, end - begin, held + begin);
-  const Myofilament* stretch_source = nullptr;
-  if (sac.on && sac.host_on[p])
+  const Myofilament* sarcomere = nullptr;
+  const bool stretched = sac.on && sac.host_on[p];
+  if (stretched && !sac.tissue_stretch)
     for (const auto& m : myofilaments)
-      if (m.host == static_cast<int>(p)) stretch_source = &m;
+      if (m.host == static_cast<int>(p)) sarcomere = &m;
+  const double* tissue_stretch = stretched && sac.tissue_stretch ? sac.tissue_stretch->data() : nullptr;
   double* in = pop.i_ext();
   for (std::size_t c = begin; c < end; ++c) {
     double current = i_ext_pA[cells[c]];
     if (gap) current += held[c];
-    if (stretch_source) current -= stretch_activated_pA(*stretch_source, pop, c);
+    if (sarcomere) current -= stretch_activated_pA(*sarcomere, pop, c);
+    if (tissue_stretch) current -= sac.current_pA(tissue_stretch[cells[c]], pop.y[pop.voltage_state * pop.size() + c]);
     in[c] = current;
   }
 }
 
-// I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E) for lambda > 1 [pA, + outward].
+// I_SAC [pA, + outward] at lambda = SL / SL_rest of the cell's myofilament model.
 double CellSystem::stretch_activated_pA(const Myofilament& m, const Population& host, std::size_t c) const {
   const std::size_t n = host.size();
   const double lambda = m.pop.outputs[m.sarcomere_output * n + c] / m.rest_sarcomere_length[c];
-  if (lambda <= 1.0) return 0.0;
-  const double V = host.y[host.voltage_state * n + c];
-  return sac.G_nS * (lambda - 1.0) / (sac.lambda_max - 1.0) * (V - sac.E_mV);
+  return sac.current_pA(lambda, host.y[host.voltage_state * n + c]);
 }
 
 namespace {

@@ -32,12 +32,20 @@ struct Myofilament {
 };
 
 // Stretch-activated current, I_SAC = G (lambda - 1)/(lambda_max - 1) (V - E)
-// for lambda > 1, lambda = SL / SL_rest (mechano_electric_feedback).
-// On for the populations whose host_on is set (mechano_electric_feedback.cell_types).
+// for lambda > 1 (mechano_electric_feedback): lambda = SL / SL_rest of the
+// host's myofilament model, or, when tissue_stretch is set, the cell's fibre
+// stretch in the DEM tissue (by tissue cell number; NaN, a cell whose strain
+// is unresolved: no current). On for the populations whose host_on is set
+// (mechano_electric_feedback.cell_types).
 struct StretchActivatedCurrent {
   bool on = false;
   double G_nS = 0, E_mV = 0, lambda_max = 1.1;
-  std::vector<char> host_on;  // per ionic population
+  std::vector<char> host_on;                           // per ionic population
+  const std::vector<double>* tissue_stretch = nullptr;  // the mechanics' (MechanicsCoupling::fibre_stretch)
+  double current_pA(double lambda, double V_mV) const {
+    if (!(lambda > 1.0)) return 0.0;  // (NaN too)
+    return G_nS * (lambda - 1.0) / (lambda_max - 1.0) * (V_mV - E_mV);
+  }
 };
 
 struct CellSystem {

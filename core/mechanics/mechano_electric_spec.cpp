@@ -7,6 +7,7 @@ MechanoElectricSpec read_mechano_electric_spec(JsonReader r) {
   m.G_SAC_nS = r.number("G_SAC_nS", m.G_SAC_nS, 0.0, 1e6);
   m.E_SAC_mV = r.number("E_SAC_mV", m.E_SAC_mV, -200.0, 200.0);
   m.lambda_max = r.number("lambda_max", m.lambda_max, 1.0 + 1e-6, 10.0);
+  m.stretch = r.text("stretch", "sarcomere", {"sarcomere", "tissue"}) == "tissue" ? StretchSource::tissue : StretchSource::sarcomere;
   m.cell_types_listed = r.has("cell_types");
   const std::vector<std::string> names = r.text_list("cell_types", {});
   for (std::size_t i = 0; i < names.size(); ++i) {

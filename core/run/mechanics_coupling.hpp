@@ -1,8 +1,11 @@
 // The cells driving the DEM tissue mechanics: the mechanics steps at its own
 // step up to the end of each cell step, each DEM step given the cells'
 // lengths relative to rest (SL / SL_rest) interpolated linearly in time
-// across the cell step; nothing flows back to the cells. It keeps the peak
-// strain and the smallest DEM step taken, for summary.json.
+// across the cell step. Back to the cells flows, if asked
+// (track_fibre_stretch), each cell's fibre stretch in the deformed tissue at
+// the end of each advance, for the stretch-activated current of the next
+// cell step. It keeps the peak strain and the smallest DEM step taken, for
+// summary.json.
 //
 // Rest (docs/mechanics.md#rest; spec `skip_at_rest`): the DEM is not stepped
 // while the tissue is at rest and its drive does not change. It falls asleep
@@ -26,6 +29,7 @@
 
 #include "integrate/cell_system.hpp"
 #include "io/checkpoint_file.hpp"
+#include "measure/cell_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "tissue/tissue.hpp"
 
@@ -64,6 +68,13 @@ class MechanicsCoupling {
   void save(CheckpointFields& fields) const;
   void restore(const CheckpointFields& fields, double start_ms);
 
+  // From now on, each advance ends by measuring every cell's fibre stretch
+  // (measure/cell_strain.hpp) from the particles where they are.
+  void track_fibre_stretch(const Tissue& tissue);
+  // By tissue cell number; 1 before the first advance, NaN where the strain
+  // is unresolved; empty unless tracked.
+  const std::vector<double>& fibre_stretch() const { return fibre_stretch_; }
+
   MechanicsSolver& solver() { return *solver_; }
   const MechanicsSolver& solver() const { return *solver_; }
   double smallest_step_ms() const { return step_ms_; }
@@ -90,6 +101,9 @@ class MechanicsCoupling {
   std::vector<double> length_ratio_from_, length_ratio_to_, length_ratio_;
   double length_ratio_from_ms_ = 0;
   std::array<double, 3> peak_strain_{0, 0, 0};
+  std::unique_ptr<CellStrain> cell_strain_;  // tracking the fibre stretch
+  std::vector<double> fibre_stretch_;
+  void measure_fibre_stretch();
 
   // Rest: the spec's switch; the distance no body may have been able to move
   // asleep [m]; the lengths the DEM last stepped with (length_ratio_ after a

@@ -179,7 +179,8 @@ void Simulation::Impl::build_myofilaments() {
 
 // The stretch-activated current on the populations of the cell types that
 // mechano_electric_feedback.cell_types lists (by default every type with a
-// myofilament model); a listed type needs a myofilament model for its stretch.
+// myofilament model); with the sarcomere's stretch, a listed type needs a
+// myofilament model (the tissue's stretch: build_mechanics).
 void Simulation::Impl::connect_stretch_activated_current() {
   const MechanoElectricSpec& mef = scene.mechano_electric;
   system.sac.on = true;
@@ -187,14 +188,19 @@ void Simulation::Impl::connect_stretch_activated_current() {
   system.sac.E_mV = mef.E_SAC_mV;
   system.sac.lambda_max = mef.lambda_max;
   system.sac.host_on.assign(system.populations.size(), 0);
-  for (std::size_t p = 0; p < system.populations.size(); ++p)
-    system.sac.host_on[p] = mef.on_for(system.populations[p].type);
-  if (!mef.cell_types_listed) return;
+  auto has_myofilament = [&](CellType type) {
+    const auto spec = scene.cells.find(type);
+    return spec != scene.cells.end() && spec->second.myofilament.has_value();
+  };
+  for (std::size_t p = 0; p < system.populations.size(); ++p) {
+    const CellType type = system.populations[p].type;
+    system.sac.host_on[p] = mef.cell_types_listed ? mef.on_for(type) : has_myofilament(type);
+  }
+  if (!mef.cell_types_listed || mef.stretch == StretchSource::tissue) return;
   for (std::size_t t = 0; t < kCellTypeNames.size(); ++t) {
     const auto type = static_cast<CellType>(t);
     if (!mef.on_for(type)) continue;
-    const auto spec = scene.cells.find(type);
-    if (spec == scene.cells.end() || !spec->second.myofilament)
+    if (!has_myofilament(type))
       throw ManifestError("mechano_electric_feedback.cell_types",
                           std::string("the stretch-activated current of ") + kCellTypeNames[t] +
                               " cells needs their stretch, but cells." + kCellTypeNames[t] +
@@ -257,13 +263,24 @@ void Simulation::Impl::build_coupling() {
   }
 }
 // DEM tissue mechanics: cells' lengths from their myofilaments drive it;
-// nothing flows back to the cells. Split over ranks, rank 0 alone keeps
-// it (built on every rank: a spec it refuses stops every rank alike).
+// back to the cells flows their fibre stretch if the stretch-activated
+// current reads it. Split over ranks, rank 0 alone keeps it (built on every
+// rank: a spec it refuses stops every rank alike).
 void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
+  const bool tissue_stretch =
+      plan.has("mechano_electric_feedback") && scene.mechano_electric.stretch == StretchSource::tissue;
+  if (tissue_stretch && ranks)
+    throw ManifestError("mechano_electric_feedback.stretch",
+                        "\"tissue\" needs every cell's stretch on every rank, and the DEM runs on rank 0 alone: "
+                        "run it in one process, or use \"sarcomere\" over ranks");
   check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
   strain_fields = make_strain_fields(tissue, scene.output, plan.notes);
+  if (tissue_stretch) {
+    mechanics->track_fibre_stretch(tissue);
+    system.sac.tissue_stretch = &mechanics->fibre_stretch();
+  }
   if (!ranks) return;
   mechanics_over_ranks =
       std::make_unique<MechanicsOverRanks>(*ranks, share.owned, cells_in_rank_order, rank_cell_counts, rank_cell_offsets);

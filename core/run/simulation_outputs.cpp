@@ -62,8 +62,10 @@ void Simulation::Impl::log_setup() {
               "cells' steps", scene.mechanics.contact_law, mechanics->smallest_step_ms(),
               mechanics->solver().stable_step_ms());
   if (system.sac.on)
-    log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}", system.sac.G_nS, system.sac.E_mV,
-              system.sac.lambda_max);
+    log->info("stretch-activated current: G = {} nS, E = {} mV, lambda_max = {}, lambda: {}", system.sac.G_nS,
+              system.sac.E_mV, system.sac.lambda_max,
+              system.sac.tissue_stretch ? "each cell's fibre stretch in the DEM tissue, at the end of each cell step"
+                                        : "SL / SL_rest of each cell's myofilament model");
   if (system.coupler)
     log->info("coupling: gap junctions, D_m = {} nS{}, D_f = {} nS{}, {}", scene.coupling.D_m_nS,
               scene.coupling.D_m_side_nS == scene.coupling.D_m_nS

@@ -25,6 +25,9 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
       const std::string& effect = scene.effects[i];
       if (!plan.has(effect)) plan.built.push_back({effect, "listed in the manifest's effects"});
     }
+    if (plan.has("mechano_electric_feedback") && scene.mechano_electric.stretch == StretchSource::tissue &&
+        !plan.has("mechanics"))
+      plan.built.push_back({"mechanics", "mechano_electric_feedback.stretch tissue reads the DEM tissue's deformation"});
     if (plan.has("mechanics") && !plan.has("contraction"))
       plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});
     if (plan.has("mechano_electric_feedback") && !plan.has("contraction"))
