@@ -86,6 +86,21 @@ TEST_CASE("a planar wave paced twice: two beats, none blocked, cycle length the 
   CHECK(s["beats"][1]["last_activation_ms"].get<double>() == doctest::Approx(interpolated(arrival(310, kRow - 1))));
 }
 
+TEST_CASE("V hovering about V* is one activation; a fall 10 mV below V* re-arms the cell") {
+  // Cell 0 crosses -50 mV five times in one excitation (-52, -48, -51, -47,
+  // ..., never below -60 mV between): one activation. Cell 1 does the same
+  // but falls to -61 mV between its second and third crossings: two.
+  VoltageFrames frames(2);
+  const std::vector<double> hover = {-80, -52, -48, -51, -47, -51, -46, -52, -45, -80, -80};
+  const std::vector<double> rearmed = {-80, -52, -48, -61, -47, -51, -46, -52, -45, -80, -80};
+  for (std::size_t k = 0; k < hover.size(); ++k) frames.add(static_cast<double>(k), {hover[k], rearmed[k]});
+  const auto found = activation_times(frames, -50);
+  REQUIRE(found[0].size() == 1);
+  CHECK(found[0][0] == doctest::Approx(1.5));  // -52 at 1 ms, -48 at 2 ms
+  REQUIRE(found[1].size() == 2);
+  CHECK(found[1][1] == doctest::Approx(3 + 11.0 / 14));  // -61 at 3 ms, -47 at 4 ms
+}
+
 TEST_CASE("a beat blocked beyond a line leaves the cells past it unreached, fibroblasts not counted") {
   // The second wave stops before cell 15: 5 of the 20 myocytes (0.25) are
   // not reached. Four fibroblasts (never activated) are not counted.

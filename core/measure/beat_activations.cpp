@@ -12,11 +12,15 @@ namespace fibrodem {
 
 std::vector<std::vector<double>> activation_times(const VoltageFrames& frames, double V_star_mV) {
   std::vector<std::vector<double>> times(frames.cells);
+  std::vector<char> armed(frames.cells, 1);
+  const double rearm_mV = V_star_mV - kActivationRearm_mV;
   for (std::size_t k = 1; k < frames.count(); ++k) {
     const float* a = frames.frame(k - 1);
     const float* b = frames.frame(k);
     for (std::size_t c = 0; c < frames.cells; ++c) {
-      if (!(a[c] < V_star_mV && b[c] >= V_star_mV)) continue;
+      if (b[c] < rearm_mV) armed[c] = 1;
+      if (!(armed[c] && a[c] < V_star_mV && b[c] >= V_star_mV)) continue;
+      armed[c] = 0;
       times[c].push_back(frames.t_ms[k - 1] +
                          (frames.t_ms[k] - frames.t_ms[k - 1]) * (V_star_mV - a[c]) / (double(b[c]) - a[c]));
     }

@@ -3,7 +3,11 @@
 // activation maps, conduction block per beat and the cycle length.
 //
 //   activation   an upward crossing of V* between two samples, its time
-//                interpolated linearly (as the re-entry summary's)
+//                interpolated linearly, by a cell whose V has fallen below
+//                V* - kActivationRearm_mV since its last activation: V
+//                hovering about V* (the cells at a spiral's tip, a wave
+//                failing at a collagen void) crosses it many times in one
+//                excitation, and each crossing would count as a beat
 //   beat window  from one distinct stimulus onset to the next (the last to
 //                the end of the record); activations before the first onset
 //                form a window of their own
@@ -28,6 +32,8 @@
 namespace fibrodem {
 
 struct VoltageFrames;
+
+inline constexpr double kActivationRearm_mV = 10;
 
 // Every cell's activations, in time order.
 std::vector<std::vector<double>> activation_times(const VoltageFrames& frames, double V_star_mV);

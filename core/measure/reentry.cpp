@@ -88,24 +88,18 @@ SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames
   return tracker;
 }
 
-// Per cell, its activations (upward crossings of V*) at or after `after_ms`:
-// the latest of them anywhere, and the most any cell has.
-std::pair<double, int> activations_after(const VoltageFrames& frames, double V_star_mV, double after_ms) {
+// Of every cell's activations at or after `after_ms`: the latest anywhere,
+// and the most any cell has.
+std::pair<double, int> activations_after(const std::vector<std::vector<double>>& activations, double after_ms) {
   double last = -std::numeric_limits<double>::infinity();
-  std::vector<int> count(frames.cells, 0);
-  for (std::size_t k = 1; k < frames.count(); ++k) {
-    const float* a = frames.frame(k - 1);
-    const float* b = frames.frame(k);
-    for (std::size_t c = 0; c < frames.cells; ++c) {
-      if (!(a[c] < V_star_mV && b[c] >= V_star_mV)) continue;
-      const double t = frames.t_ms[k - 1] +
-                       (frames.t_ms[k] - frames.t_ms[k - 1]) * (V_star_mV - a[c]) / (double(b[c]) - a[c]);
-      if (t < after_ms) continue;
-      last = std::max(last, t);
-      ++count[c];
-    }
+  int most = 0;
+  for (const auto& a : activations) {
+    const auto first = std::lower_bound(a.begin(), a.end(), after_ms);
+    if (first == a.end()) continue;
+    last = std::max(last, a.back());
+    most = std::max(most, static_cast<int>(a.end() - first));
   }
-  return {last, count.empty() ? 0 : *std::max_element(count.begin(), count.end())};
+  return {last, most};
 }
 
 json dominant_frequency_summary(const DominantFrequencies& df) {
@@ -188,7 +182,8 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
   for (const auto& track : tracker.tracks()) longest_ms = std::max(longest_ms, track.death_ms - track.birth_ms);
 
   const double last_onset = onsets.empty() ? 0.0 : onsets.back();
-  const auto [last_activation, most] = activations_after(frames, s.V_star_mV, last_onset);
+  const auto activations = activation_times(frames, s.V_star_mV);
+  const auto [last_activation, most] = activations_after(activations, last_onset);
   const bool active = std::isfinite(last_activation);
   const double duration = active ? std::max(0.0, last_activation - last_onset) : 0.0;
   const json cycle = onsets.size() >= 2 ? json(onsets.back() - onsets[onsets.size() - 2]) : json(nullptr);
@@ -206,7 +201,6 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
               {"every_ms", s.every_ms},
               {"tau_ms", s.tau_ms},
               {"V_star_mV", s.V_star_mV}};
-  const auto activations = activation_times(frames, s.V_star_mV);
   out.update(spiral_summary(tissue, frames, tracker, activations, s, dir, maps));
   auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms,
                                  {{s.f_min_hz, s.f_max_hz}, {s.clinical_f_min_hz, s.clinical_f_max_hz}});
