@@ -86,7 +86,7 @@ TEST_CASE("a planar wave paced twice: two beats, none blocked, cycle length the 
   CHECK(s["beats"][1]["last_activation_ms"].get<double>() == doctest::Approx(interpolated(arrival(310, kRow - 1))));
 }
 
-TEST_CASE("V hovering about V* is one activation; a fall 10 mV below V* re-arms the cell") {
+TEST_CASE("V hovering about V* is one activation, a fall 10 mV below V* re-arms the cell") {
   // Cell 0 crosses -50 mV five times in one excitation (-52, -48, -51, -47,
   // ..., never below -60 mV between): one activation. Cell 1 does the same
   // but falls to -61 mV between its second and third crossings: two.

@@ -38,6 +38,11 @@ TEST_CASE("summarize_proportion: Wilson's score interval for events out of runs"
   const SampleSummary none = summarize_proportion({0, 0, 0, 0});
   CHECK(none.ci95_low == 0.0);
   CHECK(none.ci95_high == doctest::Approx(0.489891).epsilon(1e-6));
+  // Of 3 the formula's lower bound is 5e-17 in floating point; none and all
+  // give exactly 0 and 1 (z^2/(n + z^2) = 0.561491 the other bound).
+  CHECK(summarize_proportion({0, 0, 0}).ci95_low == 0.0);
+  CHECK(summarize_proportion({1, 1, 1}).ci95_high == 1.0);
+  CHECK(summarize_proportion({1, 1, 1}).ci95_low == doctest::Approx(1 - 0.561491).epsilon(1e-5));
   // Not all 0 or 1: the t interval of the mean.
   const SampleSummary other = summarize_proportion({2, 4, 9});
   CHECK(other.ci95_low == summarize({2, 4, 9}).ci95_low);

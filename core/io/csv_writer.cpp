@@ -32,9 +32,17 @@ std::uintmax_t CsvWriter::bytes_written() {
   return static_cast<std::uintmax_t>(out_.tellp());
 }
 
+// A text holding a comma, a quote or a line break is quoted, its quotes
+// doubled (RFC 4180): a sweep's list-valued grid column stays one column.
 CsvWriter& CsvWriter::cell(const std::string& value) {
   if (!first_in_row_) out_ << ',';
-  out_ << value;
+  if (value.find_first_of(",\"\r\n") == std::string::npos) {
+    out_ << value;
+  } else {
+    out_ << '"';
+    for (char c : value) out_ << (c == '"' ? "\"\"" : std::string(1, c));
+    out_ << '"';
+  }
   first_in_row_ = false;
   return *this;
 }

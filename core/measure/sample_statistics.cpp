@@ -41,8 +41,9 @@ SampleSummary summarize_proportion(const std::vector<double>& values) {
   const double z = 1.959963984540054, n = static_cast<double>(s.n), p = s.mean;
   const double centre = p + z * z / (2 * n), denominator = 1 + z * z / n;
   const double half = z * std::sqrt(p * (1 - p) / n + z * z / (4 * n * n));
-  s.ci95_low = std::max(0.0, (centre - half) / denominator);
-  s.ci95_high = std::min(1.0, (centre + half) / denominator);
+  // (Exactly 0 below none and 1 above all: the formula's round-off left 5e-17.)
+  s.ci95_low = p == 0 ? 0.0 : std::max(0.0, (centre - half) / denominator);
+  s.ci95_high = p == 1 ? 1.0 : std::min(1.0, (centre + half) / denominator);
   return s;
 }
 

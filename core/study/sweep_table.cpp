@@ -1,9 +1,12 @@
 #include "study/sweep_table.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include <fmt/format.h>
 
 #include "io/csv_writer.hpp"
 #include "io/plot_png.hpp"
@@ -20,11 +23,14 @@ std::string cell_text(const json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-// A markdown cell: numbers cut to two decimals.
+// A markdown cell: numbers to two decimals (below 0.005 in magnitude, two
+// significant digits, so that 5e-17 does not read as 5.00); text as it is.
 std::string shown(const std::string& text) {
-  std::string s = text;
-  if (const auto dot = s.find('.'); dot != std::string::npos && s.size() > dot + 3) s.resize(dot + 3);
-  return s;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x)) return text;
+  if (x == std::floor(x) && std::abs(x) < 1e15) return text;  // whole numbers as written
+  return std::abs(x) >= 0.005 ? fmt::format("{:.2f}", x) : fmt::format("{:.2g}", x);
 }
 
 void markdown_row(std::ostringstream& md, const std::vector<std::string>& cells) {
