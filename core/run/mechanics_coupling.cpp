@@ -43,25 +43,25 @@ void MechanicsCoupling::advance(double t, const std::vector<double>& length_rati
       if (skipped_this_sleep_ > 0) length_ratio_from_ = length_ratio_;
     }
   }
-  if (!asleep_) {
+  const bool stepping = !asleep_;
+  if (stepping) {
     step_to(t);
     fall_asleep_if_at_rest();
   }
   std::swap(length_ratio_from_, length_ratio_to_);
   length_ratio_from_ms_ = t;
-  if (cell_strain_ && !asleep_) measure_fibre_stretch();  // (asleep, nothing moved)
+  if (cell_strain_ && stepping) cell_strain_->compute(solver_->particles());  // (skipping, nothing moved)
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void MechanicsCoupling::track_fibre_stretch(const Tissue& tissue) {
   cell_strain_ = std::make_unique<CellStrain>(tissue);
-  fibre_stretch_.assign(tissue.cell_count(), 1.0);
-  measure_fibre_stretch();
+  cell_strain_->compute(solver_->particles());
 }
 
-void MechanicsCoupling::measure_fibre_stretch() {
-  const std::vector<double>& lambda = cell_strain_->compute(solver_->particles()).fibre_stretch;
-  std::copy(lambda.begin(), lambda.end(), fibre_stretch_.begin());
+const std::vector<double>& MechanicsCoupling::fibre_stretch() const {
+  static const std::vector<double> untracked;
+  return cell_strain_ ? cell_strain_->field().fibre_stretch : untracked;
 }
 
 void MechanicsCoupling::step_to(double t) {
@@ -145,7 +145,7 @@ void MechanicsCoupling::restore(const CheckpointFields& f, double start_ms) {
   if (!(time_ms_ <= start_ms + kTimeEpsilon_ms && time_ms_ >= start_ms - 1.0 && length_ratio_from_ms_ == start_ms))
     throw CheckpointError("its mechanics' time does not match its cells'");
   peak_strain_ = {m[3], m[4], m[5]};
-  if (cell_strain_) measure_fibre_stretch();  // (a function of the particles restored)
+  if (cell_strain_) cell_strain_->compute(solver_->particles());  // (a function of the particles restored)
   f.read_into("run.length_ratio_from", length_ratio_from_);
   f.read_into("run.length_ratio_to", length_ratio_to_);
   // A checkpoint written without the rest state resumes awake, as its run was.

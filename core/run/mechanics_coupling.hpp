@@ -71,9 +71,9 @@ class MechanicsCoupling {
   // From now on, each advance ends by measuring every cell's fibre stretch
   // (measure/cell_strain.hpp) from the particles where they are.
   void track_fibre_stretch(const Tissue& tissue);
-  // By tissue cell number; 1 before the first advance, NaN where the strain
-  // is unresolved; empty unless tracked.
-  const std::vector<double>& fibre_stretch() const { return fibre_stretch_; }
+  // By tissue cell number, as of the last advance that stepped (1 before
+  // the first); NaN where the strain is unresolved; empty unless tracked.
+  const std::vector<double>& fibre_stretch() const;
 
   MechanicsSolver& solver() { return *solver_; }
   const MechanicsSolver& solver() const { return *solver_; }
@@ -102,8 +102,6 @@ class MechanicsCoupling {
   double length_ratio_from_ms_ = 0;
   std::array<double, 3> peak_strain_{0, 0, 0};
   std::unique_ptr<CellStrain> cell_strain_;  // tracking the fibre stretch
-  std::vector<double> fibre_stretch_;
-  void measure_fibre_stretch();
 
   // Rest: the spec's switch; the distance no body may have been able to move
   // asleep [m]; the lengths the DEM last stepped with (length_ratio_ after a
