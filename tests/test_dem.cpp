@@ -17,10 +17,12 @@
 
 #include "mechanics/clump_geometry.hpp"
 #include "mechanics/dem_solver.hpp"
+#include "support/dem_probe.hpp"
 #include "support/scenes.hpp"
 #include "tissue/builders/column_tissue.hpp"
 
 using namespace fibrodem;
+using fibrodem::test::max_displacement_um;
 
 namespace {
 
@@ -61,14 +63,6 @@ double myocyte_pitch_um(const DemSpec& s, double lambda) {
   const ClumpShape c = contracted_shape(s.area_rule, s.length_mode, kMyocyteParticles, kParticleRadius_um,
                                         kParticleSpacing_um, lambda);
   return (kMyocyteParticles - 1) * c.s + 2 * c.r;
-}
-
-double max_displacement_um(const DemSolver& dem, const Tissue& t) {
-  double m = 0;
-  const auto& p = dem.particles();
-  for (std::size_t i = 0; i < p.size(); ++i)
-    m = std::max(m, std::hypot(p[i].x_um - t.particles[i].x_um, p[i].y_um - t.particles[i].y_um));
-  return m;
 }
 
 }  // namespace

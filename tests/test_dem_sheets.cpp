@@ -16,6 +16,7 @@
 #include "mechanics/dem_solver.hpp"
 #include "run/resource_estimate.hpp"
 #include "support/dem_twitch.hpp"
+#include "support/dem_probe.hpp"
 #include "support/scenes.hpp"
 #include "tissue/builders/column_tissue.hpp"
 
@@ -38,6 +39,20 @@ json fibrosis(const std::string& pattern, const std::string& as, const std::stri
   return f;
 }
 
+// Each pattern with fibroblasts, and with collagen as voids and as particles.
+template <class Body>
+void for_each_fibrosis(Body body) {
+  for (const std::string& pattern : kPatterns)
+    for (const std::string as : {"fibroblasts", "collagen"})
+      for (const std::string collagen : {"voids", "particles"}) {
+        if (as == "fibroblasts" && collagen == "particles") continue;
+        CAPTURE(pattern);
+        CAPTURE(as);
+        CAPTURE(collagen);
+        body(pattern, as, collagen);
+      }
+}
+
 // The brick wall's cell graph from the cells' centres alone (docs/fibrosis.md,
 // "Layout"): a cell is coupled to the next one in its column (125 um up) and
 // to the cells of the neighbouring columns (23.57 um across) whose centres lie
@@ -57,56 +72,42 @@ std::set<std::pair<int, int>> brick_graph(const Tissue& t, const std::vector<cha
   return edges;
 }
 
-double max_displacement_um(const DemSolver& dem, const Tissue& t) {
-  double m = 0;
-  const auto& p = dem.particles();
-  for (std::size_t i = 0; i < p.size(); ++i)
-    m = std::max(m, std::hypot(p[i].x_um - t.particles[i].x_um, p[i].y_um - t.particles[i].y_um));
-  return m;
-}
-
 }  // namespace
 
 TEST_CASE("dem sheets: the bonds give the brick wall's cell graph, for every pattern and as") {
   // 0.6 x 1.5 mm: 25 columns x 11 rows; density 0.25. The expected graph is
   // built from the cells' centres, independently of the bonds.
-  for (const std::string& pattern : kPatterns)
-    for (const std::string as : {"fibroblasts", "collagen"})
-      for (const std::string collagen : {"voids", "particles"}) {
-        if (as == "fibroblasts" && collagen == "particles") continue;
-        CAPTURE(pattern);
-        CAPTURE(as);
-        CAPTURE(collagen);
-        const Tissue t = testing::build_tissue(sheet(0.6, 1.5, fibrosis(pattern, as, collagen)), 5);
-        std::vector<char> septum;
-        if (as == "collagen" && pattern == "interstitial") {
-          const Tissue lines = testing::build_tissue(sheet(0.6, 1.5, fibrosis(pattern, "fibroblasts")), 5);
-          for (CellType type : lines.type) septum.push_back(type == CellType::fibroblast);
-        }
-        const auto expected = brick_graph(t, septum);
-        CHECK(std::set<std::pair<int, int>>(t.cell_edges.begin(), t.cell_edges.end()) == expected);
-        CHECK(t.cell_edges.size() == expected.size());
-        CHECK_FALSE(t.bonds.empty());
-        // Every bond joins touching particles (overlap at most the in-series 1.43 um).
-        const std::size_t np = t.particles.size();
-        auto at = [&](int k) -> const Particle& {
-          return static_cast<std::size_t>(k) < np ? t.particles[k] : t.collagen[k - np];
-        };
-        for (const auto* set : {&t.bonds, &t.collagen_bonds})
-          for (const Bond& b : *set) {
-            const Particle &p = at(b.p), &q = at(b.q);
-            const double gap = std::hypot(p.x_um - q.x_um, p.y_um - q.y_um) - p.r_um - q.r_um;
-            CHECK(gap <= 0.025 + 1e-9);
-          }
-        // Collagen particles only where asked: 7 per hole slot.
-        const bool holes = as == "collagen" && pattern != "interstitial";
-        if (collagen == "particles" && holes) {
-          CHECK(t.collagen.size() == 7 * (25 * 11 - t.cell_count()));
-        } else {
-          CHECK(t.collagen.empty());
-        }
-        if (collagen == "particles" && as == "collagen") CHECK_FALSE(t.collagen_bonds.empty());
+  for_each_fibrosis([](const std::string& pattern, const std::string& as, const std::string& collagen) {
+    const Tissue t = testing::build_tissue(sheet(0.6, 1.5, fibrosis(pattern, as, collagen)), 5);
+    std::vector<char> septum;
+    if (as == "collagen" && pattern == "interstitial") {
+      const Tissue lines = testing::build_tissue(sheet(0.6, 1.5, fibrosis(pattern, "fibroblasts")), 5);
+      for (CellType type : lines.type) septum.push_back(type == CellType::fibroblast);
+    }
+    const auto expected = brick_graph(t, septum);
+    CHECK(std::set<std::pair<int, int>>(t.cell_edges.begin(), t.cell_edges.end()) == expected);
+    CHECK(t.cell_edges.size() == expected.size());
+    CHECK_FALSE(t.bonds.empty());
+    // Every bond joins touching particles (overlap at most the in-series 1.43 um).
+    const std::size_t np = t.particles.size();
+    auto at = [&](int k) -> const Particle& {
+      return static_cast<std::size_t>(k) < np ? t.particles[k] : t.collagen[k - np];
+    };
+    for (const auto* set : {&t.bonds, &t.collagen_bonds})
+      for (const Bond& b : *set) {
+        const Particle &p = at(b.p), &q = at(b.q);
+        const double gap = std::hypot(p.x_um - q.x_um, p.y_um - q.y_um) - p.r_um - q.r_um;
+        CHECK(gap <= 0.025 + 1e-9);
       }
+    // Collagen particles only where asked: 7 per hole slot.
+    const bool holes = as == "collagen" && pattern != "interstitial";
+    if (collagen == "particles" && holes) {
+      CHECK(t.collagen.size() == 7 * (25 * 11 - t.cell_count()));
+    } else {
+      CHECK(t.collagen.empty());
+    }
+    if (collagen == "particles" && as == "collagen") CHECK_FALSE(t.collagen_bonds.empty());
+  });
 }
 
 TEST_CASE("dem sheets: every pattern and collagen mode builds a DEM body that stays at rest") {
@@ -114,24 +115,18 @@ TEST_CASE("dem sheets: every pattern and collagen mode builds a DEM body that st
   // ratio 1 no force acts but the round-off of placing a clump's particles
   // from its pose (~1e-16 of 1e-4 m): over 200 steps nothing may move more
   // than 1e-6 um and the strain must stay below 1e-12.
-  for (const std::string& pattern : kPatterns)
-    for (const std::string as : {"fibroblasts", "collagen"})
-      for (const std::string collagen : {"voids", "particles"}) {
-        if (as == "fibroblasts" && collagen == "particles") continue;
-        CAPTURE(pattern);
-        CAPTURE(as);
-        CAPTURE(collagen);
-        const Tissue t = testing::build_tissue(sheet(0.3, 0.75, fibrosis(pattern, as, collagen)), 2);
-        DemSolver dem(t, DemSpec{});
-        const std::vector<double> ratio(t.cell_count(), 1.0);
-        for (int k = 0; k < 200; ++k) {
-          dem.set_cell_length_ratios(ratio);
-          dem.step(dem.step_ms());
-        }
-        CHECK(max_displacement_um(dem, t) < 1e-6);
-        for (double e : dem.strain()) CHECK(std::abs(e) < 1e-12);
-        CHECK(dem.broken_bonds() == 0);
-      }
+  for_each_fibrosis([](const std::string& pattern, const std::string& as, const std::string& collagen) {
+    const Tissue t = testing::build_tissue(sheet(0.3, 0.75, fibrosis(pattern, as, collagen)), 2);
+    DemSolver dem(t, DemSpec{});
+    const std::vector<double> ratio(t.cell_count(), 1.0);
+    for (int k = 0; k < 200; ++k) {
+      dem.set_cell_length_ratios(ratio);
+      dem.step(dem.step_ms());
+    }
+    CHECK(max_displacement_um(dem, t) < 1e-6);
+    for (double e : dem.strain()) CHECK(std::abs(e) < 1e-12);
+    CHECK(dem.broken_bonds() == 0);
+  });
 }
 
 TEST_CASE("dem sheets: collagen contacts take the collagen's stiffness, the others keep theirs") {
