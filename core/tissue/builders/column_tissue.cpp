@@ -228,9 +228,7 @@ std::vector<std::pair<int, int>> touching_pairs(const Workspace& ws) {
       seen[j] = i;
       const Particle& q = ws.at(j);
       if (i < columns && j < columns && p.cell == q.cell) return true;  // one clump
-      const double reach = (p.r_um + q.r_um) * (1 + kTouchTolerance);
-      const double dx = q.x_um - p.x_um, dy = q.y_um - p.y_um;
-      if (dx * dx + dy * dy <= reach * reach) pairs.emplace_back(i, j);
+      if (touching(p, q)) pairs.emplace_back(i, j);
       return true;
     });
   }

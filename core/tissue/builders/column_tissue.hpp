@@ -41,6 +41,13 @@ inline constexpr double kColumnPitch_um = [] {
 inline constexpr double kAllowedOverlap_um = 2 * kParticleRadius_um - kColumnPitch_um + 1e-9;
 // Relative tolerance under which two particles count as touching.
 inline constexpr double kTouchTolerance = 1e-3;
+// Whether two particles touch or overlap (within kTouchTolerance of their
+// radii's sum): where the builders put a bond.
+inline bool touching(const Particle& p, const Particle& q) {
+  const double reach = (p.r_um + q.r_um) * (1 + kTouchTolerance);
+  const double dx = q.x_um - p.x_um, dy = q.y_um - p.y_um;
+  return dx * dx + dy * dy <= reach * reach;
+}
 
 struct Rect {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0;

@@ -126,10 +126,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
       int made = 0;
       for (int i = 0; i < sa.count; ++i)
         for (int j = 0; j < sb.count; ++j) {
-          const Particle &p = at(sa, i), &q = at(sb, j);
-          const double reach = (p.r_um + q.r_um) * (1 + kTouchTolerance);
-          const double dx = q.x_um - p.x_um, dy = q.y_um - p.y_um;
-          if (dx * dx + dy * dy > reach * reach) continue;
+          if (!touching(at(sa, i), at(sb, j))) continue;
           if (through_collagen) tissue.add_collagen_bond(index(sa, i), index(sb, j));
           else tissue.add_bond(index(sa, i), index(sb, j));
           ++made;
