@@ -36,6 +36,29 @@ struct SyntheticTissue {
   }
 };
 
+// A cAF strand (a one-column-wide sheet, D_m_nS 5) paced by S1 at 10 ms and
+// S2 at 200 ms at its lower end, 400 ms.
+json s1s2_strand() {
+  return json::parse(R"({"fibrodem": 1, "name": "strand", "duration_ms": 400, "seed": 1,
+    "tissue": {"builder": "fibrotic_sheet", "width_mm": 0.05, "length_mm": 3},
+    "cells": {"myocyte": {"model": "colman", "variant": "colman2013_caf"}},
+    "coupling": {"D_m_nS": 5},
+    "stimulus": [
+      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000},
+      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 200, "duration_ms": 2, "amplitude_pA": 4000}],
+    "solver": {"method": "auto"},
+    "output": {"report": false}})");
+}
+
+// A search whose runs are made in this process, two at a time, under dir.
+VulnerableWindowOptions in_process_search(const std::filesystem::path& dir) {
+  VulnerableWindowOptions options;
+  options.out = dir / "search";
+  options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_BINARY_DIR)};
+  options.jobs = 2;
+  return options;
+}
+
 }  // namespace
 
 TEST_CASE("the bisection finds a synthetic window's ends to the resolution") {
@@ -132,19 +155,8 @@ TEST_CASE("a run is classified from its summary: re-entry, S2 not captured, S2 c
 // runs finds. About 30 runs of 0.1-0.3 s.
 TEST_CASE("on a small strand, the bisection finds the boundary a 1 ms scan finds") {
   const auto dir = testing::scratch_dir("vulnerable_window");
-  json m = json::parse(R"({"fibrodem": 1, "name": "strand", "duration_ms": 400, "seed": 1,
-    "tissue": {"builder": "fibrotic_sheet", "width_mm": 0.05, "length_mm": 3},
-    "cells": {"myocyte": {"model": "colman", "variant": "colman2013_caf"}},
-    "coupling": {"D_m_nS": 5},
-    "stimulus": [
-      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000},
-      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 200, "duration_ms": 2, "amplitude_pA": 4000}],
-    "solver": {"method": "auto"},
-    "output": {"report": false}})");
-  VulnerableWindowOptions options;
-  options.out = dir / "search";
-  options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_BINARY_DIR)};
-  options.jobs = 2;
+  const json m = s1s2_strand();
+  VulnerableWindowOptions options = in_process_search(dir);
   options.scan = {40, 200, 20, 1};
   const VulnerableWindowResult found = run_vulnerable_window(m, options);
   CHECK(found.reentry_output_added);
@@ -211,20 +223,12 @@ TEST_CASE("the search runs with mechanics on: a small electromechanical sheet, e
   // without mechanics (the DEM does not feed back to V without
   // mechano_electric_feedback; with it, the stretch-activated current is on).
   const auto dir = testing::scratch_dir("vulnerable_window_em");
-  json m = json::parse(R"({"fibrodem": 1, "name": "em_strand", "duration_ms": 400, "seed": 1,
-    "effects": ["electrophysiology", "coupling", "contraction", "mechanics", "mechano_electric_feedback"],
-    "tissue": {"builder": "fibrotic_sheet", "width_mm": 0.1, "length_mm": 3},
-    "cells": {"myocyte": {"model": "colman", "variant": "colman2013_caf", "myofilament": "rice"}},
-    "coupling": {"D_m_nS": 5},
-    "stimulus": [
-      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 10, "duration_ms": 2, "amplitude_pA": 4000},
-      {"target": {"x_min_mm": -1, "x_max_mm": 1, "y_min_mm": -1, "y_max_mm": 0.2}, "start_ms": 200, "duration_ms": 2, "amplitude_pA": 4000}],
-    "solver": {"method": "auto"},
-    "output": {"report": false}})");
-  VulnerableWindowOptions options;
-  options.out = dir / "search";
-  options.runner = InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_BINARY_DIR)};
-  options.jobs = 2;
+  json m = s1s2_strand();
+  m["name"] = "em_strand";
+  m["effects"] = {"electrophysiology", "coupling", "contraction", "mechanics", "mechano_electric_feedback"};
+  m["tissue"]["width_mm"] = 0.1;
+  m["cells"]["myocyte"]["myofilament"] = "rice";
+  VulnerableWindowOptions options = in_process_search(dir);
   options.scan = {60, 200, 70, 70};  // 60, 130, 200 ms; the resolution leaves no bisection
   const VulnerableWindowResult found = run_vulnerable_window(m, options);
   REQUIRE(found.search.results.size() == 3);
