@@ -29,9 +29,9 @@ struct MechanoElectricSpec {
   double E_SAC_mV = 0.0;
   double lambda_max = 1.1;
   StretchSource stretch = StretchSource::sarcomere;
-  std::array<bool, kCellTypeNames.size()> on_for_type{};  // by CellType
-  bool cell_types_listed = false;  // false: on for every type with a myofilament model
-  bool on_for(CellType t) const { return !cell_types_listed || on_for_type[static_cast<int>(t)]; }
+  std::array<bool, kCellTypeNames.size()> on_for_type{};  // by CellType, as listed
+  bool cell_types_listed = false;  // false: on for every type with a myofilament model (the run decides)
+  bool listed(CellType t) const { return on_for_type[static_cast<int>(t)]; }
 };
 
 // Reads the manifest's `mechano_electric_feedback` object (ManifestError

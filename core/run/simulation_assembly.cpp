@@ -194,12 +194,12 @@ void Simulation::Impl::connect_stretch_activated_current() {
   };
   for (std::size_t p = 0; p < system.populations.size(); ++p) {
     const CellType type = system.populations[p].type;
-    system.sac.host_on[p] = mef.cell_types_listed ? mef.on_for(type) : has_myofilament(type);
+    system.sac.host_on[p] = mef.cell_types_listed ? mef.listed(type) : has_myofilament(type);
   }
   if (!mef.cell_types_listed || mef.stretch == StretchSource::tissue) return;
   for (std::size_t t = 0; t < kCellTypeNames.size(); ++t) {
     const auto type = static_cast<CellType>(t);
-    if (!mef.on_for(type)) continue;
+    if (!mef.listed(type)) continue;
     if (!has_myofilament(type))
       throw ManifestError("mechano_electric_feedback.cell_types",
                           std::string("the stretch-activated current of ") + kCellTypeNames[t] +
