@@ -5,6 +5,8 @@
 // writes from the schemas now.
 #include <doctest/doctest.h>
 
+#include <fstream>
+
 #include <regex>
 
 #include "integrate/integrator.hpp"
@@ -105,7 +107,8 @@ std::vector<json> coverage_manifests() {
     "coupling": {"law": "gap_junction", "D_m_nS": 1000, "D_f_nS": 2, "scheme": "implicit", "dt_ms": 0,
                  "regions": [{"shape": "rectangle", "x_mm": [0, 1], "y_mm": [0, 1], "scale": 0.5},
                              {"shape": "ellipse", "x_mm": [0, 1], "y_mm": [0, 1], "D_m_nS": 10, "D_m_side_nS": 5,
-                              "D_f_nS": 1}]},
+                              "D_f_nS": 1}],
+                 "field": {"x_mm": [0, 1], "y_mm": [0, 1], "scale": [[1, 0.5]], "between": "nearest"}},
     "mechanics": {"solver": "dem", "contact_law": "linear_bond", "contact_law_parameters": {}},
     "mechano_electric_feedback": {"G_SAC_nS": 5, "E_SAC_mV": 0, "lambda_max": 1.1},
     "stimulus": [{"target": {"x_min_frac": 0, "x_max_frac": 1, "y_min_frac": 0, "y_max_frac": 0.5, "type": "myocyte"},
@@ -139,7 +142,12 @@ std::vector<json> coverage_manifests() {
   m["solver"] = {{"method", "rush_larsen"}, {"dt_ms", 0.01}};
   // The other two forms of a region: a rectangle and a circle in mm.
   m["stimulus"][0]["target"] = {{"x_min_mm", -1}, {"x_max_mm", 1}, {"y_min_mm", -1}, {"y_max_mm", 1}, {"type", "myocyte"}};
+  // The field's other form: a file.
+  const auto field_file = testing::scratch_dir("schema_coupling_field") / "field.csv";
+  std::ofstream(field_file) << "1\n";
+  m["coupling"]["field"] = {{"x_mm", {0, 1}}, {"y_mm", {0, 1}}, {"file", field_file.string()}};
   manifests.push_back(m);
+  m["coupling"]["field"] = full["coupling"]["field"];
   m["tissue"] = {{"builder", "in_series"}, {"width_mm", 0.1}, {"height_mm", 0.2}, {"fm_ratio", 0.41}};
   m["stimulus"][0]["target"] = {{"center_x_mm", 0}, {"center_y_mm", 0.1}, {"radius_mm", 0.05}, {"type", "myocyte"}};
   manifests.push_back(m);

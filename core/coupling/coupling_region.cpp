@@ -4,9 +4,6 @@
 
 namespace fibrodem {
 
-namespace {
-
-// [min, max] in mm, as um.
 void read_span_mm(JsonReader& r, const std::string& key, double& min_um, double& max_um) {
   const json& span = r.raw(key);
   const std::string path = r.path_of(key);
@@ -19,6 +16,8 @@ void read_span_mm(JsonReader& r, const std::string& key, double& min_um, double&
   min_um = lo * 1000;
   max_um = hi * 1000;
 }
+
+namespace {
 
 CouplingRegion read_region(const json& object, const std::string& path, const JunctionConductances& base) {
   JsonReader r(object, path);

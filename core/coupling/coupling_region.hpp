@@ -31,6 +31,10 @@ struct CouplingRegion {
 // The index of the last region that holds the point (x, y), or -1 if none does.
 int region_holding(const std::vector<CouplingRegion>& regions, double x_um, double y_um);
 
+// Reads `key` of r, [min, max] in mm with min < max, as um (ManifestError
+// naming the key's path otherwise).
+void read_span_mm(JsonReader& r, const std::string& key, double& min_um, double& max_um);
+
 // Reads coupling.regions (`regions`, a list): each a `shape`, `x_mm` and
 // `y_mm` ([min, max]) and either `scale` (every conductance of `base`
 // times it) or any of D_m_nS, D_m_side_nS, D_f_nS (the others from `base`;

@@ -12,6 +12,7 @@ CouplingSpec read_coupling_spec(JsonReader r) {
   c.scheme = r.text("scheme", c.scheme, {"explicit", "implicit"});
   c.dt_ms = r.number("dt_ms", 0.0, 0.0, 1e3);
   if (r.has("regions")) c.regions = read_coupling_regions(r.raw("regions"), r.path_of("regions"), c.conductances());
+  if (r.has("field")) c.field = read_coupling_field(r.raw("field"), r.path_of("field"));
   r.finish();
   return c;
 }

@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
+#include "coupling/coupling_field.hpp"
 #include "coupling/coupling_region.hpp"
 
 namespace fibrodem {
@@ -20,6 +23,7 @@ struct CouplingSpec {
   std::string scheme = "explicit";  // explicit | implicit (backward Euler)
   double dt_ms = 0;                 // coupling's own step (a multiple of solver.dt_ms); 0: every cell step
   std::vector<CouplingRegion> regions;  // coupling.regions, in order (a later one overrides)
+  std::optional<CouplingField> field;   // coupling.field: a scale on top of the above
   JunctionConductances conductances() const { return {D_m_nS, D_m_side_nS, D_f_nS}; }
 };
 

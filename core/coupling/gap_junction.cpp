@@ -27,15 +27,17 @@ void check_regions_hold_junctions(const Tissue& tissue, const std::vector<Coupli
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, const JunctionConductances& base_nS,
-                                                          const std::vector<CouplingRegion>& regions) {
+                                                          const std::vector<CouplingRegion>& regions,
+                                                          const CouplingField* field) {
   const auto n = static_cast<Eigen::Index>(tissue.cell_count());
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(4 * tissue.cell_edges.size());
   std::vector<int> junctions_held(regions.size(), 0);
+  std::size_t junctions_in_field = 0;
   for (const auto& [i, j] : tissue.cell_edges) {
     const JunctionConductances* g_nS = &base_nS;
+    const double x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]), y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
     if (!regions.empty()) {
-      const double x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]), y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
       if (const int k = region_holding(regions, x_um, y_um); k >= 0) {
         g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
         ++junctions_held[static_cast<std::size_t>(k)];
@@ -44,9 +46,13 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
     const bool both_myocytes =
         tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
     const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
-    const double g = !both_myocytes                              ? g_nS->D_f_nS
-                     : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
-                                                                 : g_nS->D_m_side_nS;
+    double g = !both_myocytes                              ? g_nS->D_f_nS
+               : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
+                                                           : g_nS->D_m_side_nS;
+    if (field && field->contains(x_um, y_um)) {
+      g *= field->scale_at(x_um, y_um);
+      ++junctions_in_field;
+    }
     if (g == 0.0) continue;
     entries.emplace_back(i, i, g);
     entries.emplace_back(j, j, g);
@@ -54,6 +60,13 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
     entries.emplace_back(j, i, -g);
   }
   check_regions_hold_junctions(tissue, regions, junctions_held);
+  if (field && junctions_in_field == 0) {
+    const auto b = tissue.bounds_um();
+    throw ManifestError(field->path, fmt::format("holds no junction (its x_mm [{:g}, {:g}], y_mm [{:g}, {:g}]; the tissue "
+                                                 "spans x [{:g}, {:g}] mm, y [{:g}, {:g}] mm)",
+                                                 field->x_min_um / 1000, field->x_max_um / 1000, field->y_min_um / 1000,
+                                                 field->y_max_um / 1000, b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
+  }
   Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian(n, n);
   laplacian.setFromTriplets(entries.begin(), entries.end());
   laplacian.makeCompressed();
@@ -64,8 +77,9 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
 
 // (L exists whole only while the CG slices it.)
 GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS,
-                                       std::vector<double> capacitance_pF, const std::vector<CouplingRegion>& regions)
-    : cg_(laplacian_of(tissue, g_nS, regions), capacitance_pF), max_rate_per_ms_(0.0) {
+                                       std::vector<double> capacitance_pF, const std::vector<CouplingRegion>& regions,
+                                       const CouplingField* field)
+    : cg_(laplacian_of(tissue, g_nS, regions, field), capacitance_pF), max_rate_per_ms_(0.0) {
   const std::vector<double> total = total_conductance_nS();
   for (std::size_t i = 0; i < total.size(); ++i)
     max_rate_per_ms_ = std::max(max_rate_per_ms_, 2.0 * total[i] / capacitance_pF[i]);

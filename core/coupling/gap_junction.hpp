@@ -3,7 +3,8 @@
 // D = D_m between two myocytes joined end to end, D_m_side between two side
 // by side (tissue/tissue.hpp end_to_end) and D_f for any pair with a
 // fibroblast (coupling/coupling_region.hpp: by region where the manifest
-// gives regions), as the graph Laplacian L [nS]: the currents are -L V and the backward-Euler step
+// gives regions; times coupling/coupling_field.hpp's map where it gives
+// one), as the graph Laplacian L [nS]: the currents are -L V and the backward-Euler step
 // solves (C/dt + L) V' = (C/dt) V, by preconditioned conjugate gradients
 // (coupling/coupling_cg.hpp), which hold L for both.
 #pragma once
@@ -13,6 +14,7 @@
 
 #include "coupling/coupler.hpp"
 #include "coupling/coupling_cg.hpp"
+#include "coupling/coupling_field.hpp"
 #include "coupling/coupling_region.hpp"
 #include "tissue/tissue.hpp"
 
@@ -20,10 +22,11 @@ namespace fibrodem {
 
 class GapJunctionCoupler final : public Coupler {
  public:
-  // `regions` override g_nS where they hold a junction's midpoint; one that
-  // holds none is a ManifestError naming it.
+  // `regions` override g_nS where they hold a junction's midpoint, and
+  // `field` (if any) scales what they give; a region or field that holds no
+  // junction is a ManifestError naming it.
   GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS, std::vector<double> capacitance_pF,
-                     const std::vector<CouplingRegion>& regions = {});
+                     const std::vector<CouplingRegion>& regions = {}, const CouplingField* field = nullptr);
   void add_current(const double* V_mV, double* i_ext_pA) const override;
   void current_into(const double* V_mV, const int* cells, std::size_t count, double* current_pA) const override;
   void implicit_step(double* V_mV, double dt_ms, double tolerance_mV) override;

@@ -244,7 +244,8 @@ void Simulation::Impl::build_coupling() {
   for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
     capacitance[cell] = system.populations[system.where[cell].first].capacitance_pF;
   system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.conductances(), capacitance,
-                                                        scene.coupling.regions);
+                                                        scene.coupling.regions,
+                                                        scene.coupling.field ? &*scene.coupling.field : nullptr);
   system.coupled_pairs = tissue.cell_edges;
   // (CVODE takes the coupling into its implicit solve; the adaptive method
   // takes each cell's own potential in it exponentially.)

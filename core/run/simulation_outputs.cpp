@@ -67,7 +67,7 @@ void Simulation::Impl::log_setup() {
               system.sac.tissue_stretch ? "each cell's fibre stretch in the DEM tissue, at the end of each cell step"
                                         : "SL / SL_rest of each cell's myofilament model");
   if (system.coupler)
-    log->info("coupling: gap junctions, D_m = {} nS{}, D_f = {} nS{}, {}", scene.coupling.D_m_nS,
+    log->info("coupling: gap junctions, D_m = {} nS{}, D_f = {} nS{}{}, {}", scene.coupling.D_m_nS,
               scene.coupling.D_m_side_nS == scene.coupling.D_m_nS
                   ? std::string()
                   : fmt::format(" end to end and {} nS side to side", scene.coupling.D_m_side_nS),
@@ -75,6 +75,9 @@ void Simulation::Impl::log_setup() {
               scene.coupling.regions.empty()
                   ? std::string()
                   : fmt::format(" ({} regions of their own, coupling.regions)", scene.coupling.regions.size()),
+              scene.coupling.field ? fmt::format(", times a map of {} x {} samples (coupling.field)", scene.coupling.field->rows,
+                                                 scene.coupling.field->columns)
+                                   : std::string(),
               !scene.solver.fixed_step()     ? std::string("in the integrator's implicit solve")
               : system.implicit_coupling     ? fmt::format("backward Euler (split), every {} cell step(s)",
                                                            system.coupling_every)

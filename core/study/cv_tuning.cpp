@@ -91,6 +91,9 @@ json cv_measuring_manifest(const json& manifest, CvDirection direction, double l
   const std::string builder = tissue.value("builder", "");
   json m = manifest;
   for (const char* key : {"effects", "mechanics", "mechano_electric_feedback", "initial_state", "settle"}) m.erase(key);
+  // The bulk's conductances are tuned: regions and maps are relative to them.
+  if (m.contains("coupling") && m["coupling"].is_object())
+    for (const char* key : {"regions", "field"}) m["coupling"].erase(key);
   if (builder == "strand") {
     if (direction == CvDirection::across)
       throw ManifestError("tissue.builder", "a strand has no side-to-side junctions: CV across the fibres is "
