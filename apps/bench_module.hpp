@@ -1,6 +1,6 @@
 // `fibrodem bench` runs in the bench module (modules/bench), with Google
 // Benchmark and its own copy of the core, opened by that command alone so
-// that no other command loads libbenchmark (docs/performance.md#start-up).
+// that no other command loads libbenchmark (docs/topics/performance.md#start-up).
 #pragma once
 
 #include <string>

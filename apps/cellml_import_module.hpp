@@ -1,6 +1,6 @@
 // `fibrodem import-cellml` reads CellML in the xml module (modules/xml), with
 // pugixml, opened by that command alone so that no other command loads
-// pugixml (docs/performance.md#start-up).
+// pugixml (docs/topics/performance.md#start-up).
 #pragma once
 
 #include "cellml/import.hpp"

@@ -24,7 +24,7 @@ own declarations, and a test checks that the page is what it writes.)",
 
 | variable | what |
 |---|---|
-| `FIBRODEM_PLUGIN_PATH` | `:`-separated directories searched for plugins after a manifest's `plugin_path` ([plugins.md](../plugins.md#where-plugins-are-found)) |
+| `FIBRODEM_PLUGIN_PATH` | `:`-separated directories searched for plugins after a manifest's `plugin_path` ([plugins.md](../guide/plugins.md#where-plugins-are-found)) |
 | `FIBRODEM_CACHE_DIR` | the cache folder: settled initial states go to its `settle/` (else `$XDG_CACHE_HOME/fibrodem/settle/`, else `~/.cache/fibrodem/settle/`) |
 | `OMP_WAIT_POLICY`, `GOMP_SPINCOUNT` | when neither is set and the command may run a thread team (a tissue, or `solver.threads` above 1; `compare`, `sweep`, `vulnerable-window`, `restitution`, `bench`), fibrodem sets `GOMP_SPINCOUNT=10000` (it starts itself again once with it) so that idle OpenMP threads sleep soon; a single cell on automatic threads starts without that restart |
 | `OMP_PLACES`, `OMP_PROC_BIND` | when `OMP_PLACES` is set, or `OMP_PROC_BIND` to anything but `false`, fibrodem does not start itself again (above): libgomp pins the first thread to one CPU as it loads, and a restarted process would keep only that CPU; OpenMP's spinning is then libgomp's own unless `GOMP_SPINCOUNT` is set |)"}},
@@ -69,7 +69,7 @@ manifest one is added (`every_ms` 2, `tau_ms` 10) with a note. Without
 manifest's interval - 100 to + 100 ms by 10 ms, from at least 10 ms.)",
         R"(Writes `report.html`, `vulnerable_window.csv`, `vulnerable_window.json`,
 `vulnerable_window.png` and `runs/ci_<interval>ms_seed_<seed>/`; exit status
-4 if a run failed. Guide: [arrhythmia.md](../arrhythmia.md#vulnerable-window).)"}},
+4 if a run failed. Guide: [arrhythmia.md](../topics/arrhythmia.md#vulnerable-window).)"}},
       {"restitution",
        {{},
         R"(Moves S2 (`stimulus[1]`) to each coupling interval after the last onset of
@@ -80,7 +80,7 @@ period, then 800, 600, 500, 400, 350, 300, by 25 ms to 200, by 10 ms to 100;
 the table holds medians over the captured cells.)",
         R"(Writes `restitution.csv`, `restitution.json`, `restitution.png` and
 `runs/ci_<interval>ms/`; exit status 4 if a run failed. Guide:
-[arrhythmia.md](../arrhythmia.md#restitution).)"}},
+[arrhythmia.md](../topics/arrhythmia.md#restitution).)"}},
       {"tune-cv",
        {{},
         R"(As openCARP's tuneCV: runs a short strand (builder `strand`) or sheet
@@ -94,7 +94,7 @@ conductances with the CVs reached. The preset `atrium-control` targets
 the `--cv-*` options override its values.)",
         R"(Exit status 2 for a target the layout cannot reach (the message gives the
 closest reachable CV across), 4 when the iterations run out. Guide:
-[fibrosis.md](../fibrosis.md#tuning-conduction-velocity).)"}},
+[fibrosis.md](../topics/fibrosis.md#tuning-conduction-velocity).)"}},
       {"plugins",
        {{},
         "",
@@ -111,7 +111,7 @@ the text form only). Exit 3 when any plugin on the search path fails to load.)"}
        {{},
         "",
         R"(Exit 0 when all checks pass, 3 otherwise. The checks:
-[plugins.md](../plugins.md#checking-a-plugin).)"}},
+[plugins.md](../guide/plugins.md#checking-a-plugin).)"}},
       {"new-model",
        {{},
         "",
@@ -121,18 +121,18 @@ and `_`, starts with a letter and has at most 64 characters; the C++ class is
 `NAME` in CamelCase (`my_model`: `MyModel`), with `Model` (`Law` for a
 contact law) after it where it would be one of the skeleton's own
 `State`, `Param`, `Input`, `Output`. See
-[plugins.md](../plugins.md#plugin-sdk).)"}},
+[plugins.md](../guide/plugins.md#plugin-sdk).)"}},
       {"import-cellml",
        {{},
         R"(`--voltage` overrides the oxmeta annotation `membrane_voltage` and the name
-rules ([cellml_import.md](../cellml_import.md)); the variable is exposed as
+rules ([cellml_import.md](../topics/cellml_import.md)); the variable is exposed as
 the plugin's state `V`. `--stimulus` overrides the annotation
 `membrane_stimulus_current`, the name rules and the structure rule; fibrodem's
 `i_ext` replaces it wherever the model uses it. Unit inconsistencies are
 warnings by default, the numbers used as written
-([cellml_units.md](../cellml_units.md)).)",
+([cellml_units.md](../topics/cellml_units.md)).)",
         R"(Exit 5 when the model is refused (the message names the element's path and
-line), 1 on any other error. Guide: [cellml.md](../cellml.md).)"}},
+line), 1 on any other error. Guide: [cellml.md](../topics/cellml.md).)"}},
       {"bench",
        {{"fibrodem bench [--benchmark_* flags]"},
         R"(`fibrodem bench` runs the Google Benchmark suites (cell-steps/s of the kernels,
@@ -143,7 +143,7 @@ one cell for one second, the DEM step); Google Benchmark's own
       {"bench headline",
        {{},
         R"(The headline speed figures (kernels, Fig. 3 scenes, CVODE, DEM), and the gain
-from threads: [performance.md](../performance.md). With `--baseline`, each
+from threads: [performance.md](../topics/performance.md). With `--baseline`, each
 figure's ratio to the other build, and after the table every figure more
 than 5 % worse than the baseline's, named with how much (a throughput lower,
 or a time longer).)",
@@ -151,7 +151,7 @@ or a time longer).)",
       {"bench accuracy",
        {{},
         R"(Runs a scene with each integrator over a ladder of steps and tolerances and
-measures each against a CVODE reference: [numerics.md](../numerics.md#what-accuracy-costs).)",
+measures each against a CVODE reference: [numerics.md](../topics/numerics.md#what-accuracy-costs).)",
         R"(Lists are comma-separated.)"}},
       {"schema",
        {{},

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("fibrodem ") + FIBRODEM_VERSION);
   // Only the subcommand the first argument names is declared: CLI11 builds
   // every option's parser and validators, which for all of them costs more
-  // than a single-cell run's parsing (docs/performance.md#start-up). Without
+  // than a single-cell run's parsing (docs/topics/performance.md#start-up). Without
   // a subcommand first (--help, a misspelt name) all are, for the help and
   // the error message; none with --version alone.
   const std::string first = argc > 1 ? argv[1] : "";

@@ -1,7 +1,7 @@
 // The ranks of an MPI launch as the MPI module (libfibrodem-mpi.so,
 // modules/mpi/, on Open MPI) gives them: the module is opened only under
 // mpirun (apps/mpi_ranks.hpp), so that the command line does not load Open
-// MPI and its libraries otherwise (docs/performance.md#start-up).
+// MPI and its libraries otherwise (docs/topics/performance.md#start-up).
 #pragma once
 
 #include <memory>

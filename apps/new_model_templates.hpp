@@ -15,7 +15,7 @@ inline constexpr const char* kCMakeLists = R"TPL(# Builds the @KIND@ plugin `@NA
 #   cmake --install build --prefix <fibrodem's install prefix>   # optional:
 #                                   # then fibrodem finds it without the path
 # Without a build type, fibrodem's CMake package chooses Release; Debug or
-# RelWithDebInfo build for a debugger (docs/build_types.md in fibrodem).
+# RelWithDebInfo build for a debugger (docs/dev/build_types.md in fibrodem).
 cmake_minimum_required(VERSION 3.20)
 project(@NAME@ LANGUAGES CXX)
 
@@ -40,7 +40,7 @@ inline constexpr const char* kIonicSource = R"TPL(// @NAME@: a cell-model plugin
 //   dn/dt = (n_inf(V) - n) / tau_n
 // Replace the equations, states and parameters with your model's; say in
 // `reference` where they come from. Units: mV, ms, pA, pF, nS (nS x mV = pA,
-// pA / pF = mV/ms). fibrodem's docs/plugins.md ("Writing a cell-model
+// pA / pF = mV/ms). fibrodem's docs/guide/plugins.md ("Writing a cell-model
 // plugin") has the whole contract; check the plugin with
 // `fibrodem check-plugin` after building.
 #include <type_traits>
@@ -257,7 +257,7 @@ inline constexpr const char* kContactLawSource = R"TPL(// @NAME@: a contact-law 
 //   F_n total = F_n - c_n dn/dt,  c_n = 2 beta sqrt(m_eff kn)
 // kn, ks are the manifest's mechanics.kn_N_per_m, ks_N_per_m (per contact,
 // after the fibroblast factor). Replace with your law; fibrodem's
-// docs/plugins.md ("Contact-law plugins") describes the contract
+// docs/guide/plugins.md ("Contact-law plugins") describes the contract
 // (mechanics/contact_law_plugin.hpp).
 // Units: SI (m, N, kg, s).
 #include <cmath>

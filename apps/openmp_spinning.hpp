@@ -2,7 +2,7 @@
 // libgomp spins ~300,000 times (milliseconds) before it sleeps, which on a
 // shared machine takes a core from other jobs. A run's parallel loops come
 // microseconds apart, so a short spin (GOMP_SPINCOUNT=10000, ~0.1 ms) keeps
-// them fast and lets idle threads sleep (docs/performance.md#how).
+// them fast and lets idle threads sleep (docs/topics/performance.md#how).
 // libgomp reads the setting only when it loads, before main(): the process
 // has to start itself again with it, which loads every library a second
 // time (about as long as a whole single-cell run's start-up). So only a

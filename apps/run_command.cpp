@@ -93,7 +93,7 @@ int run_command(const RunArgs& args) {
       print_outputs(scene.output.dir);
       return 0;
     }
-    // The tissue split over the ranks (docs/parallel.md); rank 0 writes.
+    // The tissue split over the ranks (docs/guide/parallel.md); rank 0 writes.
     // A rank that fails ends the job: the others would wait for it.
     options.ranks = ranks->group();
     try {

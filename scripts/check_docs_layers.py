@@ -2,9 +2,9 @@
 """Checks that the manual's account of the core's layers is the build's.
 
 The build declares the layers in core/CMakeLists.txt, bottom first:
-fibrodem_layer(NAME [USES LAYER...]). docs/layers.md's table ("| `NAME` |
+fibrodem_layer(NAME [USES LAYER...]). docs/dev/layers.md's table ("| `NAME` |
 ... | uses |") must list the same layers in the same order with the same
-uses ("-" for none), and docs/architecture.md's folder layout the same
+uses ("-" for none), and docs/dev/architecture.md's folder layout the same
 core/NAME/ lines in the same order.
 
 Usage: scripts/check_docs_layers.py [REPO_ROOT]
@@ -25,7 +25,7 @@ def build_layers(root):
 
 def table_layers(root):
     layers = []
-    for line in open(os.path.join(root, "docs", "layers.md")):
+    for line in open(os.path.join(root, "docs", "dev", "layers.md")):
         m = re.match(r"\|\s*`(\w+)`\s*\|.*\|\s*([^|]*?)\s*\|\s*$", line)
         if m:
             uses = [] if m.group(2) == "-" else sorted(u.strip() for u in m.group(2).split(","))
@@ -34,7 +34,7 @@ def table_layers(root):
 
 
 def layout_layers(root):
-    return re.findall(r"^core/(\w+)/", open(os.path.join(root, "docs", "architecture.md")).read(), re.M)
+    return re.findall(r"^core/(\w+)/", open(os.path.join(root, "docs", "dev", "architecture.md")).read(), re.M)
 
 
 def main():
@@ -45,10 +45,10 @@ def main():
         problems.append("core/CMakeLists.txt: no fibrodem_layer() found")
     table = table_layers(root)
     if table != build:
-        problems.append("docs/layers.md's table %s differs from core/CMakeLists.txt's layers %s" % (table, build))
+        problems.append("docs/dev/layers.md's table %s differs from core/CMakeLists.txt's layers %s" % (table, build))
     layout = layout_layers(root)
     if layout != [name for name, _ in build]:
-        problems.append("docs/architecture.md lists core/ as %s, the build as %s" % (layout, [n for n, _ in build]))
+        problems.append("docs/dev/architecture.md lists core/ as %s, the build as %s" % (layout, [n for n, _ in build]))
     for p in problems:
         print(p)
     return 1 if problems else 0

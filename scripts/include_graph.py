@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The include graph between the core's folders (docs/layers.md).
+"""The include graph between the core's folders (docs/dev/layers.md).
 
 Reads every `#include "folder/..."` line of core/**/*.{hpp,cpp} and prints,
 per pair of folders, how many include lines go from one to the other (with

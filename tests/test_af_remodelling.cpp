@@ -134,7 +134,7 @@ TEST_CASE("cAF variants: shorter 1 Hz APD, S1-S2 restitution shorter and flatter
   //
   // The controls are the calibrated variants (test_colman.cpp, test_courtemanche.cpp):
   // APD90 at 1 Hz 236.7 ms (original Colman trace) and 292.2 ms (original CRN trace),
-  // docs/references.md#colman-validation-figures, within 1 %.
+  // docs/reference/references.md#colman-validation-figures, within 1 %.
   //
   // The cAF APD90 values published by Colman et al. 2013 and Courtemanche et al. 1999
   // are not in the project's references (the papers' text was not at hand), so the

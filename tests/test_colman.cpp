@@ -2,10 +2,10 @@
 //  (a) model description, variants, and derivatives finite and continuous at the
 //      removable singularities, equal to their analytic limits;
 //  (b) 1 Hz action potentials: variant ni2017 against the Ni et al. authors' output
-//      (Drug_CNZ_APD_measure.dat, docs/references.md#colman-validation-figures) and variant colman2013 against
+//      (Drug_CNZ_APD_measure.dat, docs/reference/references.md#colman-validation-figures) and variant colman2013 against
 //      the authors' committed trace of the original Colman model
 //      (Comprision_with_previous_Model/Original_Colman_Model.dat in
-//      HaiboNi/updated_cnz_for_ina_ikur_block_study, figures in docs/references.md#colman-validation-figures).
+//      HaiboNi/updated_cnz_for_ina_ikur_block_study, figures in docs/reference/references.md#colman-validation-figures).
 //      Both variants start from their 1 Hz steady state (ni2017: ni-2017.mmt initial
 //      values; colman2013: our 300-beat state), so one beat is enough: over 300 further
 //      beats APD90 moves < 0.01 ms and RMP < 0.002 mV (measured, dt 0.02 ms).
@@ -97,7 +97,7 @@ TEST_CASE("colman: model description and variants") {
 TEST_CASE("colman: removable singularities are finite, continuous and at their limits") {
   const auto model = load_colman();
   const ModelInfo& info = model->info();
-  // Singular voltages (docs/references.md#crn-removable-singularities): INa m alpha -47.13, IKr xr alpha -14.1 and
+  // Singular voltages (docs/reference/references.md#crn-removable-singularities): INa m alpha -47.13, IKr xr alpha -14.1 and
   // beta 3.3328, IKs xs 19.9, ICaL d tau -10 mV.
   for (const char* var : {"colman2013", "ni2017"}) {
     CAPTURE(var);
@@ -138,7 +138,7 @@ fibrodem::json colman_manifest(const std::string& variant, double dt_ms) {
       {"duration_ms", 1010.0},
       {"tissue", {{"builder", "single_cell"}, {"type", "myocyte"}}},
       {"cells", {{"myocyte", {{"model", "colman"}, {"variant", variant}}}}},
-      // Zhang-lab protocol: -20 pA/pF x 2 ms on 100 pF = +2000 pA, 1 Hz (docs/references.md#colman-stimulus-and-units).
+      // Zhang-lab protocol: -20 pA/pF x 2 ms on 100 pF = +2000 pA, 1 Hz (docs/reference/references.md#colman-stimulus-and-units).
       {"stimulus",
        {{{"target", "myocyte"},
          {"start_ms", 10},
@@ -208,7 +208,7 @@ TEST_CASE("colman: ni2017 reproduces the Ni et al. 2017 authors' RA output at 1 
 }
 
 TEST_CASE("colman: colman2013 reproduces the original Colman 1 Hz trace") {
-  // Reference (docs/references.md#colman-validation-figures, original Colman, BCL 1000, APD from max dV/dt):
+  // Reference (docs/reference/references.md#colman-validation-figures, original Colman, BCL 1000, APD from max dV/dt):
   // RMP -75.3, Vpeak +24.4 mV, APD50 110.4, APD90 236.7 ms, bulk Ca_i 0.162 -> 0.566 uM.
   // Two constants of colman2013 were fitted to this trace (SERCA_bulk_const,
   // ICaL_f_tau_scale; see colman.cpp), so this guards the calibration.

@@ -1,9 +1,9 @@
 // Courtemanche-Ramirez-Nattel 1998 plugin (`courtemanche`):
 //  (a) derivatives finite and continuous at the removable singularities, with the
-//      analytic limits of docs/references.md#crn-removable-singularities;
+//      analytic limits of docs/reference/references.md#crn-removable-singularities;
 //  (b) a 1 Hz action potential against the authors' committed trace of the original
 //      CRN model (Original_CRN_Model.dat in HaiboNi/updated_cnz_for_ina_ikur_block_study,
-//      figures in docs/references.md#colman-validation-figures), and a looser check from the CellML
+//      figures in docs/reference/references.md#colman-validation-figures), and a looser check from the CellML
 //      initial state.
 #include <doctest/doctest.h>
 
@@ -62,7 +62,7 @@ TEST_CASE("courtemanche: model description") {
 
 TEST_CASE("courtemanche: removable singularities are continuous") {
   const auto model = load_crn();
-  // Singular voltages (docs/references.md#crn-removable-singularities): INa m alpha -47.13, IKr xr alpha -14.1 and
+  // Singular voltages (docs/reference/references.md#crn-removable-singularities): INa m alpha -47.13, IKr xr alpha -14.1 and
   // beta 3.3328, IKs xs 19.9, ICaL d tau -10, Irel w tau 7.9 mV.
   for (double V0 : {-47.13, -14.1, 3.3328, 19.9, -10.0, 7.9}) {
     CAPTURE(V0);
@@ -75,7 +75,7 @@ TEST_CASE("courtemanche: limits at the singular points equal the analytic values
   const ModelInfo& info = model->info();
   const int m = state_index(info, "m"), d = state_index(info, "d"), w = state_index(info, "w");
   const int xs = state_index(info, "xs"), xr = state_index(info, "xr");
-  // Limits from docs/references.md#crn-removable-singularities (analytic, relative 1e-9 for rounding).
+  // Limits from docs/reference/references.md#crn-removable-singularities (analytic, relative 1e-9 for rounding).
   // m: a = alpha_m = 3.2 /ms at V = -47.13.
   CHECK(model->info().states[m].gate);
   {
@@ -140,7 +140,7 @@ fibrodem::json crn_manifest(const std::string& variant, double duration_ms, int 
 
 TEST_CASE("courtemanche: 1 Hz AP matches the authors' CRN trace (paced state)") {
   // Reference: Original_CRN_Model.dat, the 1 Hz beat starting at t = 98000 ms
-  // (docs/references.md#colman-validation-figures, original CRN: RMP -81.15, Vpeak +22.9 mV, APD50 166.0,
+  // (docs/reference/references.md#colman-validation-figures, original CRN: RMP -81.15, Vpeak +22.9 mV, APD50 166.0,
   // APD90 292.2 ms, Ca_i 0.119 -> 0.765 uM). The variant `paced_1hz` holds the state
   // of the CellML model after the same 98 beats.
   fibrodem::Simulation sim(fibrodem::parse_scene(crn_manifest("paced_1hz", 1010.0, 1)));
@@ -171,7 +171,7 @@ TEST_CASE("courtemanche: first beats from the CellML initial state") {
   // From the CellML state (Na_i 11.17 mM) the AP is longer than after 98 beats
   // (Na_i 12.17 mM: more I_NaK and I_NaCa): we measured APD90 306.5, 297.1, 297.3 ms and
   // APD50 184.5, 179.1, 178.9 ms for beats 1-3 (dt 0.005). Checked against the
-  // reference row (docs/references.md#colman-validation-figures) with tolerances covering that drift: APD90
+  // reference row (docs/reference/references.md#colman-validation-figures) with tolerances covering that drift: APD90
   // within 6 %, APD50 within 12 %; RMP of beats 2-3 within 0.5 mV of -81.15; the
   // upstroke overshoots (Vpeak 22.9 +- 3 mV).
   fibrodem::Simulation sim(fibrodem::parse_scene(crn_manifest("cellml", 3010.0, 3)));

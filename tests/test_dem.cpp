@@ -110,11 +110,11 @@ TEST_CASE("dem: the mechanics spec defaults to Table 1 and names the path of a b
 TEST_CASE("dem: contracting clumps keep their area by each rule") {
   const int n = kMyocyteParticles;
   const double r0 = kParticleRadius_um, s0 = kParticleSpacing_um;
-  // docs/references.md#dem-clumps: union of the seed's clump 2790.8 um^2; disk 490.9, lens 107.6.
+  // docs/reference/references.md#dem-clumps: union of the seed's clump 2790.8 um^2; disk 490.9, lens 107.6.
   CHECK(union_area(n, r0, s0) == doctest::Approx(2790.8).epsilon(1e-5));
   CHECK(union_area(1, r0, s0) == doctest::Approx(490.87).epsilon(1e-4));
   CHECK(2 * union_area(1, r0, s0) - union_area(2, r0, s0) == doctest::Approx(107.6).epsilon(1e-3));
-  // docs/references.md#dem-contraction-rule table (spacing s0 lambda): r_A, r_B, r_C.
+  // docs/reference/references.md#dem-contraction-rule table (spacing s0 lambda): r_A, r_B, r_C.
   const double table[][4] = {{0.95, 12.834, 12.963, 13.158},
                              {0.90, 13.208, 13.456, 13.889},
                              {0.85, 13.627, 13.981, 14.706},
@@ -164,7 +164,7 @@ TEST_CASE("dem: contracting clumps keep their area by each rule") {
   add_myocyte(t, 0, 0, 0.3);
   t.finalise();
   // The default length mode (`total`, the seed's words) makes the end-to-end
-  // length lambda L0; `spacing` makes s = lambda s0 (docs/references.md#dem-contraction-rule).
+  // length lambda L0; `spacing` makes s = lambda s0 (docs/reference/references.md#dem-contraction-rule).
   {
     DemSolver total(t, DemSpec{});
     total.set_cell_length_ratios({0.9});

@@ -2,7 +2,7 @@
 // the acceptance bounds (tests/support/dem_twitch.hpp), on a small
 // in-series and a small interstitial tissue through a twitch: with the
 // largest scaling that holds them alone on the Fig. 3 scene (0.005,
-// docs/mechanics.md), the peak strains eps_xx and eps_yy are those of the
+// docs/topics/mechanics.md), the peak strains eps_xx and eps_yy are those of the
 // unscaled solver (every body at its density, the native step)
 // within 1 %, and the strain's time course within 2 % RMS of the peak. The
 // reference is the same solver without scaling, so what is tested is what the
@@ -23,7 +23,7 @@ using namespace fibrodem::test;
 namespace {
 
 // The largest scaling that holds the bounds alone on the Fig. 3 interstitial
-// scene (docs/mechanics.md measures it; the example now sets half of it with
+// scene (docs/topics/mechanics.md measures it; the example now sets half of it with
 // mechanics.multirate, tests/test_dem_multirate.cpp).
 constexpr double kMassScaling = 0.005;
 

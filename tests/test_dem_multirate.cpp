@@ -55,7 +55,7 @@ TEST_CASE("dem multirate: with mass scaling, interstitial tissue keeps its strai
   native_spec.local_damping = 0.7;
   DemSpec spec = native_spec;
   spec.multirate = true;
-  spec.mass_scaling = 0.005;  // the most docs/mechanics.md allows alone
+  spec.mass_scaling = 0.005;  // the most docs/topics/mechanics.md allows alone
   const StrainCourse native = twitch(t, native_spec, 150), combined = twitch(t, spec, 150);
   MESSAGE("step ", combined.step_ms, " ms (", combined.substeps, " substeps in ", combined.steps, " steps)");
   // The scaled disks' step is longer: fewer substeps per step than without.

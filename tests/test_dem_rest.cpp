@@ -1,5 +1,5 @@
 // No DEM steps while the tissue is at rest (mechanics.skip_at_rest,
-// core/run/mechanics_coupling.hpp, docs/mechanics.md#rest). The coupling is
+// core/run/mechanics_coupling.hpp, docs/topics/mechanics.md#rest). The coupling is
 // driven as a run drives it, cell step by cell step: every myocyte's length
 // ratio drifts by 1e-7 per ms (about a Rice myofilament's drift at rest under
 // Rush-Larsen in the Fig. 3 scenes, whose strain reaches ~3e-6 by 30 ms)

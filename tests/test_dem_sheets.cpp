@@ -53,7 +53,7 @@ void for_each_fibrosis(Body body) {
       }
 }
 
-// The brick wall's cell graph from the cells' centres alone (docs/fibrosis.md,
+// The brick wall's cell graph from the cells' centres alone (docs/topics/fibrosis.md,
 // "Layout"): a cell is coupled to the next one in its column (125 um up) and
 // to the cells of the neighbouring columns (23.57 um across) whose centres lie
 // half a cell (62.5 um) above or below it, except across a septum: where, in

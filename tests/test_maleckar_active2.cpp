@@ -137,7 +137,7 @@ TEST_CASE("maleckar_active2: every variant starts at its resting steady state") 
 }
 
 TEST_CASE("maleckar_active2: MacCannell's -49.6 mV in MacCannell's ion environment") {
-  // docs/references.md#active-fibroblast: MacCannell/ELECTRA rest approx. -49.6 mV with Ko 5.4, Nao 140,
+  // docs/reference/references.md#active-fibroblast: MacCannell/ELECTRA rest approx. -49.6 mV with Ko 5.4, Nao 140,
   // Nai 9.05 mM, T 308 K and E_K hard-coded -87.3255 mV. Reproduce E_K by choosing
   // K_i; find the root of dV/dt with r, s at steady state by bisection.
   const auto model = load_fibroblast();

@@ -1,4 +1,4 @@
-// Biomarkers of a run split over MPI ranks (docs/parallel.md): each rank's
+// Biomarkers of a run split over MPI ranks (docs/guide/parallel.md): each rank's
 // tracker measures its own cells only, numbered as in the tissue, and the
 // gathered biomarkers.csv has the same bytes as one process's, whatever the
 // ranks' threads and RMP method.

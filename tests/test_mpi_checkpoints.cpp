@@ -1,5 +1,5 @@
 // Checkpoints of a run split over MPI ranks and `mpirun -n N fibrodem
-// resume` (docs/parallel.md, docs/reference/outputs.md): each rank writes
+// resume` (docs/guide/parallel.md, docs/reference/outputs.md): each rank writes
 // its own cells' part, rank 0 the checkpoint with the rank count, last. A
 // split run killed (SIGKILL, every rank at the same step, or halfway
 // through writing a rank's part) and resumed on as many ranks writes the

@@ -1,5 +1,5 @@
 // Contraction, mechano-electric feedback and the DEM mechanics in a run
-// split over MPI ranks (docs/parallel.md): each rank steps its own cells
+// split over MPI ranks (docs/guide/parallel.md): each rank steps its own cells
 // and myofilaments, and rank 0 gathers every cell's length each step and
 // steps the DEM for the whole tissue. With a fixed step and explicit
 // coupling the cells' lengths have one process's bits, and rank 0's DEM
@@ -143,7 +143,7 @@ TEST_CASE("mpirun -n 2: mechanics with the adaptive method split agrees with one
   REQUIRE(b["status"] == "completed");
   // The DEM's inputs, the cells' lengths, follow V through the Ca
   // transient; V differs from one process's by what the split CG's sums in
-  // another order move it, at most its tolerance (docs/parallel.md: 5e-3 mV
+  // another order move it, at most its tolerance (docs/guide/parallel.md: 5e-3 mV
   // at auto's accuracy, of a 110 mV upstroke), and the strain responds to
   // the lengths smoothly. Measured: peak strain within 3.1e-7 relative
   // (xx; yy 1.4e-7), V within 1.5e-4 mV (the steps' linear forms are kept

@@ -1,9 +1,9 @@
 // What a run split over MPI ranks writes beyond its biomarkers and traces
-// (docs/parallel.md): output.snapshots (rank 0 gathers every cell's V at
+// (docs/guide/parallel.md): output.snapshots (rank 0 gathers every cell's V at
 // each snapshot time), output.reentry (rank 0 gathers every cell's V at
 // each sample and measures at the end) and settle (the coupled tissue
 // stepped split before t = 0). With a fixed step and explicit coupling a split run
-// computes one process's potentials bit for bit (docs/parallel.md,
+// computes one process's potentials bit for bit (docs/guide/parallel.md,
 // Results), so the reference here is the same scene run in one process:
 // the same bytes.
 #include <doctest/doctest.h>
@@ -100,7 +100,7 @@ TEST_CASE("mpirun -n 2: output.reentry of a split run is one process's") {
   // Samples every 0.125 ms on the 0.01 ms step: every other sample lies
   // halfway through a step, so the interpolation between a step's ends is
   // exercised as well as the samples on a step's end. tau_ms is a whole
-  // multiple of every_ms (docs/arrhythmia.md). By 8 ms the wave (stimulus at
+  // multiple of every_ms (docs/topics/arrhythmia.md). By 8 ms the wave (stimulus at
   // 2 ms) has activated every myocyte (checked below), so the beat maps hold
   // activation times that differ from cell to cell.
   json m = testing::split_sheet_planar_wave(8);

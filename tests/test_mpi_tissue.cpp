@@ -1,4 +1,4 @@
-// One tissue split over MPI ranks (docs/parallel.md): a planar wave over a
+// One tissue split over MPI ranks (docs/guide/parallel.md): a planar wave over a
 // sheet with fibroblasts, run in one process and under mpirun -n 2 and 4,
 // gives the same biomarkers, conduction velocity and traces, and two runs
 // on 2 ranks give the same bytes.
@@ -30,7 +30,7 @@ using testing::csv_rows;
 
 // The adaptive method split over ranks against one process: traces.csv's V
 // [mV] (and dt_ms) within this. The CG's sums are added in another order
-// (docs/parallel.md), so now and then a solve stops an iteration earlier
+// (docs/guide/parallel.md), so now and then a solve stops an iteration earlier
 // or later, which moves V by up to its tolerance, a thousandth of the
 // step's (1e-3 x atol 0.06 x 85 mV ~ 5e-3 mV at auto's tolerances);
 // measured: 7e-4 mV on 2 and 4 ranks. Ten solve tolerances.

@@ -65,7 +65,7 @@ TEST_CASE("check-plugin: every bundled model passes every check") {
 
 TEST_CASE("check-plugin: the paced beat of the check fires a colman cell") {
   // The beat check is only worth something if the cell depolarises: colman's
-  // rest is -75.1 mV (docs/models.md#colman) and a 20 pA/pF pulse for 2 ms fires it.
+  // rest is -75.1 mV (docs/topics/models.md#colman) and a 20 pA/pF pulse for 2 ms fires it.
   PluginRegistry registry({kPlugins});
   const auto report = check_plugin(*registry.load("colman"));
   const std::string note = find_check(report, "bounds respected over a paced beat").note;

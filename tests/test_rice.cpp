@@ -3,7 +3,7 @@
 //  (b) the CellML protocol (24 C, the model's own test Ca transient) against the
 //      reference trajectory SL(t) of gotran's test oracle
 //      (ComputationalPhysiology/gotran tests/input/rice_model_2008.cpickle, commit
-//      b0c36f81; docs/references.md#rice-reference-trajectory);
+//      b0c36f81; docs/reference/references.md#rice-reference-trajectory);
 //  (c) 37 C under the same transient: bounded, periodic, its figures;
 //  (d) finite derivatives at the x/|x| points (slack length, xXBprer = 0,
 //      xXBpostr = x_0, SLset = SLrest) and at Tropreg = 0; Ca units;
@@ -200,7 +200,7 @@ TEST_CASE("rice: a myofilament model with the contract's inputs, outputs and var
 
 TEST_CASE("rice: the CellML protocol at 24 C reproduces gotran's reference SL(t)") {
   // Reference: gotran tests/input/rice_model_2008.cpickle (b0c36f81), SL samples at
-  // these exact times (the file samples every ~0.5 ms). docs/references.md#rice-reference-trajectory quotes
+  // these exact times (the file samples every ~0.5 ms). docs/reference/references.md#rice-reference-trajectory quotes
   // the same samples rounded (SL(100) 1.79198 is the 99.95 ms sample, SL(300)
   // 1.88283 the 300.15 ms one; min 1.767303 at 140.57 ms).
   const std::vector<std::pair<double, double>> reference = {
@@ -219,7 +219,7 @@ TEST_CASE("rice: the CellML protocol at 24 C reproduces gotran's reference SL(t)
     const double t_ms = t;  // (clang 14 cannot capture a structured binding)
     CAPTURE(t_ms);
     // Rush-Larsen is first order: at dt 0.001 ms its error is <= 6e-6 um over the
-    // twitch (measured against RK4; 4.5e-6 at these samples); docs/references.md#rice-reference-trajectory: a
+    // twitch (measured against RK4; 4.5e-6 at these samples); docs/reference/references.md#rice-reference-trajectory: a
     // faithful transcription agrees to ~1e-5 um.
     CHECK(std::abs(b.SL_at(t) - SL_ref) < 1e-5);
     // Richardson extrapolation of the two steps removes the first-order error: what

@@ -2,7 +2,7 @@
 // (mpirun), Scotch (the split over ranks), pugixml (CellML, .pvd collections)
 // and Google Benchmark (`fibrodem bench`) are in modules opened on first use
 // (core/util/runtime_module.hpp), so a run that draws nothing and was not
-// launched by mpirun loads none of them (docs/performance.md#start-up). What a process loads is read from glibc's
+// launched by mpirun loads none of them (docs/topics/performance.md#start-up). What a process loads is read from glibc's
 // loader trace (LD_DEBUG=libs: one "calling init: FILE" line per library it
 // initialises, the executable's own needs and every dlopen alike).
 #include <doctest/doctest.h>

@@ -28,7 +28,7 @@ std::string with_unit_warnings(const std::string& cpp, const std::vector<std::st
   if (warnings.empty()) return cpp;
   std::string block = "//\n// Unit inconsistencies in the CellML (" + std::to_string(warnings.size()) +
                       "), imported with the numbers as written (no conversion\n"
-                      "// factor inside an equation; `--strict-units` refuses them; see docs/cellml_units.md):\n";
+                      "// factor inside an equation; `--strict-units` refuses them; see docs/topics/cellml_units.md):\n";
   for (const auto& w : warnings) block += "//   - " + w + "\n";
   std::size_t end = 0;  // the first line that is not a comment
   while (end < cpp.size() && cpp.compare(end, 2, "//") == 0) {

@@ -19,7 +19,7 @@ struct ImportOptions {
   std::string stimulus;
   bool overwrite = false;
   // Unit inconsistencies inside equations refused (else imported with the
-  // numbers as written, and a warning each); see docs/cellml_units.md.
+  // numbers as written, and a warning each); see docs/topics/cellml_units.md.
   bool strict_units = false;
 };
 

@@ -30,7 +30,7 @@
 // (Eigen's IncompleteCholesky, AMD order) halves the iterations, but its two
 // triangular solves cost more than the products they save and run on one
 // thread: 1.5-1.9x Jacobi's solve time at 3k and 52k cells
-// (docs/performance.md#the-coupling-solve). A multigrid cannot repay its
+// (docs/topics/performance.md#the-coupling-solve). A multigrid cannot repay its
 // set-up per step size at a handful of iterations.
 //
 // Cost: one pass over the matrix and one over the vectors an iteration (the
@@ -49,7 +49,7 @@
 // The slices are the coupling's only copy of L: the coupler's currents -L V
 // come from them too (row_current), each row summed in L's column order.
 //
-// Split over ranks (docs/parallel.md): a rank's CG holds its own rows of L
+// Split over ranks (docs/guide/parallel.md): a rank's CG holds its own rows of L
 // (from the whole tissue's, each row's entries in the same order), its
 // vectors its own cells then its ghosts (other ranks' cells its rows reach).
 // Before each product the ghosts' entries of the vector multiplied come from

@@ -46,7 +46,7 @@ class Integrator {
 };
 
 // The integrators by `solver.method` name: the one place that registers one
-// (docs/plugins.md#adding-an-integrator-or-a-tissue-builder). "auto" is not
+// (docs/guide/plugins.md#adding-an-integrator-or-a-tissue-builder). "auto" is not
 // here: it
 // chooses among these (method_choice.hpp).
 struct IntegratorEntry {

@@ -1,6 +1,6 @@
 // solver.method "auto": the cheapest integrator, with its settings, for the
 // APD90 accuracy a scene asks for (solver.accuracy), chosen from what the
-// accuracy ladders measured (docs/numerics.md#what-accuracy-costs):
+// accuracy ladders measured (docs/topics/numerics.md#what-accuracy-costs):
 // - a few cells (a single cell, a cell with its fibroblasts): CVODE, which is
 //   cheapest at every error level there;
 // - tissue: "adaptive", whose implicit coupling and one evaluation per step

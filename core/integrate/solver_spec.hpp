@@ -30,7 +30,7 @@ struct SolverSpec {
   int threads = -1;
   // Rates (and, for rush_larsen, exp(b dt)) of voltage_only gates from tables
   // in V (linear, 0.05 mV). Unset: on for the fixed-step methods (their APD90
-  // moves < 0.001 ms, docs/numerics.md#lookup-tables), off for CVODE (a table makes
+  // moves < 0.001 ms, docs/topics/numerics.md#lookup-tables), off for CVODE (a table makes
   // the right-hand side only piecewise smooth).
   std::optional<bool> lookup_tables;
   bool use_lookup_tables() const { return lookup_tables.value_or(method != "cvode"); }

@@ -1,6 +1,6 @@
 // Pictures and plots are drawn by the drawing module (libfibrodem-drawing.so,
 // modules/drawing/, on Cairo), opened on the first picture: a run that draws
-// nothing never loads Cairo and its libraries (docs/performance.md#start-up).
+// nothing never loads Cairo and its libraries (docs/topics/performance.md#start-up).
 // This is the module's interface; the core's public drawing functions
 // (io/plot_png.hpp, io/plot_svg.hpp, io/tissue_picture.hpp,
 // report/snapshot_frames.hpp) call it.

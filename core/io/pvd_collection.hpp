@@ -4,7 +4,7 @@
 // point leaves a valid collection of the files it wrote. The XML is read and
 // written with pugixml in the xml module (modules/xml), opened on the first
 // collection, so that a run without snapshots does not load pugixml
-// (docs/performance.md#start-up).
+// (docs/topics/performance.md#start-up).
 #pragma once
 
 #include <filesystem>

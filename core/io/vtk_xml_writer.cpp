@@ -24,7 +24,7 @@ namespace {
 constexpr std::size_t kBlockBytes = 1 << 16;
 // zlib's fastest level, as for the PNG pictures: on a 1e6-cell snapshot of
 // V the default level (6) saves 1 % of the size for 7 times the time
-// (docs/performance.md).
+// (docs/topics/performance.md).
 constexpr int kZlibLevel = Z_BEST_SPEED;
 
 template <class T>

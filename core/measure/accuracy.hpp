@@ -1,6 +1,6 @@
 // Accuracy of a run against a reference run of the same scene
-// (docs/numerics.md#what-accuracy-costs; docs/references.md#measurement-conventions,
-// docs/references.md#integrator-cost): the error in the
+// (docs/topics/numerics.md#what-accuracy-costs; docs/reference/references.md#measurement-conventions,
+// docs/reference/references.md#integrator-cost): the error in the
 // membrane potential traces, in APD90, in activation time and in conduction
 // velocity. Pure functions of recorded results, so that they can be checked on
 // synthetic runs; `record_of` takes what they need from a finished Simulation.

@@ -1,5 +1,5 @@
 // Activation times of every cell, beat by beat, from V sampled at a fixed
-// interval (output.reentry, docs/arrhythmia.md "Beats"): per-beat
+// interval (output.reentry, docs/topics/arrhythmia.md "Beats"): per-beat
 // activation maps, conduction block per beat and the cycle length.
 //
 //   activation   an upward crossing of V* between two samples, its time

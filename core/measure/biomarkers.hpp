@@ -1,5 +1,5 @@
 // Action-potential biomarkers per cell and beat, measured on the fly at every
-// integrator step (docs/references.md#measurement-conventions; seed paper section 3):
+// integrator step (docs/reference/references.md#measurement-conventions; seed paper section 3):
 //   activation time  time of max dV/dt in the beat
 //   RMP              V just before the beat's stimulus onset, or (with
 //                    use_pre_upstroke_rmp) the mean V over a window before the

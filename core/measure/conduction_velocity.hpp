@@ -1,5 +1,5 @@
 // Conduction velocity along the fibre (docs/reference/outputs.md#biomarkers;
-// docs/references.md#measurement-conventions): a least-squares fit of activation time against distance from the
+// docs/reference/references.md#measurement-conventions): a least-squares fit of activation time against distance from the
 // stimulated cells, CV = 1/slope. It is robust to the stair-stepped activation
 // times of a discrete tissue. Cells in the stimulated region, within a margin of
 // it, or within a margin of the far edge are left out (the wave is not yet, or

@@ -1,5 +1,5 @@
 // Where re-entry is driven from, in the measures of clinical AF mapping
-// (docs/arrhythmia.md "Drivers"):
+// (docs/topics/arrhythmia.md "Drivers"):
 //
 //   highest dominant frequency site  the cells whose dominant frequency
 //       (measure/dominant_frequency.hpp) is the highest of the tissue, the

@@ -127,7 +127,7 @@ json spiral_json(const SpiralMeasures& m) {
 }
 
 // Each track's spiral measures, the PS density and the rotor time, for
-// summary.json (docs/arrhythmia.md "Spiral measures", "Drivers"); their
+// summary.json (docs/topics/arrhythmia.md "Spiral measures", "Drivers"); their
 // CSV files into dir unless it is empty.
 json spiral_summary(const Tissue& tissue, const VoltageFrames& frames, const SingularityTracker& tracker,
                     const std::vector<std::vector<double>>& activations, const ReentrySettings& s,

@@ -1,5 +1,5 @@
 // Re-entry measured on V of every cell sampled at a fixed interval
-// (output.reentry, docs/arrhythmia.md): phase singularities found and
+// (output.reentry, docs/topics/arrhythmia.md): phase singularities found and
 // tracked frame by frame (phase_singularities.csv), each track's spiral
 // measures (phase_singularity_tracks.csv, measure/spiral_measures.hpp), the
 // driver measures of AF mapping (measure/driver_maps.hpp: PS density in

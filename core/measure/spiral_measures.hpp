@@ -1,5 +1,5 @@
 // The measures of one spiral wave, from its phase singularity's track
-// (measure/singularity_tracking.hpp; docs/arrhythmia.md "Spiral measures").
+// (measure/singularity_tracking.hpp; docs/topics/arrhythmia.md "Spiral measures").
 // Brocklehurst, Ni, Zhang & Ye 2017 (PLoS ONE 12:e0176607) characterise
 // spirals by tip trajectory, excitation frequency and meander range; the
 // definitions here are fibrodem's, each with a closed-form answer on a

@@ -1,5 +1,5 @@
 // Geometry of a myocyte clump: N equal disks of radius r whose centres lie on a
-// line at spacing s (docs/references.md#dem-clumps, #dem-contraction-rule), and
+// line at spacing s (docs/reference/references.md#dem-clumps, #dem-contraction-rule), and
 // how it changes when the cell
 // contracts with its 2D area kept.
 //

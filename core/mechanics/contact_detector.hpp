@@ -1,5 +1,5 @@
 // Contact detection for particles that are not bonded
-// (docs/references.md#dem-contact-detection):
+// (docs/reference/references.md#dem-contact-detection):
 // PFC detects every new contact and gives it the linear contact model; without
 // this, bodies that were not touching at the start pass through one another
 // (loose interstitial tissue folds and piles up).

@@ -7,7 +7,7 @@
 // which the mass and the inertia added are at most the fraction
 // `mass_scaling` of the tissue's at the start. The tissue's own motion gets
 // that much heavier: measured on the Fig. 3 interstitial twitch, its peak
-// strain falls by ~0.8 f (docs/mechanics.md), so f stays small.
+// strain falls by ~0.8 f (docs/topics/mechanics.md), so f stays small.
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-// `dem`: the seed paper's DEM tissue mechanics (docs/references.md#dem).
+// `dem`: the seed paper's DEM tissue mechanics (docs/reference/references.md#dem).
 //
 // Bodies: a myocyte is a rigid clump of its N collinear particles (centroid,
 // angle, velocity, spin; mass and polar inertia of the union of its disks at
@@ -33,7 +33,7 @@
 // Stable step: safety x min over free bodies of sqrt(m / k_t), sqrt(I / k_r),
 // k_t = sum (kn' + ks'), k_r = sum kn' (rho x n)^2 + ks' (rho x t)^2 over the
 // body's bonds, rho from its centroid to the contact point, k' the law's
-// dashpot-corrected stiffness (docs/references.md#dem-timestep), at rest geometry.
+// dashpot-corrected stiffness (docs/reference/references.md#dem-timestep), at rest geometry.
 // Mass scaling (spec `mass_scaling` f > 0; PFC's density scaling, Itasca
 // PFC 6, "Timestep Determination"): every body whose critical step is below
 // a target H gets the mass kt H^2 (and inertia kr H^2), with each contact
@@ -41,7 +41,7 @@
 // the mass (and the inertia) so added is at most f of the tissue's. The
 // dashpots keep the masses of the bodies' density (they set the tissue's
 // viscous forces). Quasi-static loading only: the added mass slows the
-// tissue's own motion (dem_mass_scaling.hpp; docs/mechanics.md).
+// tissue's own motion (dem_mass_scaling.hpp; docs/topics/mechanics.md).
 //
 // Multirate (spec `multirate`; dem_multirate.hpp): the bodies whose critical
 // step is below the clumps' (the light ones: small fibroblast disks) take

@@ -1,6 +1,6 @@
 // The parameters of the DEM tissue mechanics (manifest `mechanics` object),
-// with the seed paper's Table 1 as defaults (docs/references.md#seed-paper,
-// docs/references.md#dem).
+// with the seed paper's Table 1 as defaults (docs/reference/references.md#seed-paper,
+// docs/reference/references.md#dem).
 // Units at this boundary: N/m, N, kg/m^3, ms; inside the solver SI.
 #pragma once
 
@@ -12,7 +12,7 @@
 namespace fibrodem {
 
 // How a contracting myocyte clump keeps its 2D area
-// (docs/references.md#dem-contraction-rule).
+// (docs/reference/references.md#dem-contraction-rule).
 enum class AreaRule {
   union_area,  // (A) area of the union of the disks (Newton on r)
   capsule,     // (B) 2r(N-1)s + pi r^2 = const
@@ -20,17 +20,17 @@ enum class AreaRule {
 };
 // How the cell's length ratio lambda = L/L0 sets the clump's geometry.
 enum class LengthMode {
-  spacing,  // particle spacing s = s0 lambda (docs/references.md#dem-contraction-rule); r from the area rule
+  spacing,  // particle spacing s = s0 lambda (docs/reference/references.md#dem-contraction-rule); r from the area rule
   total,    // total length (N-1)s + 2r = lambda L0 with the area kept (both s and r solved)
 };
 // Which velocities the tissue strain is fitted to
-// (docs/references.md#dem-strain-by-best-fit).
+// (docs/reference/references.md#dem-strain-by-best-fit).
 enum class StrainBodies {
   particles,  // every particle (pebbles of clumps and fibroblast disks): the seed's "all particles"
   bodies,     // clump centroids and fibroblast disks
 };
 // How a contact's stiffness follows from kn, ks (stiffness inheritance,
-// docs/references.md#dem-contact-laws).
+// docs/reference/references.md#dem-contact-laws).
 enum class StiffnessInheritance {
   contact,  // kn, ks are the contact's (PFC contact-model property): 26 N/m per bond
   series,   // kn, ks set on both particles, springs in series: kn/2 per bond
@@ -51,7 +51,7 @@ struct DemSpec {
   double shear_strength_N = 1e200;        // S_F, Table 1 (a force, PFC cb_shearf)
   double friction = 0.0;                  // Coulomb coefficient of a broken bond's contact
   // PFC's local damping: each body's force and moment reduced by alpha |F| in
-  // the direction against its velocity (docs/references.md#dem-motion-and-2d-bodies: default 0 in PFC 5+,
+  // the direction against its velocity (docs/reference/references.md#dem-motion-and-2d-bodies: default 0 in PFC 5+,
   // 0.7 in PFC 4; the seed lists only the dashpots).
   double local_damping = 0.0;
   double fibroblast_stiffness_factor = 1.0;  // kn, ks x this if either end is a fibroblast (seed: 1.5)
@@ -86,7 +86,7 @@ struct DemSpec {
   bool fibroblasts_fixed = false;         // true: fibroblast particles never move
   StrainBodies strain_bodies = StrainBodies::particles;
   // New contacts between particles not bonded at the start (PFC detects them;
-  // docs/references.md#dem-contact-detection): the linear contact model (the law's unbonded state).
+  // docs/reference/references.md#dem-contact-detection): the linear contact model (the law's unbonded state).
   bool contact_detection = true;
   double contact_skin_um = 2.5;           // Verlet skin: a fifth of a myocyte pebble's radius
 };

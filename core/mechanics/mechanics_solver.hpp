@@ -1,6 +1,6 @@
 // A MechanicsSolver moves the tissue's bodies (DEM: rigid myocyte clumps and
 // fibroblast disks) under the forces of its contacts, driven by the cells'
-// lengths, and reports the tissue's strain (docs/architecture.md#interfaces).
+// lengths, and reports the tissue's strain (docs/dev/architecture.md#interfaces).
 // Units at this boundary: ms, um; inside the solver SI.
 #pragma once
 

@@ -1,5 +1,5 @@
 // report.html of a vulnerable-window search's folder (`fibrodem
-// vulnerable-window`, docs/arrhythmia.md): the windows found (bisected
+// vulnerable-window`, docs/topics/arrhythmia.md): the windows found (bisected
 // bounds per seed and over the seeds), the outcome of S2 at every interval
 // run (induced or not), the search's plot and links to each run (its report.html, else its
 // summary.json).

@@ -12,7 +12,7 @@
 namespace fibrodem {
 
 std::filesystem::path checkpoint_path(const std::filesystem::path& run_dir, double t_ms);
-// A run split over MPI ranks (docs/parallel.md): rank r > 0's part of the
+// A run split over MPI ranks (docs/guide/parallel.md): rank r > 0's part of the
 // checkpoint `checkpoint` (checkpoint_path's), beside it:
 // t_<time in us>us.rank<r>.ckpt. list_checkpoints does not list these;
 // prune_checkpoints removes them with their checkpoint.

@@ -1,4 +1,4 @@
-// The gap-junction coupling of a run split over ranks (docs/parallel.md).
+// The gap-junction coupling of a run split over ranks (docs/guide/parallel.md).
 // Its currents are the whole tissue's coupler's (each rank asks for its own
 // cells', their ghosts' potentials refreshed by the run's halo exchange).
 // Its implicit step (the adaptive method's Crank-Nicolson solve, and

@@ -1,4 +1,4 @@
-// The halo exchange of a run split over ranks (docs/parallel.md): before the
+// The halo exchange of a run split over ranks (docs/guide/parallel.md): before the
 // gap-junction currents are computed, each rank sends the potentials of its
 // cells that other ranks' cells are joined to, and receives those of its
 // ghost cells, in V_mV (indexed by global cell on every rank). Buffers are

@@ -7,7 +7,7 @@
 // cell step. It keeps the peak strain and the smallest DEM step taken, for
 // summary.json.
 //
-// Rest (docs/mechanics.md#rest; spec `skip_at_rest`): the DEM is not stepped
+// Rest (docs/topics/mechanics.md#rest; spec `skip_at_rest`): the DEM is not stepped
 // while the tissue is at rest and its drive does not change. It falls asleep
 // at the end of a cell step when every cell's length ratio is within
 // kDriveTolerance of what the DEM last stepped with and its fastest body
@@ -41,7 +41,7 @@ class MechanicsCoupling {
   // without waking it: 1e-4 of a Fig. 3 twitch's ~10 % shortening, 2 % of
   // the peak strain of a small sheet that barely contracts (~5e-4); the
   // Fig. 3 cells at rest under Rush-Larsen drift by ~5e-6 in 130 ms
-  // (docs/mechanics.md#rest).
+  // (docs/topics/mechanics.md#rest).
   static constexpr double kDriveTolerance = 1e-5;
   // Asleep, no body may have been able to move this fraction of the
   // smallest particle radius: about the motion the drive's tolerance

@@ -1,4 +1,4 @@
-// The DEM of a run split over ranks (docs/parallel.md): rank 0 steps the
+// The DEM of a run split over ranks (docs/guide/parallel.md): rank 0 steps the
 // whole tissue's mechanics. At the end of every cell step each rank sends
 // its own cells' lengths relative to rest (SL / SL_rest, from their
 // myofilaments) to rank 0, which places them by tissue number and advances

@@ -26,7 +26,7 @@ std::string refusal_over_ranks(const std::string& command, int ranks, const std:
                      " ranks: this scene cannot be split over ranks yet; unsupported: ";
   for (std::size_t k = 0; k < unsupported.size(); ++k) text += (k ? "; " : "") + unsupported[k];
   return text + ". Nothing was written. Run it on one rank (mpirun -n 1, or without mpirun), or spread whole "
-                "runs over ranks with `mpirun -n " + std::to_string(ranks) + " fibrodem sweep` (docs/parallel.md)";
+                "runs over ranks with `mpirun -n " + std::to_string(ranks) + " fibrodem sweep` (docs/guide/parallel.md)";
 }
 
 }  // namespace fibrodem

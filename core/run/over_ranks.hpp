@@ -1,4 +1,4 @@
-// What `fibrodem run` can split over the ranks of an mpirun (docs/parallel.md):
+// What `fibrodem run` can split over the ranks of an mpirun (docs/guide/parallel.md):
 // the electrophysiology of one tissue with the adaptive method or a
 // fixed-step one (euler, rush_larsen, rush_larsen2), explicit or implicit
 // gap-junction coupling, contraction, mechano-electric feedback and the

@@ -1,4 +1,4 @@
-// The ranks one run is split over (docs/parallel.md): what a Simulation
+// The ranks one run is split over (docs/guide/parallel.md): what a Simulation
 // needs of them. The command line implements it over MPI (apps/mpi_ranks.hpp);
 // the core itself does not link MPI.
 #pragma once

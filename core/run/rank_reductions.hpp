@@ -1,5 +1,5 @@
 // Reductions over the ranks of a split run that every rank computes with the
-// same bits (docs/parallel.md): each rank's value is gathered by every rank,
+// same bits (docs/guide/parallel.md): each rank's value is gathered by every rank,
 // which adds them in rank order (a sum's rounding then depends on the number
 // of ranks only, not on the order messages arrive in) or takes their largest
 // (exact in any order). One collective call a reduction; nothing allocated.

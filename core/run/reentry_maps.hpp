@@ -1,4 +1,4 @@
-// The maps of output.reentry (docs/arrhythmia.md "Maps"): the dominant
+// The maps of output.reentry (docs/topics/arrhythmia.md "Maps"): the dominant
 // frequency of every cell (in the band asked for and in the clinical band),
 // the phase singularities' density and each beat's activation times, as
 // pictures (dominant_frequency_map.png, clinical_dominant_frequency_map.png,

@@ -61,7 +61,7 @@ struct RunFacts {
   json last_checkpoint = nullptr, resumed_from = nullptr;
   json trace_units = json::object();  // traced variable -> unit (TraceRecorder::units)
   json reentry = nullptr;             // output.reentry's measurements (measure/reentry.hpp), or null
-  int mpi_ranks = 1;                  // the ranks the tissue was split over (docs/parallel.md)
+  int mpi_ranks = 1;                  // the ranks the tissue was split over (docs/guide/parallel.md)
 };
 
 json run_summary(const RunFacts& facts);

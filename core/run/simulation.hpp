@@ -35,7 +35,7 @@ struct RunOptions {
   // time, at the end of a step, on the thread running the simulation (the
   // Python module's progress callback). An exception from it fails the run.
   std::function<void(double t_ms)> on_progress;
-  // The ranks the tissue is split over (docs/parallel.md; null or one rank:
+  // The ranks the tissue is split over (docs/guide/parallel.md; null or one rank:
   // this process runs it all). Every rank makes a Simulation of the same
   // scene; rank 0 writes the output folder, the others nothing.
   std::shared_ptr<RankGroup> ranks;

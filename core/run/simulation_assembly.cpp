@@ -23,7 +23,7 @@ namespace {
 
 // solver.threads "auto" shares the work between cores from this many cells on
 // (two blocks of cells: 2 threads run a colman strand 1.47x faster at 512 cells;
-// docs/performance.md#how).
+// docs/topics/performance.md#how).
 constexpr std::size_t kCellsForThreads = 2 * kCellsPerBlock;
 
 }  // namespace

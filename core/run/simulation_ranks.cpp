@@ -1,4 +1,4 @@
-// A run split over the ranks of an mpirun (docs/parallel.md): the tissue's
+// A run split over the ranks of an mpirun (docs/guide/parallel.md): the tissue's
 // cell graph is partitioned (every rank computes the same partition from the
 // same tissue), each rank's populations hold its own cells, the gap currents
 // read the neighbours' potentials refreshed by a halo exchange, and at the

@@ -57,7 +57,7 @@ class TraceRecorder {
   // `mechanics` must be given when strain columns were resolved.
   void sample(double t, CellSystem& system, const MechanicsSolver* mechanics);
 
-  // A run split over ranks (docs/parallel.md): each rank records the columns
+  // A run split over ranks (docs/guide/parallel.md): each rank records the columns
   // of its own cells (and dt_ms; rank 0, which steps the mechanics, the
   // strain too); rank 0 merges them at the end. What a rank sends: its
   // columns as text (a line "variable\tcell\tunit\tstep" each) and its

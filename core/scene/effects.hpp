@@ -1,4 +1,4 @@
-// Which processes a scene needs (docs/architecture.md#effects-and-processes:
+// Which processes a scene needs (docs/dev/architecture.md#effects-and-processes:
 // simulate only what the scene calls for). A manifest may list its
 // `effects`; otherwise they follow from what it records. Each built process
 // carries the reason it was built.

@@ -56,7 +56,7 @@ struct SnapshotSpec {
 
 // output.reentry: V of every cell sampled every every_ms from from_ms for
 // phase singularities (phase_singularities.csv) and summary.json's
-// "reentry" (measure/reentry.hpp, docs/arrhythmia.md). Off unless given.
+// "reentry" (measure/reentry.hpp, docs/topics/arrhythmia.md). Off unless given.
 struct ReentrySpec {
   bool on = false;
   double every_ms = 1.0, from_ms = 0.0;

@@ -1,7 +1,7 @@
 // The manifest's `stimulus` entries: which cells each pulse train drives
 // (a cell type, listed cells, or a region of the tissue) and when, and their
 // reader; stimulus/stimulus.hpp turns them into currents. Protocols
-// (docs/arrhythmia.md): cross-field S1-S2 is a thin edge rectangle then a
+// (docs/topics/arrhythmia.md): cross-field S1-S2 is a thin edge rectangle then a
 // quadrant rectangle; point S1-S2-S3 and burst pacing are circles with
 // trains of given period and count.
 #pragma once

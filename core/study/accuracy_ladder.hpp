@@ -1,5 +1,5 @@
 // An accuracy ladder: what accuracy costs in time for one scene
-// (docs/references.md#integrator-cost: Cooper, Spiteri & Mirams 2015
+// (docs/reference/references.md#integrator-cost: Cooper, Spiteri & Mirams 2015
 // rank integrators by the largest step within an error).
 //
 // The scene is run with each integrator over a ladder of settings: fixed-step

@@ -21,7 +21,7 @@ constexpr double kAlongSheetWidth_mm = 1;    // 42 columns
 constexpr double kAcrossSheetLength_mm = 1;  // 8 rows (7 in the odd columns)
 constexpr double kStimulusStart_ms = 2;
 
-// The brick lattice's continuum conductivities (docs/fibrosis.md#anisotropy)
+// The brick lattice's continuum conductivities (docs/topics/fibrosis.md#anisotropy)
 // per unit of conductance: sigma_yy = kEnd g_e + kSideAlong g_s, sigma_xx =
 // kSideAcross g_s, from each cell's two end-to-end junctions 125 um away
 // and four side-to-side ones 62.5 um along and 23.57 um across it.

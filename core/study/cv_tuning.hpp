@@ -1,5 +1,5 @@
 // Gap-junction conductances for target conduction velocities (fibrodem
-// tune-cv; docs/fibrosis.md#tuning-conduction-velocity), as openCARP's
+// tune-cv; docs/topics/fibrosis.md#tuning-conduction-velocity), as openCARP's
 // tuneCV tunes conductivities (Costa et al. 2013, Comput Cardiol 40:373): a
 // short strand or sheet of the manifest's cells and layout is paced from
 // one edge, its conduction velocity measured as summary.json measures it
@@ -8,7 +8,7 @@
 // p by secant, until every CV is within the tolerance of its target.
 //
 // Along the fibres the brick sheet's side junctions carry part of the
-// current (docs/fibrosis.md#anisotropy: sigma_yy ~ 2 g_e 125^2 + 4 g_s
+// current (docs/topics/fibrosis.md#anisotropy: sigma_yy ~ 2 g_e 125^2 + 4 g_s
 // 62.5^2, sigma_xx ~ 4 g_s 23.57^2), so with both targets the side
 // conductance g_s follows CV across alone and the end-to-end g_e follows
 // CV along through S = g_e + g_s / 2; a target that needs g_e <= 0 (across
@@ -26,7 +26,7 @@
 
 namespace fibrodem {
 
-// Human atrial conduction velocities [m/s] (docs/references.md#conduction-velocity).
+// Human atrial conduction velocities [m/s] (docs/reference/references.md#conduction-velocity).
 struct CvPreset {
   const char* name;
   double along_m_per_s, across_m_per_s;

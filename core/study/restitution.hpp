@@ -1,4 +1,4 @@
-// S1-S2 action-potential restitution (docs/arrhythmia.md#restitution): the
+// S1-S2 action-potential restitution (docs/topics/arrhythmia.md#restitution): the
 // manifest's stimulus[1] (S2) is moved to each coupling interval after the
 // last onset of stimulus[0] (S1), one run per interval by a sweep's point
 // runner (study/sweep_point.hpp); each run's biomarkers.csv gives, per

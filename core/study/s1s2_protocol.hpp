@@ -1,7 +1,7 @@
 // Reading an S1-S2 protocol from a manifest's stimulus list, for the studies
 // that move S2 (restitution, vulnerable window): stimulus[0] is the S1 train
 // (a finite count of pulses every period_ms), stimulus[1] the S2 pulse, its
-// coupling interval measured from the last S1 onset (docs/arrhythmia.md).
+// coupling interval measured from the last S1 onset (docs/topics/arrhythmia.md).
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// The vulnerable window of an S1-S2 protocol (docs/arrhythmia.md): the S2
+// The vulnerable window of an S1-S2 protocol (docs/topics/arrhythmia.md): the S2
 // coupling intervals at which S2 induces re-entry. The manifest's
 // stimulus[1] (S2) is moved to each interval of a scan after the last onset
 // of stimulus[0] (S1), one run per interval (and tissue seed) by a sweep's

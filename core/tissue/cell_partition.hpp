@@ -1,5 +1,5 @@
 // The cells' coupling graph (Tissue::cell_edges) split into parts, one per
-// MPI rank of a run over several ranks (docs/parallel.md): parts of nearly
+// MPI rank of a run over several ranks (docs/guide/parallel.md): parts of nearly
 // equal cell counts with few edges between them (each cut edge is a
 // potential sent between two ranks at every coupling evaluation).
 //

@@ -1,7 +1,7 @@
 // The partition module's interface (modules/partition): Scotch splits a graph
 // given in compressed rows. Scotch is in a module opened on the first split
 // into two parts or more (a run over MPI ranks), so that other processes do
-// not load it and the libraries it needs (docs/performance.md#start-up).
+// not load it and the libraries it needs (docs/topics/performance.md#start-up).
 #pragma once
 
 #include <cstddef>

@@ -5,7 +5,7 @@
 // rank needs, and which ghosts each sends. Every list is in increasing
 // global cell order, so two ranks agree on a message's layout without
 // sending it, and a cell's coupling sums run in the same order on any number
-// of ranks (docs/parallel.md).
+// of ranks (docs/guide/parallel.md).
 #pragma once
 
 #include <vector>

@@ -1,7 +1,7 @@
 // Optional parts of fibrodem built as shared modules (modules/) and opened on
 // first use, so that a process which never draws or never runs under mpirun
 // does not load Cairo or Open MPI and their dozens of libraries at start-up
-// (docs/performance.md#start-up).
+// (docs/topics/performance.md#start-up).
 //
 // A module `name` is the file libfibrodem-NAME.so (a hyphen, so the plugin
 // registry's libfibrodem_* never takes it for a cell model), searched in:

@@ -193,7 +193,7 @@ int run_bench_suites(const char* program, const std::vector<std::string>& args) 
         ->Unit(benchmark::kMillisecond);
   }
   // CVODE on one myocyte at the two tolerance pairs compared with Myokit's
-  // CVODES simulation (docs/performance.md#cvode-against-myokit): CRN 1998 and
+  // CVODES simulation (docs/topics/performance.md#cvode-against-myokit): CRN 1998 and
   // Ni 2017, one beat (set-up included) and ten (per simulated second, the
   // set-up shared by ten beats).
   const std::pair<const char*, const char*> cvode_cells[] = {{"courtemanche", ""}, {"colman", "ni2017"}};

@@ -646,7 +646,7 @@ void Colman::evaluate(const fibrodem::BlockView& block, double /*t_ms*/) const {
 // ms): RMS(V - V_ref) 0.28 mV, Ca_i within 2 nM of the reference's bulk column and
 // Ca_ss within 3 nM of its sub-membrane column. Initial state: beat 300 of this
 // variant from A1's commented rest state. The "Colman lineage" factors
-// (docs/references.md#colman-2013) of x0.8 for I_Kr/I_Ks,
+// (docs/reference/references.md#colman-2013) of x0.8 for I_Kr/I_Ks,
 // x0.8/x1.4 for the background currents and x1.4, Km 9.5 for I_NaK are the A1
 // header's values, which the trace does not show.
 struct Override {

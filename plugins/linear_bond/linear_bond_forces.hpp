@@ -1,4 +1,4 @@
-// `linear_bond`: PFC's linear contact bond with dashpots (docs/references.md#dem-contact-laws;
+// `linear_bond`: PFC's linear contact bond with dashpots (docs/reference/references.md#dem-contact-laws;
 // seed paper Table 1), as the seed paper's DEM used it:
 // - bonded: F_n = kn (g_ref - g), absolute against the bond's reference gap g_ref
 //   (the gap at formation, so bonds start unloaded; tension allowed), F_s

@@ -27,7 +27,7 @@
 // by default none (`i_ext_K_fraction` = 0), as in the CRN CellML; 1 lets K+ carry it
 // (i_ext enters dK_i/dt with the sign of an inward K+ current).
 //
-// Pitfalls avoided (see docs/references.md#active-fibroblast): the Na term is Nai^1.5/(Nai^1.5+K_mNa^1.5)
+// Pitfalls avoided (see docs/reference/references.md#active-fibroblast): the Na term is Nai^1.5/(Nai^1.5+K_mNa^1.5)
 // (not (Nai/(Nai+K_mNa))^1.5); bK1 has its numerator bracketed; the taus use
 // exp(-(..)^2). I_NaK has a pole at V = B = -200 mV (a true pole of the model, not a
 // removable singularity); V's lower bound is set above it.

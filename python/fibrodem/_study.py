@@ -345,7 +345,7 @@ def vulnerable_window(manifest, out=None, from_ms=None, to_ms=None, step_ms=None
                       capture_fraction=_core.vulnerable_window_defaults["capture_fraction"], set=None,
                       overwrite=False, runner=None):
     """Finds the S1-S2 coupling intervals that induce re-entry, as
-    ``fibrodem vulnerable-window`` does (docs/arrhythmia.md), and returns a dict.
+    ``fibrodem vulnerable-window`` does (docs/topics/arrhythmia.md), and returns a dict.
 
     Args:
         manifest: a manifest file path, a dict or a fibrodem.Scene with S1
@@ -391,7 +391,7 @@ def restitution(manifest, out=None, intervals_ms=None, cells=None,
                 capture_fraction=_core.restitution_defaults["capture_fraction"], set=None, overwrite=False,
                 runner=None):
     """S1-S2 action-potential restitution and the effective refractory period,
-    as ``fibrodem restitution`` computes them (docs/arrhythmia.md#restitution),
+    as ``fibrodem restitution`` computes them (docs/topics/arrhythmia.md#restitution),
     returned as a dict.
 
     Args:

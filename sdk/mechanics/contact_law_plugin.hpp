@@ -1,6 +1,6 @@
 // The plugin contract between the fibrodem core and a contact law of the DEM
 // mechanics, in the style of LAMMPS' granular sub-models and PFC's contact
-// models (docs/references.md#dem-contact-laws). Header-only, like cell_model.hpp: a law
+// models (docs/reference/references.md#dem-contact-laws). Header-only, like cell_model.hpp: a law
 // links nothing of the core.
 //
 // The DEM solver keeps the contacts in structure-of-arrays (BondSet) and calls

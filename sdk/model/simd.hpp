@@ -15,7 +15,7 @@
 //
 // The vector exp/log/expm1/pow are xsimd's (header-only, from Debian's
 // libxsimd-dev; max error ~1 ulp). SLEEF (u10) and glibc's libmvec were
-// measured on colman too; docs/performance.md#how says why xsimd.
+// measured on colman too; docs/topics/performance.md#how says why xsimd.
 #pragma once
 
 #include <cmath>

@@ -94,7 +94,7 @@ def test_wrong_argument_types_name_the_argument(cell_pair):
 
 def test_a_failed_run_raises_run_error_with_the_result_so_far():
     # Forward Euler at 0.2 ms is far beyond colman's fastest gate's limit
-    # (~0.02 ms, docs/numerics.md#fixed-steps): a blow-up, named.
+    # (~0.02 ms, docs/topics/numerics.md#fixed-steps): a blow-up, named.
     with pytest.raises(fibrodem.RunError, match="blow-up") as caught:
         fibrodem.simulate_cell("colman", stimulus=fibrodem.pacing(start_ms=5), duration_ms=100,
                                solver={"method": "euler", "dt_ms": 0.2}, log_every_ms=0.2)

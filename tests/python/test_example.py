@@ -18,7 +18,7 @@ def test_d_f_sweep_example(tmp_path):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rows = [line.split() for line in done.stdout.splitlines()[1:7]]
     assert [float(r[0]) for r in rows] == [0.0, 0.5, 1.0, 2.0, 4.0, 8.0]
-    # The passive fibroblasts (E -49.6 mV, docs/models.md) depolarise the
+    # The passive fibroblasts (E -49.6 mV, docs/topics/models.md) depolarise the
     # myocyte's rest more the stronger they are coupled: RMP rises with D_f.
     rmp = [float(r[1]) for r in rows]
     assert rmp == sorted(rmp) and rmp[-1] - rmp[0] > 1.0

@@ -2,7 +2,7 @@
 // a faster mechanics scheme against the native one (mass scaling,
 // tests/test_dem_mass_scaling.cpp; multirate, tests/test_dem_multirate.cpp):
 // peak eps_xx and eps_yy within 1 %, the strain's time course within 2 % RMS
-// of the peak (docs/mechanics.md).
+// of the peak (docs/topics/mechanics.md).
 #pragma once
 
 #include <doctest/doctest.h>
