@@ -11,12 +11,14 @@ cd "$(dirname "$0")/.."
 
 # libvalijson-dev: checks manifests against schema/*.schema.json.
 # libscotch-dev: splits a tissue's cell graph over the ranks of an mpirun.
-# python3-*, pybind11-dev: the Python module (python/); matplotlib: its plots and examples/python.
+# python3-*, pybind11-dev: the Python module (python/); matplotlib: its plots and examples/python;
+# pip, setuptools, wheel, venv: `pip install --no-build-isolation .` (docs/guide/python.md).
 packages=(build-essential cmake pkg-config libeigen3-dev libsundials-dev libboost-dev
           nlohmann-json3-dev libspdlog-dev doctest-dev libcli11-dev libbenchmark-dev nettle-dev
           libcairo2-dev libpng-dev zlib1g-dev libxsimd-dev libpugixml-dev libvalijson-dev libopenmpi-dev openmpi-bin
           libscotch-dev
           python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+          python3-pip python3-setuptools python3-wheel python3-venv
           ${FIBRODEM_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do

@@ -4,6 +4,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include <filesystem>
 #include <memory>
 #include <mutex>
 
@@ -11,8 +12,13 @@
 
 namespace fibrodem::python {
 
+// The folder of the `fibrodem` command line this module runs beside, where
+// its plugins and run-time modules are: <package>/bin in an installed package
+// (setup.py puts them there), else the build's (FIBRODEM_CLI_DIR).
+const std::filesystem::path& cli_dir();
+
 // One registry for the process, searching where the command line does
-// (FIBRODEM_PLUGIN_PATH, then beside the build's `fibrodem` executable), so
+// (FIBRODEM_PLUGIN_PATH, then beside cli_dir()'s `fibrodem` executable), so
 // each plugin is loaded and hashed once. Hold registry_mutex() while using it.
 std::shared_ptr<PluginRegistry> shared_registry();
 std::mutex& registry_mutex();

@@ -96,7 +96,7 @@ py::dict sweep_dict(const SweepResult& result, const SweepFile& sweep) {
 // The runs of a sweep or a search: child processes of `executable`, or, when
 // it is empty, threads of this process with the plugins beside the build.
 PointRunner point_runner(const std::string& executable) {
-  if (executable.empty()) return InProcessRunner{PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR)};
+  if (executable.empty()) return InProcessRunner{PluginRegistry::search_path_beside(cli_dir())};
   return ChildProcessRunner{executable};
 }
 
@@ -191,7 +191,7 @@ py::dict compare(py::handle a_source, py::handle b_source, const py::list& overr
   options.overwrite = overwrite;
   options.report = report;
   options.console_log = console_log;
-  options.plugin_search_path = PluginRegistry::search_path_beside(FIBRODEM_CLI_DIR);
+  options.plugin_search_path = PluginRegistry::search_path_beside(cli_dir());
   CompareResult result;
   std::string stopped, failed;
   {
