@@ -7,12 +7,12 @@ the build lays them out (fibrodem/bin/plugins/); the module finds them there
 (python/src/module.cpp, cli_dir).
 
 setuptools' build folder is build/pip (a folder of its own inside the CMake
-build folder `scripts/setup.sh` makes), where a fresh CMake build goes. FIBRODEM_CMAKE_BUILD_DIR=DIR
-builds in that CMake build folder instead (configured already, or configured
-now), and setuptools' folder is DIR/pip: the tests install from the build
-they test. CMAKE_BUILD_PARALLEL_LEVEL
-sets the jobs (default: every core); CMAKE_CXX_COMPILER_LAUNCHER=ccache and
-the like reach CMake from the environment."""
+build folder `scripts/setup.sh` makes), where a fresh CMake build goes.
+FIBRODEM_CMAKE_BUILD_DIR=DIR builds in that CMake build folder instead
+(configured already, or configured now), and setuptools' folder is DIR/pip:
+the tests install from the build they test. CMAKE_BUILD_PARALLEL_LEVEL sets
+the jobs (default: every core); CMAKE_CXX_COMPILER_LAUNCHER=ccache and the
+like reach CMake from the environment."""
 
 import glob
 import os

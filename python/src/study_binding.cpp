@@ -94,7 +94,7 @@ py::dict sweep_dict(const SweepResult& result, const SweepFile& sweep) {
 }
 
 // The runs of a sweep or a search: child processes of `executable`, or, when
-// it is empty, threads of this process with the plugins beside the build.
+// it is empty, threads of this process with the plugins beside cli_dir().
 PointRunner point_runner(const std::string& executable) {
   if (executable.empty()) return InProcessRunner{PluginRegistry::search_path_beside(cli_dir())};
   return ChildProcessRunner{executable};
