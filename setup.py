@@ -72,6 +72,9 @@ class CMakeBuild(build_ext):
             shutil.copy2(plugin, os.path.join(bin_dir, "plugins"))
 
 
-setup(version=project_version(), ext_modules=[Extension("fibrodem._core", sources=[])],
+# The packages here, not in pyproject.toml's [tool.setuptools], which
+# Debian 12's setuptools (66) warns is beta.
+setup(version=project_version(), package_dir={"": "python"}, packages=["fibrodem"],
+      package_data={"fibrodem": ["*.pyi", "py.typed"]}, ext_modules=[Extension("fibrodem._core", sources=[])],
       cmdclass={"build_ext": CMakeBuild},
       options={"build": {"build_base": BUILD_BASE}, "egg_info": {"egg_base": BUILD_BASE}})
