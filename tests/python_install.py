@@ -5,10 +5,11 @@ Debian's; pip runs --no-index --no-build-isolation, offline), and the
 package is built from this test's own CMake build (FIBRODEM_CMAKE_BUILD_DIR:
 nothing is compiled twice). From a folder outside the source and the build,
 with no PYTHONPATH: the module is the installed one and finds its command
-line and plugins in the package (fibrodem/bin); a small cell pair run in memory gives the
-numbers the installed `fibrodem run` writes, bit for bit (the module and the
-command line run the same core: tests/python/test_same_as_cli.py); and
-`fibrodem --version` names the module's version.
+line and plugins in the package (fibrodem/bin); a small cell pair run in
+memory gives the numbers the installed `fibrodem run` writes, bit for bit
+(the module and the command line run the same core:
+tests/python/test_same_as_cli.py); and `fibrodem --version` names the
+module's version.
 
 Usage: python3 tests/python_install.py SOURCE_DIR BUILD_DIR
 """
@@ -30,7 +31,7 @@ SCENE = {
     "output": {"traces": {"cells": [0, 1], "variables": ["V"], "every_ms": 1}},
 }
 
-# Run by the venv's python in the scratch folder: argv[1] the venv.
+# check.py, run by the venv's python in the scratch folder: argv[1] the venv.
 CHECK = r"""
 import json, os, subprocess, sys
 import numpy as np
@@ -73,10 +74,12 @@ def main(source, build):
         run([sys.executable, "-m", "venv", "--system-site-packages", venv], env=env)
         python = os.path.join(venv, "bin", "python")
         run([python, "-m", "pip", "install", "--quiet", "--no-index", "--no-build-isolation",
-             "--disable-pip-version-check", source], env=dict(env, FIBRODEM_CMAKE_BUILD_DIR=build))
+             "--disable-pip-version-check", "--no-cache-dir", source], env=dict(env, FIBRODEM_CMAKE_BUILD_DIR=build))
         with open(os.path.join(scratch, "scene.json"), "w") as f:
             json.dump(SCENE, f)
-        run([python, "-c", CHECK, venv], env=env, cwd=scratch)
+        with open(os.path.join(scratch, "check.py"), "w") as f:
+            f.write(CHECK)
+        run([python, "check.py", venv], env=env, cwd=scratch)
 
 
 if __name__ == "__main__":
