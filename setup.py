@@ -34,6 +34,17 @@ def project_version():
         return re.search(r"project\(fibrodem VERSION ([0-9.]+)", f.read()).group(1)
 
 
+def cached_value(build, name):
+    """`name`'s value in build's CMakeCache.txt: "" if it is not there, None if
+    the folder is not configured."""
+    try:
+        with open(os.path.join(build, "CMakeCache.txt")) as f:
+            found = re.search(r"^" + name + r":[A-Z]+=(.*)$", f.read(), re.M)
+    except FileNotFoundError:
+        return None
+    return found.group(1) if found else ""
+
+
 GIVEN_BUILD = os.environ.get("FIBRODEM_CMAKE_BUILD_DIR")
 BUILD_BASE = os.path.join(GIVEN_BUILD or "build", "pip")  # setuptools' folder, egg-info too: none in the sources
 
@@ -42,9 +53,13 @@ class CMakeBuild(build_ext):
 
     def build_extension(self, ext):
         build = os.path.abspath(GIVEN_BUILD or os.path.join(self.build_temp, "cmake"))
-        if not os.path.exists(os.path.join(build, "CMakeCache.txt")):
+        # The interpreter a venv's python links to: the build folder outlives
+        # the venv it was first made from, and serves every venv of that Python.
+        python = os.path.realpath(sys.executable)
+        configured = cached_value(build, "Python_EXECUTABLE")
+        if configured is None or (not GIVEN_BUILD and configured != python):
             subprocess.run(["cmake", "-S", SOURCE, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
-                            "-DPython_EXECUTABLE=" + sys.executable, "-DFIBRODEM_BUILD_TESTS=OFF"], check=True)
+                            "-DPython_EXECUTABLE=" + python, "-DFIBRODEM_BUILD_TESTS=OFF"], check=True)
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
         # fibrodem_python depends on the command line, its plugins and modules.
         subprocess.run(["cmake", "--build", build, "-j", jobs, "--target", "fibrodem_python"], check=True)
