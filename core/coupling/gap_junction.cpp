@@ -36,7 +36,11 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
   std::size_t junctions_in_field = 0;
   for (const auto& [i, j] : tissue.cell_edges) {
     const JunctionConductances* g_nS = &base_nS;
-    const double x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]), y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
+    // The junction's midpoint, asked only by regions and maps (a tissue made
+    // for a test of the coupling alone may have no cell positions).
+    const bool placed = !regions.empty() || field;
+    const double x_um = placed ? 0.5 * (tissue.x_um[i] + tissue.x_um[j]) : 0.0;
+    const double y_um = placed ? 0.5 * (tissue.y_um[i] + tissue.y_um[j]) : 0.0;
     if (!regions.empty()) {
       if (const int k = region_holding(regions, x_um, y_um); k >= 0) {
         g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
