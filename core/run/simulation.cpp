@@ -24,11 +24,11 @@ namespace fs = std::filesystem;
 
 Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o)
     : scene(s), options(o), registry(std::move(r)) {
-  ScopeTimer timer(set_up_seconds);
-  if (options.ranks && options.ranks->size() > 1) ranks = options.ranks;
+  ScopeTimer timer(times.set_up_s);
+  if (options.ranks && options.ranks->size() > 1) split.ranks = options.ranks;
   run_folder = scene.output.dir;
   writes_folder = !run_folder.empty();
-  if (ranks && ranks->rank() != 0) {  // rank 0 writes and tells
+  if (split.ranks && split.ranks->rank() != 0) {  // rank 0 writes and tells
     scene.output.dir.clear();
     options.console_log = options.progress = false;
     options.on_progress = nullptr;
@@ -61,7 +61,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   build_mechanics();
   system.stimulus = Stimulus(scene.stimuli, tissue);
   refuse_traced_outputs();
-  traces = TraceRecorder(ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));
+  traces = TraceRecorder(split.ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));
   build_lookup_tables();
   set_state_limits(system, scene.solver);
   start_from_initial_state();
@@ -76,22 +76,22 @@ void Simulation::Impl::run() {
   if (status != "set up")
     throw std::logic_error("Simulation::run: this simulation has run already (status \"" + status +
                            "\"); make a new Simulation to run the scene again");
-  started = last_progress = last_flush = std::chrono::steady_clock::now();
+  times.started = times.last_progress = times.last_flush = std::chrono::steady_clock::now();
   status = "running";
   try {
     {
-      ScopeTimer timer(output_seconds);
+      ScopeTimer timer(times.output_s);
       open_outputs();
       log_setup();
     }
     tracker = make_tracker();
-    if (!resume_point) settle_tissue();
+    if (!checkpoints.resume_point) settle_tissue();
     system.record_rest_lengths(mechanics != nullptr || mechanics_over_ranks != nullptr);
-    if (resume_point) {
+    if (checkpoints.resume_point) {
       resume();
     } else {
       system.gather_voltage();
-      tracker->start(0.0, tracked(system.V_mV.data(), own_V_mV, 0, tracked_edge(system.cell_count())));
+      tracker->start(0.0, tracked(system.V_mV.data(), split.own_V_mV, 0, tracked_edge(system.cell_count())));
     }
     start_reentry_sampling(start_ms);
     try {
@@ -106,11 +106,11 @@ void Simulation::Impl::run() {
     tracker->finish();
     gather_from_ranks();
     {
-      ScopeTimer measuring(measurement_seconds);
+      ScopeTimer measuring(times.measurement_s);
       measure_reentry();
     }
     release_run_buffers();  // before the maps and the report are drawn
-    ScopeTimer timer(output_seconds);
+    ScopeTimer timer(times.output_s);
     if (!out.empty() && scene.output.maps) write_maps(out, scene.name, tissue, beats, scene.output.vtk_format);
     writer.finish();
     if (status == "running") status = "completed";
@@ -120,7 +120,7 @@ void Simulation::Impl::run() {
     finish_writing();
   }
   if (options.progress) std::fprintf(stderr, "\n");
-  wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  times.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - times.started).count();
   try {
     traces.flush_csv();  // the last rows: a full disk shows here at the latest
   } catch (const std::exception& e) {
@@ -166,14 +166,14 @@ void Simulation::Impl::release_run_buffers() {
   if (!tracker && !integrator) return;  // released before (a run that completed, then its end)
   release_stepping_work();
   tracker.reset();
-  std::vector<double>().swap(own_V_mV);
-  std::vector<double>().swap(own_dVdt);
-  reentry_frames = VoltageFrames();
+  std::vector<double>().swap(split.own_V_mV);
+  std::vector<double>().swap(split.own_dVdt);
+  reentry.frames = VoltageFrames();
   strain_fields.reset();
-  std::vector<double>().swap(V_previous);
-  std::vector<double>().swap(reentry_own_V);
-  std::vector<double>().swap(reentry_gathered_V);
-  std::vector<double>().swap(reentry_frame_V);
+  std::vector<double>().swap(reentry.V_previous);
+  std::vector<double>().swap(reentry.own_V);
+  std::vector<double>().swap(reentry.gathered_V);
+  std::vector<double>().swap(reentry.frame_V);
 #if defined(__GLIBC__)
   malloc_trim(0);  // freed pages back to the system: the peak RSS is the stepping's
 #endif
@@ -183,12 +183,12 @@ void Simulation::Impl::release_run_buffers() {
 // the observer (measurement, output, mechanics) took within it.
 void Simulation::Impl::advance_and_time_integrator() {
   auto others = [&] {
-    return system.seconds[0] + system.seconds[1] + system.seconds[2] + measurement_seconds + output_seconds +
+    return system.seconds[0] + system.seconds[1] + system.seconds[2] + times.measurement_s + times.output_s +
            (mechanics ? mechanics->seconds() : 0.0);
   };
   const double before = others();
   const auto start = Clock::now();
-  auto charge = [&] { integrator_seconds += std::max(0.0, seconds_since(start) - (others() - before)); };
+  auto charge = [&] { times.integrator_s += std::max(0.0, seconds_since(start) - (others() - before)); };
   try {
     advance_in_segments();
   } catch (...) {
@@ -202,10 +202,10 @@ void Simulation::Impl::advance_and_time_integrator() {
 // integrator starts afresh at each (as at a stimulus edge), in a resumed
 // run as in one never stopped.
 void Simulation::Impl::advance_in_segments() {
-  if (checkpoint_every_ms <= 0) return integrator->advance(system, start_ms, scene.duration_ms, *this);
+  if (checkpoints.every_ms <= 0) return integrator->advance(system, start_ms, scene.duration_ms, *this);
   double t = start_ms;
-  for (long long k = std::llround(start_ms / checkpoint_every_ms) + 1; t < scene.duration_ms - kTimeEpsilon_ms; ++k) {
-    const double next = std::min(static_cast<double>(k) * checkpoint_every_ms, scene.duration_ms);
+  for (long long k = std::llround(start_ms / checkpoints.every_ms) + 1; t < scene.duration_ms - kTimeEpsilon_ms; ++k) {
+    const double next = std::min(static_cast<double>(k) * checkpoints.every_ms, scene.duration_ms);
     integrator->advance(system, t, next, *this);
     t = next;
     write_checkpoint(t);
@@ -218,17 +218,17 @@ void Simulation::Impl::on_step_voltages(double t_old, double t_new, const double
                                         std::size_t end) {
   if (!tracker->steps_by_range(t_new)) return;  // on_step measures the step whole
   const std::size_t first = tracked_edge(begin), last = tracked_edge(end);
-  if (begin != 0) return tracker->step_cells(t_old, t_new, tracked(V_new, own_V_mV, first, last), first, last);
+  if (begin != 0) return tracker->step_cells(t_old, t_new, tracked(V_new, split.own_V_mV, first, last), first, last);
   const auto start = Clock::now();
-  tracker->step_cells(t_old, t_new, tracked(V_new, own_V_mV, first, last), first, last);
+  tracker->step_cells(t_old, t_new, tracked(V_new, split.own_V_mV, first, last), first, last);
   const double took_s = std::chrono::duration<double>(Clock::now() - start).count();
-  measurement_seconds += took_s;
+  times.measurement_s += took_s;
   system.seconds[CellSystem::kIonic] -= took_s;
 }
 
 void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   ++steps;
-  if (steps == kill_at_step) std::raise(SIGKILL);
+  if (steps == checkpoints.kill_at_step) std::raise(SIGKILL);
   t_reached_ms = t_new;
   // Few clock readings per step: a single cell steps in about a microsecond.
   const auto start = Clock::now();
@@ -236,13 +236,13 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   if (!system.voltage_fresh) system.gather_voltage();
   if (!(system.voltages_observed && tracker->steps_by_range(t_new))) {  // else done in on_step_voltages
     const std::size_t cells = tracked_edge(system.cell_count());
-    if (dVdt && ranks) own_dVdt.resize(cells);  // (allocated once, for an integrator that gives dV/dt)
-    tracker->step(t_old, t_new, tracked(system.V_mV.data(), own_V_mV, 0, cells),
-                  dVdt ? tracked(dVdt, own_dVdt, 0, cells) : nullptr);
+    if (dVdt && split.ranks) split.own_dVdt.resize(cells);  // (allocated once, for an integrator that gives dV/dt)
+    tracker->step(t_old, t_new, tracked(system.V_mV.data(), split.own_V_mV, 0, cells),
+                  dVdt ? tracked(dVdt, split.own_dVdt, 0, cells) : nullptr);
   }
   sample_reentry_if_due(t_old, t_new);
   auto measured = Clock::now();
-  measurement_seconds += std::chrono::duration<double>(measured - start).count();
+  times.measurement_s += std::chrono::duration<double>(measured - start).count();
   if (mechanics_over_ranks) {
     mechanics_over_ranks->advance(t_new, system, mechanics.get());  // (rank 0's mechanics times itself)
     measured = Clock::now();
@@ -253,13 +253,13 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   if (strain_fields) strain_fields->complete(mechanics->solver());  // the re-entry samples' strain
   snapshot_if_due(t_new);
   reclaim_writer_core();
-  if (measured - last_flush > std::chrono::seconds(1)) {
+  if (measured - times.last_flush > std::chrono::seconds(1)) {
     traces.flush_csv();
     log->flush();
-    last_flush = measured;
+    times.last_flush = measured;
   }
   report_progress(measured, t_new);
-  output_seconds += seconds_since(measured);
+  times.output_s += seconds_since(measured);
   // SIGINT / SIGTERM: stop here, at the end of a step (run() writes everything).
   if (const int signal = interrupt_signal())
     throw InterruptedError(signal, fmt::format("interrupted by {} at t = {} ms", signal_name(signal), t_new));
@@ -275,7 +275,7 @@ json Simulation::Impl::summary() const {
                       .simulated_ms = t_reached_ms,
                       .status = status,
                       .error = error,
-                      .wall_s = wall_s,
+                      .wall_s = times.wall_s,
                       .steps = steps,
                       .tissue = tissue,
                       .system = system,
@@ -284,15 +284,15 @@ json Simulation::Impl::summary() const {
                       .peak_strain = mechanics ? mechanics->peak_strain() : std::array<double, 3>{0, 0, 0},
                       .mechanics_step_ms = mechanics ? mechanics->smallest_step_ms() : 0.0,
                       .mechanics_seconds = mechanics ? mechanics->seconds() : 0.0,
-                      .measurement_seconds = measurement_seconds,
-                      .output_seconds = output_seconds,
-                      .integrator_seconds = integrator_seconds,
-                      .set_up_seconds = set_up_seconds,
-                      .last_checkpoint = last_checkpoint,
-                      .resumed_from = resumed_from,
+                      .measurement_seconds = times.measurement_s,
+                      .output_seconds = times.output_s,
+                      .integrator_seconds = times.integrator_s,
+                      .set_up_seconds = times.set_up_s,
+                      .last_checkpoint = checkpoints.last,
+                      .resumed_from = checkpoints.resumed_from,
                       .trace_units = traces.units(),
-                      .reentry = reentry_measured,
-                      .mpi_ranks = ranks ? ranks->size() : 1});
+                      .reentry = reentry.measured,
+                      .mpi_ranks = split.ranks ? split.ranks->size() : 1});
 }
 
 Simulation::Simulation(const Scene& scene, std::shared_ptr<PluginRegistry> registry, RunOptions options)
@@ -302,7 +302,7 @@ Simulation::~Simulation() = default;
 void Simulation::run() { impl_->run(); }
 void Simulation::resume_from(FoundCheckpoint checkpoint) {
   impl_->check_checkpoint_ranks(checkpoint);
-  impl_->resume_point = std::move(checkpoint);
+  impl_->checkpoints.resume_point = std::move(checkpoint);
 }
 const Tissue& Simulation::tissue() const { return impl_->tissue; }
 const ProcessPlan& Simulation::processes() const { return impl_->plan; }

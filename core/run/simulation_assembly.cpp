@@ -60,7 +60,7 @@ void Simulation::Impl::use_threads() {
     why = "solver.threads = 0: every core";
   } else if (threads < 0) {
     // (Split over ranks: this rank's cells.)
-    const std::size_t cells = ranks ? share.owned.size() : tissue.cell_count();
+    const std::size_t cells = split.ranks ? split.share.owned.size() : tissue.cell_count();
     const bool large = cells >= kCellsForThreads;
     threads = large ? cores : 1;
     why = fmt::format("solver.threads auto: {} cells {} {} ({} cores)", cells, large ? ">=" : "<",
@@ -271,7 +271,7 @@ void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
   const bool tissue_stretch =
       plan.has("mechano_electric_feedback") && scene.mechano_electric.stretch == StretchSource::tissue;
-  if (tissue_stretch && ranks)
+  if (tissue_stretch && split.ranks)
     throw ManifestError("mechano_electric_feedback.stretch",
                         "\"tissue\" needs every cell's stretch on every rank, and the DEM runs on rank 0 alone: "
                         "run it in one process, or use \"sarcomere\" over ranks");
@@ -282,10 +282,10 @@ void Simulation::Impl::build_mechanics() {
     mechanics->track_fibre_stretch(tissue);
     system.sac.tissue_stretch = &mechanics->fibre_stretch();
   }
-  if (!ranks) return;
+  if (!split.ranks) return;
   mechanics_over_ranks =
-      std::make_unique<MechanicsOverRanks>(*ranks, share.owned, cells_in_rank_order, rank_cell_counts, rank_cell_offsets);
-  if (ranks->rank() != 0) mechanics.reset(), strain_fields.reset();
+      std::make_unique<MechanicsOverRanks>(*split.ranks, split.share.owned, split.cells_in_rank_order, split.cell_counts, split.cell_offsets);
+  if (split.ranks->rank() != 0) mechanics.reset(), strain_fields.reset();
 }
 
 // solver.lookup_tables: a table of the voltage_only gates' rates per ionic
@@ -322,7 +322,7 @@ void Simulation::Impl::start_from_initial_state() {
                                         found.file.string(), found.fields.integer("run.mpi_ranks")));
     try {
       // Split over ranks, each rank takes its own cells' states out of the whole tissue's.
-      if (ranks) load_own_cell_states(system, found.fields);
+      if (split.ranks) load_own_cell_states(system, found.fields);
       else load_cell_states(system, found.fields, false);
     } catch (const CheckpointError& e) {
       throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());

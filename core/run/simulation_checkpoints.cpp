@@ -21,23 +21,23 @@ namespace fs = std::filesystem;
 // output.checkpoint: a fixed-step method's checkpoints fall on its steps
 // (and on its coupling steps), so that a resumed run takes the same steps.
 void Simulation::Impl::plan_checkpoints() {
-  checkpoint_every_ms = scene.output.checkpoint.every_ms;
-  if (checkpoint_every_ms <= 0) return;
+  checkpoints.every_ms = scene.output.checkpoint.every_ms;
+  if (checkpoints.every_ms <= 0) return;
   if (!writes_folder) {  // (every rank of a split run knows rank 0's folder)
-    checkpoint_every_ms = 0;
+    checkpoints.every_ms = 0;
     return;
   }
   if (scene.solver.fixed_step()) {
     const double quantum = scene.solver.dt_ms * std::max(1, system.coupling_every);
-    checkpoint_every_ms = std::max(1.0, std::round(checkpoint_every_ms / quantum)) * quantum;
+    checkpoints.every_ms = std::max(1.0, std::round(checkpoints.every_ms / quantum)) * quantum;
   }
-  plan.notes.push_back(fmt::format("checkpoints every {:g} ms, the newest {} kept, in {}", checkpoint_every_ms,
+  plan.notes.push_back(fmt::format("checkpoints every {:g} ms, the newest {} kept, in {}", checkpoints.every_ms,
                                    scene.output.checkpoint.keep,
                                    (run_folder / "checkpoints").string()));
   if (const char* kill = std::getenv("FIBRODEM_TEST_KILL")) {
     long long n = 0;
-    if (std::sscanf(kill, "step:%lld", &n) == 1) kill_at_step = n;
-    else if (std::sscanf(kill, "checkpoint:%lld", &n) == 1) kill_in_checkpoint = n;
+    if (std::sscanf(kill, "step:%lld", &n) == 1) checkpoints.kill_at_step = n;
+    else if (std::sscanf(kill, "checkpoint:%lld", &n) == 1) checkpoints.kill_in_checkpoint = n;
   }
 }
 
@@ -65,24 +65,24 @@ CheckpointFields Simulation::Impl::checkpoint_fields(double t) {
 // rank r > 0 writes them to its part (rank_checkpoint_path), rank 0 to the
 // checkpoint itself, last, with the rank count.
 void Simulation::Impl::write_checkpoint(double t) {
-  ScopeTimer timer(output_seconds);
+  ScopeTimer timer(times.output_s);
   writer.finish();
   const fs::path file = checkpoint_path(run_folder, t);
   fs::create_directories(file.parent_path());
-  ++checkpoints_written;
-  const bool kill = checkpoints_written == kill_in_checkpoint;
+  ++checkpoints.written;
+  const bool kill = checkpoints.written == checkpoints.kill_in_checkpoint;
   CheckpointFields fields = checkpoint_fields(t);
-  if (ranks) {
-    fields.put_integer("run.mpi_ranks", ranks->size());
-    fields.put_integer("run.mpi_rank", ranks->rank());
+  if (split.ranks) {
+    fields.put_integer("run.mpi_ranks", split.ranks->size());
+    fields.put_integer("run.mpi_rank", split.ranks->rank());
     write_rank_checkpoint(file, fields, kill);
-    if (ranks->rank() != 0) return;
+    if (split.ranks->rank() != 0) return;
   }
   write_checkpoint_file(file, fields, [kill] {
     if (kill) std::raise(SIGKILL);
   });
   prune_checkpoints(out, scene.output.checkpoint.keep);
-  last_checkpoint = {{"file", fs::relative(file, out).string()}, {"time_ms", t}};
+  checkpoints.last = {{"file", fs::relative(file, out).string()}, {"time_ms", t}};
   log->info("checkpoint at t = {:g} ms: {}", t, file.string());
   write_summary(out, summary());
 }
@@ -91,13 +91,13 @@ void Simulation::Impl::write_checkpoint(double t) {
 // gathers a word from each once written), so that the checkpoint rank 0
 // writes after exists only with every part whole beside it.
 void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const CheckpointFields& mine, bool kill) {
-  const int rank = ranks->rank();
+  const int rank = split.ranks->rank();
   if (rank != 0) {
     write_checkpoint_file(rank_checkpoint_path(file, rank), mine, [kill] {
       if (kill) std::raise(SIGKILL);
     });
   }
-  ranks->gather({static_cast<double>(rank)});
+  split.ranks->gather({static_cast<double>(rank)});
 }
 
 // The number of ranks a checkpoint was written over (1: one process, whose
@@ -105,7 +105,7 @@ void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const Checkpo
 // cells' states, cut by a partition that depends on the count.
 void Simulation::Impl::check_checkpoint_ranks(const FoundCheckpoint& checkpoint) const {
   const long long written = checkpoint.fields.has("run.mpi_ranks") ? checkpoint.fields.integer("run.mpi_ranks") : 1;
-  const long long here = ranks ? ranks->size() : 1;
+  const long long here = split.ranks ? split.ranks->size() : 1;
   if (written == here) return;
   auto over = [](long long n) {
     return n == 1 ? std::string("in one process") : "split over " + std::to_string(n) + " MPI ranks";
@@ -120,32 +120,32 @@ void Simulation::Impl::check_checkpoint_ranks(const FoundCheckpoint& checkpoint)
 // Rank r > 0's part of the checkpoint resumed from (rank 0's is the
 // checkpoint itself): of the same time, written by this rank.
 CheckpointFields Simulation::Impl::read_rank_checkpoint() const {
-  const CheckpointFields& common = resume_point->fields;
-  const fs::path file = rank_checkpoint_path(resume_point->file, ranks->rank());
+  const CheckpointFields& common = checkpoints.resume_point->fields;
+  const fs::path file = rank_checkpoint_path(checkpoints.resume_point->file, split.ranks->rank());
   CheckpointFields part;
   try {
     part = read_checkpoint_file(file);
   } catch (const CheckpointError& e) {
-    throw CheckpointError(fmt::format("checkpoint {}: rank {}'s part cannot be read: {}", resume_point->file.string(),
-                                      ranks->rank(), e.what()));
+    throw CheckpointError(fmt::format("checkpoint {}: rank {}'s part cannot be read: {}", checkpoints.resume_point->file.string(),
+                                      split.ranks->rank(), e.what()));
   }
-  if (part.integer("run.mpi_rank") != ranks->rank() || part.integer("run.mpi_ranks") != ranks->size() ||
+  if (part.integer("run.mpi_rank") != split.ranks->rank() || part.integer("run.mpi_ranks") != split.ranks->size() ||
       part.number("run.time_ms") != common.number("run.time_ms"))
     throw CheckpointError(fmt::format("{} is not rank {} of {}'s part of the checkpoint at t = {:g} ms", file.string(),
-                                      ranks->rank(), ranks->size(), common.number("run.time_ms")));
+                                      split.ranks->rank(), split.ranks->size(), common.number("run.time_ms")));
   return part;
 }
 
 void Simulation::Impl::resume() {
   try {
-    if (ranks && ranks->rank() != 0) restore(read_rank_checkpoint());
-    else restore(resume_point->fields);
+    if (split.ranks && split.ranks->rank() != 0) restore(read_rank_checkpoint());
+    else restore(checkpoints.resume_point->fields);
   } catch (const CheckpointError& e) {
-    throw CheckpointError("checkpoint " + resume_point->file.string() + " does not fit this run: " + e.what());
+    throw CheckpointError("checkpoint " + checkpoints.resume_point->file.string() + " does not fit this run: " + e.what());
   }
-  for (const auto& skipped : resume_point->skipped) log->warn("resume: passed over {}", skipped);
-  resumed_from = {{"file", fs::relative(resume_point->file, run_folder).string()}, {"time_ms", start_ms}};
-  log->info("resumed from checkpoint {} at t = {:g} ms", resume_point->file.string(), start_ms);
+  for (const auto& skipped : checkpoints.resume_point->skipped) log->warn("resume: passed over {}", skipped);
+  checkpoints.resumed_from = {{"file", fs::relative(checkpoints.resume_point->file, run_folder).string()}, {"time_ms", start_ms}};
+  log->info("resumed from checkpoint {} at t = {:g} ms", checkpoints.resume_point->file.string(), start_ms);
 }
 
 // The run as a checkpoint left it (the scene must be the one it was written for).
@@ -164,7 +164,7 @@ void Simulation::Impl::restore(const CheckpointFields& f) {
   load_cell_states(system, f, true);
   tracker->load(f);
   // (Split over ranks, traces.csv is written whole at the end.)
-  traces.load(f, out.empty() || ranks ? fs::path() : out / "traces.csv");
+  traces.load(f, out.empty() || split.ranks ? fs::path() : out / "traces.csv");
   if (!out.empty())
     biomarkers_csv = CsvWriter::resume(out / "biomarkers.csv", static_cast<std::uintmax_t>(f.integer("run.biomarkers_csv_bytes")));
   if (mechanics) mechanics->restore(f, start_ms);

@@ -40,65 +40,49 @@
 
 namespace fibrodem {
 
-struct Simulation::Impl : StepObserver {
-  Scene scene;
-  RunOptions options;
-  std::shared_ptr<PluginRegistry> registry;
-  Tissue tissue;
-  ProcessPlan plan;
-  CellSystem system;
-  std::unique_ptr<Integrator> integrator;  // null once the run is over
-  std::string integrator_text, integrator_report;  // its describe() and report(), kept when it is freed
-  std::shared_ptr<spdlog::logger> log;
+// The parts of a run's state, each with its own concern; Simulation::Impl
+// holds one of each.
 
-  TraceRecorder traces;
-  std::vector<BeatBiomarkers> beats;
-  std::unique_ptr<BiomarkerTracker> tracker;
-
-  std::filesystem::path out;
-  CsvWriter biomarkers_csv;
-  std::vector<std::string> warnings;  // found at set-up, logged when the run starts
-  StabilityEstimate stability;
-  std::string status = "set up";
-  std::string error;
-  double wall_s = 0;
-  long long steps = 0;
-  long long snapshots_taken = 0;
-  std::unique_ptr<MechanicsCoupling> mechanics;  // split over ranks: rank 0's only
-  std::unique_ptr<MechanicsOverRanks> mechanics_over_ranks;  // split over ranks, with mechanics
+// Where the wall time went (summary.json's timings) and when progress and
+// the outputs were last reported.
+struct RunTimes {
   std::chrono::steady_clock::time_point started, last_progress, last_flush;
-  double measurement_seconds = 0, output_seconds = 0, integrator_seconds = 0, set_up_seconds = 0;
-  std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
-  double t_reached_ms = 0;    // the end of the last step taken
-  ResourceEstimate resources;
-  int interrupted_by = 0;     // the signal that stopped the run, if one did
-  // Checkpoints (output.checkpoint): their spacing (on the step grid of a
-  // fixed-step method), the state a resumed run starts from, and its time.
-  double checkpoint_every_ms = 0;
+  double measurement_s = 0, output_s = 0, integrator_s = 0, set_up_s = 0;
+  double wall_s = 0;
+};
+
+// Checkpoints (output.checkpoint): their spacing (on the step grid of a
+// fixed-step method), the checkpoint a resumed run starts from, the last
+// one written and the one resumed from (summary.json).
+struct CheckpointState {
+  double every_ms = 0;
   std::optional<FoundCheckpoint> resume_point;
-  double start_ms = 0;
-  json last_checkpoint, resumed_from;
+  json last, resumed_from;
+  long long written = 0;
   // Fault injection for the tests of resume (FIBRODEM_TEST_KILL): SIGKILL at
   // this step, or halfway through writing this checkpoint (1 = the first).
-  long long kill_at_step = -1, kill_in_checkpoint = -1, checkpoints_written = 0;
-  BackgroundWriter writer;  // the tissue picture and the snapshots
-  // output.reentry: V of every cell at the sample times (interpolated
-  // between the ends of the step around each), V at the last step's end,
-  // and what was measured at the end (summary.json's "reentry").
-  VoltageFrames reentry_frames;
+  long long kill_at_step = -1, kill_in_checkpoint = -1;
+};
+
+// output.reentry: V of every cell at the sample times (interpolated between
+// the ends of the step around each), V at the last step's end, and what was
+// measured at the end (summary.json's "reentry").
+struct ReentrySampling {
+  VoltageFrames frames;
   std::vector<double> V_previous;
-  long long reentry_next_sample = 0;  // index k of the next sample time from_ms + k every_ms
-  json reentry_measured;
-  // With mechanics, where an output asks for it: the cells' strain at the
-  // snapshots and re-entry samples (run/strain_fields.hpp); else null.
-  std::unique_ptr<StrainFields> strain_fields;
+  long long next_sample = 0;  // index k of the next sample time from_ms + k every_ms
+  json measured;
   // Split over ranks: this rank's cells' V at a sample (share.owned's
   // order), and on rank 0 every cell's as gathered (rank order) and as the
   // frame (by tissue number); sized when the sampling starts.
-  std::vector<double> reentry_own_V, reentry_gathered_V, reentry_frame_V;
-  // A run split over ranks (RunOptions::ranks with more than one; else
-  // null): this rank's cells (`owned`, per global cell) and their ghosts,
-  // and the halo exchange of the ghosts' potentials (simulation_ranks.cpp).
+  std::vector<double> own_V, gathered_V, frame_V;
+};
+
+// A run split over ranks (RunOptions::ranks with more than one; else
+// `ranks` is null): this rank's cells (`owned`, per global cell) and their
+// ghosts, the halo exchange of the ghosts' potentials, and where gathered
+// values go (simulation_ranks.cpp).
+struct RankSplit {
   std::shared_ptr<RankGroup> ranks;
   RankCells share;
   std::vector<char> owned;
@@ -108,16 +92,60 @@ struct Simulation::Impl : StepObserver {
   std::vector<int> cells_in_rank_order;
   // Each rank's cell count, and where its cells start in cells_in_rank_order
   // (RankGroup::gather_into's counts and offsets).
-  std::vector<int> rank_cell_counts, rank_cell_offsets;
+  std::vector<int> cell_counts, cell_offsets;
+  // The biomarker tracker's cells: this rank's own, in share.owned's order;
+  // their V (and dV/dt) copied there from the per-cell arrays at each step
+  // (V's buffer sized when the run starts).
+  std::vector<double> own_V_mV, own_dVdt;
+};
+
+struct Simulation::Impl : StepObserver {
+  // ---- what is simulated ----
+  Scene scene;
+  RunOptions options;
+  std::shared_ptr<PluginRegistry> registry;
+  Tissue tissue;
+  ProcessPlan plan;
+  CellSystem system;
+  std::unique_ptr<Integrator> integrator;  // null once the run is over
+  std::string integrator_text, integrator_report;  // its describe() and report(), kept when it is freed
+  std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
+  StabilityEstimate stability;
+  ResourceEstimate resources;
+  std::unique_ptr<MechanicsCoupling> mechanics;  // split over ranks: rank 0's only
+  std::unique_ptr<MechanicsOverRanks> mechanics_over_ranks;  // split over ranks, with mechanics
+
+  // ---- where it stands ----
+  std::string status = "set up";
+  std::string error;
+  std::vector<std::string> warnings;  // found at set-up, logged when the run starts
+  double start_ms = 0;        // 0, or the time of the checkpoint resumed from
+  double t_reached_ms = 0;    // the end of the last step taken
+  long long steps = 0;
+  int interrupted_by = 0;     // the signal that stopped the run, if one did
+  RunTimes times;
+
+  // ---- what it writes ----
+  std::shared_ptr<spdlog::logger> log;
+  std::filesystem::path out;
   // Whether the run writes a folder (rank 0 does; the other ranks, which
   // write nothing but their parts of the checkpoints, still take part in
   // the gathers of what it writes), and the folder, known to every rank.
   bool writes_folder = false;
   std::filesystem::path run_folder;
-  // The biomarker tracker's cells split over ranks: this rank's own, in
-  // share.owned's order; their V (and dV/dt) copied there from the per-cell
-  // arrays at each step (V's buffer sized when the run starts).
-  std::vector<double> own_V_mV, own_dVdt;
+  TraceRecorder traces;
+  std::vector<BeatBiomarkers> beats;
+  std::unique_ptr<BiomarkerTracker> tracker;
+  CsvWriter biomarkers_csv;
+  BackgroundWriter writer;  // the tissue picture and the snapshots
+  long long snapshots_taken = 0;
+  ReentrySampling reentry;
+  // With mechanics, where an output asks for it: the cells' strain at the
+  // snapshots and re-entry samples (run/strain_fields.hpp); else null.
+  std::unique_ptr<StrainFields> strain_fields;
+  CheckpointState checkpoints;
+
+  RankSplit split;
 
   // ---- the life cycle (simulation.cpp) ----
   Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOptions o);
@@ -159,7 +187,7 @@ struct Simulation::Impl : StepObserver {
 
   // ---- a run split over ranks (simulation_ranks.cpp) ----
   void split_over_ranks();
-  bool owns(std::size_t cell) const { return owned.empty() || owned[cell]; }
+  bool owns(std::size_t cell) const { return split.owned.empty() || split.owned[cell]; }
   Scene scene_of_own_traces() const;
   void refuse_traced_outputs() const;
   void connect_ranks();

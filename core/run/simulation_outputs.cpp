@@ -27,13 +27,13 @@ void Simulation::Impl::open_outputs() {
   out = scene.output.dir;
   fs::create_directories(out);
   auto file_sink =
-      std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), !resume_point);
+      std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "run.log").string(), !checkpoints.resume_point);
   file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
   log->sinks().push_back(file_sink);
-  if (!resume_point) {
+  if (!checkpoints.resume_point) {
     clear_checkpoints(out);  // an earlier run's, in a folder given --overwrite
     fs::remove(out / kSnapshotCollection);  // likewise: this run lists its own snapshots
-    if (!ranks) traces.open_csv(out / "traces.csv");  // split over ranks: written whole at the end
+    if (!split.ranks) traces.open_csv(out / "traces.csv");  // split over ranks: written whole at the end
     biomarkers_csv = CsvWriter(out / "biomarkers.csv",
                                {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
                                 "dvdt_max_mV_per_ms", "apd50_ms"});
@@ -90,14 +90,14 @@ void Simulation::Impl::log_setup() {
 double Simulation::Impl::next_sample_ms() const { return traces.next_sample_ms(); }
 
 void Simulation::Impl::on_sample(double t) {
-  ScopeTimer timer(output_seconds);
+  ScopeTimer timer(times.output_s);
   traces.sample(t, system, mechanics_solver());
 }
 
 // Split over ranks: this rank's cells' beats (the tracker's, make_tracker),
 // gathered and written at the end (gather_from_ranks).
 void Simulation::Impl::record_beat(const BeatBiomarkers& b) {
-  if (ranks) {
+  if (split.ranks) {
     beats.push_back(b);
     return;
   }
@@ -138,9 +138,9 @@ void Simulation::Impl::snapshot_if_due(double t) {
   if (t >= next - kTimeEpsilon_ms) {
     ++snapshots_taken;
     std::vector<double> every_cell;
-    if (ranks) {
+    if (split.ranks) {
       every_cell = voltage_of_every_cell();
-      if (ranks->rank() != 0) return;
+      if (split.ranks->rank() != 0) return;
     }
     // Drawn on the writer's thread while the run goes on.
     // (The tissue itself is shared with the frame, not copied: the writer
@@ -148,7 +148,7 @@ void Simulation::Impl::snapshot_if_due(double t) {
     const std::shared_ptr<const Tissue> built(std::shared_ptr<void>(), &tissue);
     const bool with_strain = strain_fields && (snap.vtk || snap.strain);
     auto frame = std::make_shared<SnapshotFrame>(
-        take_snapshot(t, snap, built, mechanics_solver(), ranks ? every_cell : system.V_mV,
+        take_snapshot(t, snap, built, mechanics_solver(), split.ranks ? every_cell : system.V_mV,
                       with_strain ? &strain_fields->now(mechanics->solver()) : nullptr));
     write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.output.vtk_format, scene.name, *frame); });
   }
@@ -159,24 +159,24 @@ void Simulation::Impl::snapshot_if_due(double t) {
 // fixed-step method when every_ms is a multiple of its dt).
 void Simulation::Impl::start_reentry_sampling(double t) {
   if (!scene.output.reentry.on) return;
-  reentry_frames = VoltageFrames(tissue.cell_count());
+  reentry.frames = VoltageFrames(tissue.cell_count());
   system.gather_voltage();
-  V_previous = system.V_mV;
-  if (ranks) {
-    reentry_own_V.assign(share.owned.size(), 0.0);
-    if (ranks->rank() == 0) {
-      reentry_gathered_V.assign(tissue.cell_count(), 0.0);
-      reentry_frame_V.assign(tissue.cell_count(), 0.0);
+  reentry.V_previous = system.V_mV;
+  if (split.ranks) {
+    reentry.own_V.assign(split.share.owned.size(), 0.0);
+    if (split.ranks->rank() == 0) {
+      reentry.gathered_V.assign(tissue.cell_count(), 0.0);
+      reentry.frame_V.assign(tissue.cell_count(), 0.0);
     }
   }
   const auto& spec = scene.output.reentry;
   // The first sample at or after t (a resumed run measures from where it resumed).
-  reentry_next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
-  if (std::abs(t - (spec.from_ms + static_cast<double>(reentry_next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
-    if (ranks) add_reentry_frame_over_ranks(t, nullptr);
-    else reentry_frames.add(t, system.V_mV);
+  reentry.next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
+  if (std::abs(t - (spec.from_ms + static_cast<double>(reentry.next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
+    if (split.ranks) add_reentry_frame_over_ranks(t, nullptr);
+    else reentry.frames.add(t, system.V_mV);
     if (strain_fields) strain_fields->sample_now(t, mechanics->solver());
-    ++reentry_next_sample;
+    ++reentry.next_sample;
   }
 }
 
@@ -184,21 +184,21 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
   if (!scene.output.reentry.on) return;
   const auto& spec = scene.output.reentry;
   for (;;) {
-    const double next = spec.from_ms + static_cast<double>(reentry_next_sample) * spec.every_ms;
+    const double next = spec.from_ms + static_cast<double>(reentry.next_sample) * spec.every_ms;
     if (next > t_new + kTimeEpsilon_ms) break;
-    ++reentry_next_sample;
+    ++reentry.next_sample;
     if (next < t_old - kTimeEpsilon_ms) continue;  // before a resumed run's start
     const double w = t_new > t_old ? std::clamp((next - t_old) / (t_new - t_old), 0.0, 1.0) : 1.0;
     if (strain_fields) strain_fields->due(next, w, mechanics->solver());  // (the DEM is still at t_old)
-    if (ranks) {
+    if (split.ranks) {
       add_reentry_frame_over_ranks(next, &w);
       continue;
     }
     std::vector<double> V(system.V_mV.size());
-    for (std::size_t c = 0; c < V.size(); ++c) V[c] = V_previous[c] + w * (system.V_mV[c] - V_previous[c]);
-    reentry_frames.add(next, V);
+    for (std::size_t c = 0; c < V.size(); ++c) V[c] = reentry.V_previous[c] + w * (system.V_mV[c] - reentry.V_previous[c]);
+    reentry.frames.add(next, V);
   }
-  V_previous = system.V_mV;
+  reentry.V_previous = system.V_mV;
 }
 
 // Split over ranks, each rank's cells' V at a sample (interpolated with
@@ -208,19 +208,19 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
 // adaptive step control's agreed steps and stops), so every rank comes here
 // for the same samples, in the same order: the gather is collective.
 void Simulation::Impl::add_reentry_frame_over_ranks(double t, const double* w) {
-  const int* cells = share.owned.data();
+  const int* cells = split.share.owned.data();
   const double* V = system.V_mV.data();
-  const double* V_before = V_previous.data();
-  for (std::size_t i = 0; i < reentry_own_V.size(); ++i) {
+  const double* V_before = reentry.V_previous.data();
+  for (std::size_t i = 0; i < reentry.own_V.size(); ++i) {
     const auto c = static_cast<std::size_t>(cells[i]);
-    reentry_own_V[i] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
+    reentry.own_V[i] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
   }
-  ranks->gather_into(reentry_own_V.data(), reentry_own_V.size(), reentry_gathered_V.data(), rank_cell_counts.data(),
-                     rank_cell_offsets.data());
-  if (ranks->rank() != 0) return;
-  for (std::size_t k = 0; k < cells_in_rank_order.size(); ++k)
-    reentry_frame_V[static_cast<std::size_t>(cells_in_rank_order[k])] = reentry_gathered_V[k];
-  reentry_frames.add(t, reentry_frame_V);
+  split.ranks->gather_into(reentry.own_V.data(), reentry.own_V.size(), reentry.gathered_V.data(), split.cell_counts.data(),
+                     split.cell_offsets.data());
+  if (split.ranks->rank() != 0) return;
+  for (std::size_t k = 0; k < split.cells_in_rank_order.size(); ++k)
+    reentry.frame_V[static_cast<std::size_t>(split.cells_in_rank_order[k])] = reentry.gathered_V[k];
+  reentry.frames.add(t, reentry.frame_V);
 }
 
 // summary.json's "reentry", phase_singularities.csv and the re-entry maps,
@@ -228,7 +228,7 @@ void Simulation::Impl::add_reentry_frame_over_ranks(double t, const double* w) {
 // beat).
 void Simulation::Impl::measure_reentry() {
   if (!scene.output.reentry.on) return;
-  if (ranks && ranks->rank() != 0) return;
+  if (split.ranks && split.ranks->rank() != 0) return;
   const auto& spec = scene.output.reentry;
   const ReentrySettings settings{.every_ms = spec.every_ms, .from_ms = spec.from_ms, .tau_ms = spec.tau_ms,
                                  .V_star_mV = spec.V_star_mV, .link_mm = spec.link_mm, .f_min_hz = spec.f_min_hz,
@@ -237,7 +237,7 @@ void Simulation::Impl::measure_reentry() {
                                  .ps_density_bin_mm = spec.ps_density_bin_mm};
   ReentryMaps maps;
   const StretchFrames* stretch = strain_fields ? &strain_fields->stretch_frames() : nullptr;
-  reentry_measured = analyse_reentry(tissue, reentry_frames, settings, system.stimulus.onsets(t_reached_ms), beats,
+  reentry.measured = analyse_reentry(tissue, reentry.frames, settings, system.stimulus.onsets(t_reached_ms), beats,
                                      out, &maps, stretch);
   if (out.empty()) return;
   // The tip paths over the fibre stretch (with mechanics) or V at the last sample.
@@ -246,12 +246,12 @@ void Simulation::Impl::measure_reentry() {
     const float* lambda = stretch->frame(stretch->count() - 1);
     last = {std::vector<double>(lambda, lambda + stretch->cells), "fibre stretch",
             fmt::format("fibre stretch at t = {:g} ms", stretch->t_ms.back())};
-  } else if (reentry_frames.count() > 0) {
-    const float* V = reentry_frames.frame(reentry_frames.count() - 1);
-    last = {std::vector<double>(V, V + reentry_frames.cells), "V (mV)",
-            fmt::format("V at t = {:g} ms", reentry_frames.t_ms.back())};
+  } else if (reentry.frames.count() > 0) {
+    const float* V = reentry.frames.frame(reentry.frames.count() - 1);
+    last = {std::vector<double>(V, V + reentry.frames.cells), "V (mV)",
+            fmt::format("V at t = {:g} ms", reentry.frames.t_ms.back())};
   }
-  reentry_measured["beat_maps_drawn"] =
+  reentry.measured["beat_maps_drawn"] =
       write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format, last);
 }
 
@@ -278,11 +278,11 @@ void Simulation::Impl::reclaim_writer_core() {
 // output.progress_every_s of wall time.
 void Simulation::Impl::report_progress(std::chrono::steady_clock::time_point now, double t_new) {
   if ((options.progress || options.on_progress) && scene.output.progress_every_s > 0 &&
-      std::chrono::duration<double>(now - last_progress).count() >= scene.output.progress_every_s) {
-    last_progress = now;
+      std::chrono::duration<double>(now - times.last_progress).count() >= scene.output.progress_every_s) {
+    times.last_progress = now;
     if (options.on_progress) options.on_progress(t_new);
     if (!options.progress) return;
-    const double elapsed = std::chrono::duration<double>(now - started).count();
+    const double elapsed = std::chrono::duration<double>(now - times.started).count();
     const double left = elapsed / t_new * (scene.duration_ms - t_new);
     std::fprintf(stderr, "\r  t = %.1f / %.1f ms   %.3g ms simulated per s   about %.0f s left   ",
                  t_new, scene.duration_ms, t_new / elapsed, left);
@@ -318,8 +318,8 @@ void Simulation::Impl::log_run_end() {
   if (status == "failed") log->error("run failed: {}", error);
   else if (status == "interrupted")
     log->warn("run interrupted: {} of {} ms simulated in {:.3f} s wall, {} steps", t_reached_ms, scene.duration_ms,
-              wall_s, steps);
-  else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, wall_s, steps);
+              times.wall_s, steps);
+  else log->info("run completed: {} ms simulated in {:.3f} s wall, {} steps", scene.duration_ms, times.wall_s, steps);
 }
 
 // report.html from the folder as written and the run's summary (a failed
@@ -338,7 +338,7 @@ void Simulation::Impl::write_report_and_summary() {
   }
   const double report_s = seconds_since(start);
   log->info("report.html written in {:.3f} s ({:.2f} % of the run's wall time)", report_s,
-            wall_s > 0 ? 100 * report_s / wall_s : 0.0);
+            times.wall_s > 0 ? 100 * report_s / times.wall_s : 0.0);
   s["report_time_s"] = report_s;
   write_summary(out, s);
 }

@@ -56,30 +56,30 @@ BeatBiomarkers unpack(const double* v) {
 // command line checks the same before anything is written); then this
 // rank's share of the cells.
 void Simulation::Impl::split_over_ranks() {
-  if (!ranks) return;
+  if (!split.ranks) return;
   const std::vector<std::string> unsupported = unsupported_over_ranks(scene, scene.solver.method);
-  if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", ranks->size(), unsupported));
-  const CellPartition partition = partition_cells(tissue, ranks->size());
-  share = rank_cells(tissue, partition, ranks->rank());
-  owned.assign(tissue.cell_count(), 0);
-  for (int cell : share.owned) owned[static_cast<std::size_t>(cell)] = 1;
-  cells_in_rank_order.clear();
-  cells_in_rank_order.reserve(tissue.cell_count());
-  for (int r = 0; r < ranks->size(); ++r)
-    for (int cell : partition.cells_of(r)) cells_in_rank_order.push_back(cell);
+  if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", split.ranks->size(), unsupported));
+  const CellPartition partition = partition_cells(tissue, split.ranks->size());
+  split.share = rank_cells(tissue, partition, split.ranks->rank());
+  split.owned.assign(tissue.cell_count(), 0);
+  for (int cell : split.share.owned) split.owned[static_cast<std::size_t>(cell)] = 1;
+  split.cells_in_rank_order.clear();
+  split.cells_in_rank_order.reserve(tissue.cell_count());
+  for (int r = 0; r < split.ranks->size(); ++r)
+    for (int cell : partition.cells_of(r)) split.cells_in_rank_order.push_back(cell);
   const std::vector<std::size_t> sizes = partition.sizes();
-  rank_cell_counts.assign(sizes.size(), 0);
-  rank_cell_offsets.assign(sizes.size(), 0);
+  split.cell_counts.assign(sizes.size(), 0);
+  split.cell_offsets.assign(sizes.size(), 0);
   for (std::size_t r = 0; r < sizes.size(); ++r) {
-    rank_cell_counts[r] = static_cast<int>(sizes[r]);
-    if (r > 0) rank_cell_offsets[r] = rank_cell_offsets[r - 1] + rank_cell_counts[r - 1];
+    split.cell_counts[r] = static_cast<int>(sizes[r]);
+    if (r > 0) split.cell_offsets[r] = split.cell_offsets[r - 1] + split.cell_counts[r - 1];
   }
   plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
-                                   ranks->size(), *std::min_element(sizes.begin(), sizes.end()),
+                                   split.ranks->size(), *std::min_element(sizes.begin(), sizes.end()),
                                    *std::max_element(sizes.begin(), sizes.end()), partition.cut_edges(tissue),
-                                   tissue.cell_edges.size(), ranks->rank(), share.owned.size(), share.ghosts.size(),
-                                   share.neighbours.size()));
+                                   tissue.cell_edges.size(), split.ranks->rank(), split.share.owned.size(), split.share.ghosts.size(),
+                                   split.share.neighbours.size()));
 }
 
 // The gap currents of this rank's cells read their ghosts' potentials; the
@@ -87,18 +87,18 @@ void Simulation::Impl::split_over_ranks() {
 // solves this rank's rows with the others; the adaptive step control takes
 // every rank's error and stop.
 void Simulation::Impl::connect_ranks() {
-  if (!ranks) return;
-  system.largest_over_ranks = [reductions = std::make_shared<RankReductions>(*ranks)](double mine) {
+  if (!split.ranks) return;
+  system.largest_over_ranks = [reductions = std::make_shared<RankReductions>(*split.ranks)](double mine) {
     return reductions->largest(mine);
   };
   if (!system.coupler) return;
-  halo = std::make_unique<HaloExchange>(*ranks, share);
-  system.refresh_ghost_voltages = [h = halo.get()](double* V_mV) { h->refresh(V_mV); };
+  split.halo = std::make_unique<HaloExchange>(*split.ranks, split.share);
+  system.refresh_ghost_voltages = [h = split.halo.get()](double* V_mV) { h->refresh(V_mV); };
   if (!system.implicit_coupling) return;
   if (!dynamic_cast<GapJunctionCoupler*>(system.coupler.get()))
     throw std::logic_error("split over ranks: the implicit coupling step needs the gap-junction coupler");
   std::unique_ptr<GapJunctionCoupler> whole(static_cast<GapJunctionCoupler*>(system.coupler.release()));
-  system.coupler = std::make_unique<CouplingOverRanks>(std::move(whole), *ranks, share);
+  system.coupler = std::make_unique<CouplingOverRanks>(std::move(whole), *split.ranks, split.share);
 }
 
 // The biomarker tracker: of every cell in one process; split over ranks, of
@@ -106,16 +106,16 @@ void Simulation::Impl::connect_ranks() {
 // only, so they have the same bits), numbered as in the tissue.
 std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
   std::vector<CellType> types = tissue.type;
-  if (ranks) {
+  if (split.ranks) {
     types.clear();
-    types.reserve(share.owned.size());
-    for (int cell : share.owned) types.push_back(tissue.type[static_cast<std::size_t>(cell)]);
-    own_V_mV.assign(share.owned.size(), 0.0);  // (own_dVdt: at the first step given dV/dt, if any)
+    types.reserve(split.share.owned.size());
+    for (int cell : split.share.owned) types.push_back(tissue.type[static_cast<std::size_t>(cell)]);
+    split.own_V_mV.assign(split.share.owned.size(), 0.0);  // (own_dVdt: at the first step given dV/dt, if any)
   }
   auto made = std::make_unique<BiomarkerTracker>(std::move(types), system.stimulus.onsets(scene.duration_ms),
                                                  scene.output.biomarkers_from_ms,
                                                  [this](const BeatBiomarkers& b) { record_beat(b); });
-  if (ranks) made->number_cells(share.owned);
+  if (split.ranks) made->number_cells(split.share.owned);
   if (scene.output.rmp_method == "pre_upstroke")
     made->use_pre_upstroke_rmp(scene.output.rmp_window_ms, scene.output.rmp_gap_ms);
   return made;
@@ -127,8 +127,8 @@ std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
 // and at whole SIMD widths, keeps the threads' shares of them apart and
 // about even (the own cells need not be spread over the numbers).
 std::size_t Simulation::Impl::tracked_edge(std::size_t cell_edge) const {
-  if (!ranks) return cell_edge;
-  const std::size_t own = share.owned.size(), cells = tissue.cell_count();
+  if (!split.ranks) return cell_edge;
+  const std::size_t own = split.share.owned.size(), cells = tissue.cell_count();
   if (cell_edge >= cells) return own;
   return cell_edge * own / cells / simd::kLanes * simd::kLanes;
 }
@@ -138,8 +138,8 @@ std::size_t Simulation::Impl::tracked_edge(std::size_t cell_edge) const {
 // `own` (tracker order), whose data is returned.
 const double* Simulation::Impl::tracked(const double* per_cell, std::vector<double>& own, std::size_t begin,
                                         std::size_t end) {
-  if (!ranks) return per_cell;
-  const int* cells = share.owned.data();
+  if (!split.ranks) return per_cell;
+  const int* cells = split.share.owned.data();
   for (std::size_t i = begin; i < end; ++i) own[i] = per_cell[cells[i]];
   return own.data();
 }
@@ -149,7 +149,7 @@ const double* Simulation::Impl::tracked(const double* per_cell, std::vector<doub
 // on rank 0 only, which steps the mechanics (run/mechanics_over_ranks.hpp).
 Scene Simulation::Impl::scene_of_own_traces() const {
   Scene own = scene;
-  const bool strain_elsewhere = plan.has("mechanics") && ranks->rank() != 0;
+  const bool strain_elsewhere = plan.has("mechanics") && split.ranks->rank() != 0;
   for (auto& block : own.output.traces.blocks) {
     if (strain_elsewhere) std::erase_if(block.variables, is_strain_variable);
     block.cells.erase(std::remove_if(block.cells.begin(), block.cells.end(),
@@ -166,7 +166,7 @@ Scene Simulation::Impl::scene_of_own_traces() const {
 // which would exchange potentials on that rank alone: not yet split.
 // (Decided from the models of the cells' types, the same on every rank.)
 void Simulation::Impl::refuse_traced_outputs() const {
-  if (!ranks) return;
+  if (!split.ranks) return;
   for (const auto& block : scene.output.traces.blocks)
     for (std::size_t j = 0; j < block.variables.size(); ++j)
       for (int cell : block.cells) {
@@ -185,34 +185,34 @@ void Simulation::Impl::refuse_traced_outputs() const {
 // Collective: every rank calls it at the same time. (At snapshot times,
 // not every step.)
 std::vector<double> Simulation::Impl::voltage_of_every_cell() {
-  std::vector<double> mine(share.owned.size());
-  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = system.V_mV[static_cast<std::size_t>(share.owned[i])];
-  const std::vector<std::vector<double>> by_rank = ranks->gather(mine);
-  if (ranks->rank() != 0) return {};
+  std::vector<double> mine(split.share.owned.size());
+  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = system.V_mV[static_cast<std::size_t>(split.share.owned[i])];
+  const std::vector<std::vector<double>> by_rank = split.ranks->gather(mine);
+  if (split.ranks->rank() != 0) return {};
   std::vector<double> V(tissue.cell_count(), 0.0);
   std::size_t k = 0;
   for (const auto& values : by_rank)
     for (double v : values) {
-      if (k == cells_in_rank_order.size()) break;
-      V[static_cast<std::size_t>(cells_in_rank_order[k++])] = v;
+      if (k == split.cells_in_rank_order.size()) break;
+      V[static_cast<std::size_t>(split.cells_in_rank_order[k++])] = v;
     }
-  if (k != cells_in_rank_order.size())
+  if (k != split.cells_in_rank_order.size())
     throw std::logic_error(fmt::format("split over ranks: rank 0 gathered V of {} cells, not the tissue's {}", k,
-                                       cells_in_rank_order.size()));
+                                       split.cells_in_rank_order.size()));
   return V;
 }
 
 // Rank 0 takes every rank's beats (in one process's order: by beat, then
 // cell) and traces, and writes biomarkers.csv and traces.csv.
 void Simulation::Impl::gather_from_ranks() {
-  if (!ranks) return;
+  if (!split.ranks) return;
   std::vector<double> mine;
   mine.reserve(beats.size() * kBeatFields);
   for (const auto& b : beats) pack(b, mine);
-  const std::vector<std::vector<double>> beats_by_rank = ranks->gather(mine);
-  const std::vector<std::string> columns_by_rank = ranks->gather_text(traces.packed_columns());
-  const std::vector<std::vector<double>> samples_by_rank = ranks->gather(traces.packed_samples());
-  if (ranks->rank() != 0) return;
+  const std::vector<std::vector<double>> beats_by_rank = split.ranks->gather(mine);
+  const std::vector<std::string> columns_by_rank = split.ranks->gather_text(traces.packed_columns());
+  const std::vector<std::vector<double>> samples_by_rank = split.ranks->gather(traces.packed_samples());
+  if (split.ranks->rank() != 0) return;
   beats.clear();
   for (const auto& values : beats_by_rank)
     for (std::size_t k = 0; k + kBeatFields <= values.size(); k += kBeatFields) beats.push_back(unpack(&values[k]));

@@ -40,24 +40,24 @@ Simulation::Impl::SettledRange Simulation::Impl::settled_range(const std::vector
     range.V_min_mV = std::min(range.V_min_mV, V), range.V_max_mV = std::max(range.V_max_mV, V);
     range.tail_change_mV = std::max(range.tail_change_mV, std::abs(V - V_before_tail[c]));
   };
-  if (!ranks) {
+  if (!split.ranks) {
     for (std::size_t c = 0; c < system.V_mV.size(); ++c) {
       take(c);
       if (range.unfinite_cell >= 0) return range;
     }
     return range;
   }
-  for (int cell : share.owned) take(static_cast<std::size_t>(cell));
+  for (int cell : split.share.owned) take(static_cast<std::size_t>(cell));
   // Every rank's five numbers (a missing unfinite cell as +inf), combined in rank order.
   const double inf = std::numeric_limits<double>::infinity();
   const double mine[5] = {range.V_min_mV, range.V_max_mV, range.tail_change_mV,
                           range.unfinite_cell < 0 ? inf : static_cast<double>(range.unfinite_cell),
                           range.unfinite_V_mV};
-  std::vector<double> every(5 * static_cast<std::size_t>(ranks->size()));
-  ranks->gather_all(mine, 5, every.data());
+  std::vector<double> every(5 * static_cast<std::size_t>(split.ranks->size()));
+  split.ranks->gather_all(mine, 5, every.data());
   SettledRange all;
   double first_unfinite = inf;
-  for (std::size_t r = 0; r < static_cast<std::size_t>(ranks->size()); ++r) {
+  for (std::size_t r = 0; r < static_cast<std::size_t>(split.ranks->size()); ++r) {
     const double* v = &every[5 * r];
     all.V_min_mV = std::min(all.V_min_mV, v[0]), all.V_max_mV = std::max(all.V_max_mV, v[1]);
     all.tail_change_mV = std::max(all.tail_change_mV, v[2]);
@@ -70,7 +70,7 @@ Simulation::Impl::SettledRange Simulation::Impl::settled_range(const std::vector
 void Simulation::Impl::settle_tissue() {
   const double settle_ms = scene.settle.ms;
   if (settle_ms <= 0) return;
-  ScopeTimer timer(set_up_seconds);
+  ScopeTimer timer(times.set_up_s);
   Stimulus stimulus = std::move(system.stimulus);
   system.stimulus = Stimulus();
   Unobserved unobserved;
