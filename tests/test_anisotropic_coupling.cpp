@@ -144,7 +144,7 @@ TEST_CASE("conduction across and along the fibres scales with the side conductan
   }
 }
 
-TEST_CASE("a point stimulus makes the ellipse the planar conduction velocities give") {
+TEST_CASE("a point stimulus makes the ellipse the planar conduction velocities give" * doctest::test_suite("slow")) {
   // In an anisotropic continuum a wave from a point reaches (x, y) at
   //   t = t0 + sqrt((x / CV_x)^2 + (y / CV_y)^2)
   // (an ellipse, a circle when CV_x = CV_y; the brick layout cannot be
