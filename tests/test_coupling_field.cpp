@@ -11,26 +11,11 @@
 
 #include "coupling/coupling_field.hpp"
 #include "coupling/gap_junction.hpp"
-#include "support/scenes.hpp"
+#include "support/paced_strand.hpp"
 
 using namespace fibrodem;
 
 namespace {
-
-// A strand of colman2013 cells (125 um each, along y at x = 0) paced at its first two.
-json strand(int cells) {
-  json m = json::parse(R"({
-    "fibrodem": 1, "name": "strand", "seed": 1, "duration_ms": 40,
-    "tissue": {"builder": "strand", "type": "myocyte"},
-    "cells": {"myocyte": {"model": "colman", "variant": "colman2013"}},
-    "coupling": {"D_m_nS": 1000},
-    "stimulus": [{"target": [0, 1], "start_ms": 1, "duration_ms": 2, "amplitude_pA": 8000}],
-    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
-    "output": {"report": false}
-  })");
-  m["tissue"]["cells"] = cells;
-  return m;
-}
 
 // Activation times of every cell, in cell order.
 std::vector<double> activations(const json& m) {
@@ -41,19 +26,11 @@ std::vector<double> activations(const json& m) {
   return t;
 }
 
-// CV [cm/s] of the cells whose centres lie in [from, to] mm (least squares).
+// CV [cm/s] over [from, to] mm of a run of `m`.
 double cv_between(const json& m, double from_mm, double to_mm) {
   Simulation sim(parse_scene(m));
   sim.run();
-  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (const auto& b : sim.biomarkers()) {
-    const double y = sim.tissue().y_um[static_cast<std::size_t>(b.cell)];
-    if (y < 1000 * from_mm || y > 1000 * to_mm) continue;
-    REQUIRE(fired(b));
-    n += 1, sx += y, sy += b.activation_ms, sxx += y * y, sxy += y * b.activation_ms;
-  }
-  REQUIRE(n >= 5);
-  return 0.1 / ((sxy - sx * sy / n) / (sxx - sx * sx / n));  // um/ms -> cm/s
+  return testing::cv_between(sim, from_mm, to_mm);
 }
 
 std::string error_of(const json& m) {
@@ -90,35 +67,35 @@ TEST_CASE("the field's sampler: bilinear is exact for a plane, nearest picks the
 }
 
 TEST_CASE("a field of one value is a region of that scale, bit for bit, and a file gives the inline grid's bits") {
-  json region = strand(40);
+  json region = testing::paced_strand(40);
   region["coupling"]["regions"] = json::array({{{"shape", "rectangle"}, {"x_mm", {-1, 1}}, {"y_mm", {2, 3.5}}, {"scale", 0.3}}});
-  json field = strand(40);
+  json field = testing::paced_strand(40);
   field["coupling"]["field"] = {{"x_mm", {-1, 1}}, {"y_mm", {2, 3.5}}, {"scale", {{0.3}}}};
   const std::vector<double> by_region = activations(region);
   CHECK(activations(field) == by_region);
   // The same through the section's D_m_nS (scale 0.3 over the whole strand).
-  json whole = strand(40), slower = strand(40);
+  json whole = testing::paced_strand(40), slower = testing::paced_strand(40);
   whole["coupling"]["field"] = {{"x_mm", {-1, 1}}, {"y_mm", {-1, 6}}, {"scale", {{0.25, 0.25}, {0.25, 0.25}}}};
   slower["coupling"]["D_m_nS"] = 250;
   CHECK(activations(whole) == activations(slower));
   // A grid written to a CSV file, with a comment and a blank line.
   const auto csv = testing::scratch_dir("coupling_field") / "scale.csv";
   std::ofstream(csv) << "# a 3 x 2 map\n1,0.5\n\n0.4, 0.8\n0.2,1.5\n";
-  json inline_grid = strand(40), from_file = strand(40);
+  json inline_grid = testing::paced_strand(40), from_file = testing::paced_strand(40);
   inline_grid["coupling"]["field"] = {{"x_mm", {-1, 1}}, {"y_mm", {0, 5}}, {"scale", {{1, 0.5}, {0.4, 0.8}, {0.2, 1.5}}}};
   from_file["coupling"]["field"] = {{"x_mm", {-1, 1}}, {"y_mm", {0, 5}}, {"file", csv.string()}};
   const std::vector<double> from_inline = activations(inline_grid);
   CHECK(activations(from_file) == from_inline);
-  CHECK(from_inline != activations(strand(40)));
+  CHECK(from_inline != activations(testing::paced_strand(40)));
 }
 
 TEST_CASE("coupling.field: a strand whose conductance falls linearly conducts at each point as a uniform strand of the local conductance") {
   // 1000 nS at y = 0 falling to 250 nS at y = 10 mm; at 5 mm the map gives
   // 625 nS. The fit over 4.5-5.5 mm against a uniform 625 nS strand's over
   // the same cells: the gradient is gentle (7.5 % of D a mm), so within 3 %.
-  json graded = strand(80);
+  json graded = testing::paced_strand(80);
   graded["coupling"]["field"] = {{"x_mm", {-1, 1}}, {"y_mm", {0, 10}}, {"scale", {{1.0}, {0.25}}}};
-  json uniform = strand(80);
+  json uniform = testing::paced_strand(80);
   uniform["coupling"]["D_m_nS"] = 625;
   const double cv_graded = cv_between(graded, 4.5, 5.5), cv_uniform = cv_between(uniform, 4.5, 5.5);
   const double cv_start = cv_between(graded, 1.5, 2.5), cv_end = cv_between(graded, 7.5, 8.5);
@@ -130,7 +107,7 @@ TEST_CASE("coupling.field: a strand whose conductance falls linearly conducts at
 }
 
 TEST_CASE("coupling.field: bad fields are named") {
-  json m = strand(10);
+  json m = testing::paced_strand(10);
   const auto with_field = [&](const json& field) {
     m["coupling"]["field"] = field;
     return error_of(m);

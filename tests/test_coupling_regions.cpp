@@ -9,53 +9,23 @@
 #include <iomanip>
 
 #include "coupling/gap_junction.hpp"
-#include "support/scenes.hpp"
+#include "support/paced_strand.hpp"
 
 using namespace fibrodem;
 
-namespace {
-
-// A strand of colman2013 cells (125 um each, along y) paced at its first two.
-json strand(int cells) {
-  json m = json::parse(R"({
-    "fibrodem": 1, "name": "strand", "seed": 1, "duration_ms": 40,
-    "tissue": {"builder": "strand", "type": "myocyte"},
-    "cells": {"myocyte": {"model": "colman", "variant": "colman2013"}},
-    "coupling": {"D_m_nS": 1000},
-    "stimulus": [{"target": [0, 1], "start_ms": 1, "duration_ms": 2, "amplitude_pA": 8000}],
-    "solver": {"method": "rush_larsen", "dt_ms": 0.01},
-    "output": {"report": false}
-  })");
-  m["tissue"]["cells"] = cells;
-  return m;
-}
-
-// CV [cm/s] of the cells whose centres lie in [from, to] mm: 1 / the
-// least-squares slope of activation time against position.
-double cv_between(const Simulation& sim, double from_mm, double to_mm) {
-  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (const auto& b : sim.biomarkers()) {
-    const double y = sim.tissue().y_um[static_cast<std::size_t>(b.cell)];
-    if (y < 1000 * from_mm || y > 1000 * to_mm) continue;
-    REQUIRE(fired(b));
-    n += 1, sx += y, sy += b.activation_ms, sxx += y * y, sxy += y * b.activation_ms;
-  }
-  REQUIRE(n >= 5);
-  return 0.1 / ((sxy - sx * sy / n) / (sxx - sx * sx / n));  // um/ms -> cm/s
-}
-
-}  // namespace
+using testing::cv_between;
+using testing::paced_strand;
 
 TEST_CASE("a strip with a quarter of the conductance conducts as a strand of that conductance") {
   // 80 cells (10 mm); the strip covers 4-7 mm. CVs are fitted over the
   // middle of each stretch, away from the ends and the strip's edges.
-  json m = strand(80);
+  json m = paced_strand(80);
   m["coupling"]["regions"] = json::array({{{"shape", "rectangle"}, {"x_mm", {-1, 1}}, {"y_mm", {4, 7}}, {"scale", 0.25}}});
   Simulation with_strip(parse_scene(m));
   with_strip.run();
   const double outside = cv_between(with_strip, 1.5, 3.5), inside = cv_between(with_strip, 4.5, 6.5);
   // The same strand at 250 nS throughout, fitted over the same cells.
-  json slow = strand(80);
+  json slow = paced_strand(80);
   slow["coupling"]["D_m_nS"] = 250;
   Simulation uniform(parse_scene(slow));
   uniform.run();
@@ -82,7 +52,7 @@ TEST_CASE("regions that change nothing give the same bits as none") {
     sim.run();
     return testing::read_file(dir / "traces.csv");
   };
-  const json plain = strand(30);
+  const json plain = paced_strand(30);
   const std::string none = run_traces(plain, "regions_none");
   json m = plain;
   // scale 1 everywhere; then D_m_nS as the section's over part of it.
@@ -129,7 +99,7 @@ TEST_CASE("a region's conductances: scale times the section's, or its own, D_m_s
 }
 
 TEST_CASE("coupling.regions: bad regions are named") {
-  json m = strand(10);
+  json m = paced_strand(10);
   const auto error_of = [&](const json& region) {
     m["coupling"]["regions"] = json::array({region});
     try {
