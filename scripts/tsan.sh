@@ -20,7 +20,7 @@ SAN="-fsanitize=thread -fno-omit-frame-pointer"
 files=""
 if [ $# -eq 0 ]; then
   # (No file found: every file is built.)
-  files=$(grep -lE 'test_suite\("[^"]*threads' tests/*.cpp | xargs -r -n1 basename | sed 's/\.cpp$//' |
+  files=$(grep -lE 'test_suite\("[^"]*threads' tests/*/test_*.cpp | xargs -r -n1 basename | sed 's/\.cpp$//' |
           paste -sd';' || true)
   set -- -L '^threads$'
 fi

@@ -144,7 +144,7 @@ class AdaptiveIntegrator final : public Integrator {
   // second-order result kept, the error delivered for a tolerance depends on
   // where the controller settles: at the default tolerances (0.01) the
   // 100-beat Na_i drift of a courtemanche cell strays 4 % from CVODE's at
-  // fac 0.9, 2 % at 0.8, < 1 % at 0.7 (tests/test_hard_cases.cpp holds it to
+  // fac 0.9, 2 % at 0.8, < 1 % at 0.7 (tests/integrate/test_hard_cases.cpp holds it to
   // 1 %). solver.accuracy's tolerances (method_choice.cpp) are measured with it.
   static constexpr double kControllerSafety = 0.7;
   StepController controller_{1, kControllerSafety};

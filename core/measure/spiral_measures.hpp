@@ -3,7 +3,7 @@
 // Brocklehurst, Ni, Zhang & Ye 2017 (PLoS ONE 12:e0176607) characterise
 // spirals by tip trajectory, excitation frequency and meander range; the
 // definitions here are fibrodem's, each with a closed-form answer on a
-// circle or a line (tests/test_spiral_measures.cpp):
+// circle or a line (tests/measure/test_spiral_measures.cpp):
 //
 //   lifetime_ms    death_ms - birth_ms: the first and last samples it was seen in
 //   period_ms      the rotation period: the activation cycle length of the

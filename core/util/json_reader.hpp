@@ -60,7 +60,7 @@ std::vector<int> read_cell_indices(const json& list, const std::string& path);
 // Records every (JSON path of an object, key) that a JsonReader on this
 // thread reads (with or without a value in the manifest) while it lives, so
 // that a test can compare the keys the code reads with those the schema
-// lists (tests/test_manifest_schema.cpp). Logs nest: the newest records.
+// lists (tests/scene/test_manifest_schema.cpp). Logs nest: the newest records.
 class KeyReadLog {
  public:
   KeyReadLog();

@@ -375,7 +375,7 @@ void Rice::evaluate(const fibrodem::BlockView& block, double t_ms) const {
 // 183 ms (90 %) after the peak. kon was preferred to perm50 or koffmod: it shifts
 // the force-Ca relation without changing cooperativity or the off-rates that set
 // relaxation.
-// Calibration transient (tests/test_rice.cpp): the CellML test-transient formula
+// Calibration transient (tests/model/test_rice.cpp): the CellML test-transient formula
 // fitted (least squares over one beat) to the colman plugin's bulk Ca_i at 1 Hz
 // (colman2013 variant, 10th beat): Ca_diastolic 0.162 uM, Ca_amplitude 0.567 uM,
 // tau1 74 ms, tau2 94 ms, start 5 ms, period 1000 ms.

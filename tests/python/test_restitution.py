@@ -11,7 +11,7 @@ import pytest
 import fibrodem
 from conftest import run_cli
 
-# The chronic-AF Courtemanche cell of tests/test_restitution.cpp, paced
+# The chronic-AF Courtemanche cell of tests/study/test_restitution.cpp, paced
 # 3 times at 1 Hz, S2 at 2210 ms; Rush-Larsen so that each run takes
 # a fraction of a second.
 CELL = {

@@ -15,7 +15,7 @@ from conftest import FIBRODEM_EXE, run_cli
 from fibrodem._result import _csv_table
 
 # A small in-series tissue whose random layout changes with the seed (as in
-# tests/test_sweep.cpp), 20 ms: each run a fraction of a second.
+# tests/study/test_sweep.cpp), 20 ms: each run a fraction of a second.
 SEEDED = {
     "fibrodem": 1, "name": "pytest_seeded", "duration_ms": 20, "seed": 3,
     "tissue": {"builder": "in_series", "width_mm": 0.2, "height_mm": 0.8, "fm_ratio": 0.3},

@@ -9,7 +9,7 @@ import pytest
 import fibrodem
 from conftest import run_cli
 
-# The strand of tests/test_vulnerable_window.cpp: 46 colman2013_caf myocytes,
+# The strand of tests/study/test_vulnerable_window.cpp: 46 colman2013_caf myocytes,
 # S1 and S2 at one end; "re-entry" while the S1 wave still travels, up to an
 # interval near 74 ms. Each run a fraction of a second.
 STRAND = {

@@ -1,6 +1,6 @@
 // The reference for the implicit gap-junction step: the system
 // (C/dt + L) x = (C/dt) V built densely from a tissue's edges and solved by
-// Eigen's dense LDLT (tests/test_coupling_cg.cpp, tests/test_mpi_coupling_cg.cpp).
+// Eigen's dense LDLT (tests/coupling/test_coupling_cg.cpp, tests/coupling/test_mpi_coupling_cg.cpp).
 #pragma once
 
 #include <Eigen/Dense>

@@ -1,6 +1,6 @@
 // A small tissue's DEM driven through a twitch, and the acceptance bounds of
 // a faster mechanics scheme against the native one (mass scaling,
-// tests/test_dem_mass_scaling.cpp; multirate, tests/test_dem_multirate.cpp):
+// tests/mechanics/test_dem_mass_scaling.cpp; multirate, tests/mechanics/test_dem_multirate.cpp):
 // peak eps_xx and eps_yy within 1 %, the strain's time course within 2 % RMS
 // of the peak (docs/topics/mechanics.md).
 #pragma once

@@ -1,6 +1,6 @@
 // A colman2013 strand paced at one end, and the conduction velocity fitted
 // over part of it: the scene of the tests of heterogeneous coupling
-// (tests/test_coupling_regions.cpp, tests/test_coupling_field.cpp).
+// (tests/coupling/test_coupling_regions.cpp, tests/coupling/test_coupling_field.cpp).
 #pragma once
 
 #include <doctest/doctest.h>

@@ -1,6 +1,6 @@
 // The keys a schema lists, object by object: the walk behind the generated
 // reference (schema_markdown.hpp) and behind the test that the code reads
-// exactly the keys the schema lists (tests/test_manifest_schema.cpp).
+// exactly the keys the schema lists (tests/scene/test_manifest_schema.cpp).
 #pragma once
 
 #include <string>

@@ -3,7 +3,7 @@
 // ghosts' entries from their owners before each product and reducing its
 // sums over the ranks. Run here on ranks that are threads of one process
 // (a RankGroup over shared memory), against a dense direct solve of the
-// whole system; tests/test_mpi_tissue.cpp runs it under mpirun.
+// whole system; tests/tissue/test_mpi_tissue.cpp runs it under mpirun.
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>

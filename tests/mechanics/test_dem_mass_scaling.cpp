@@ -24,7 +24,7 @@ namespace {
 
 // The largest scaling that holds the bounds alone on the Fig. 3 interstitial
 // scene (docs/topics/mechanics.md measures it; the example now sets half of it with
-// mechanics.multirate, tests/test_dem_multirate.cpp).
+// mechanics.multirate, tests/mechanics/test_dem_multirate.cpp).
 constexpr double kMassScaling = 0.005;
 
 }  // namespace

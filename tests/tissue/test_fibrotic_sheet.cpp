@@ -3,7 +3,7 @@
 // the density each pattern achieves, the patchy pattern's correlation length,
 // interstitial lines along the fibres, collagen that carries no coupling,
 // determinism for a seed, errors that name the JSON path; mechanics builds
-// on it (tests/test_dem_sheets.cpp tests the DEM body).
+// on it (tests/mechanics/test_dem_sheets.cpp tests the DEM body).
 #include <doctest/doctest.h>
 
 #include <cmath>

@@ -7,7 +7,7 @@
 // run in one process: the same bytes (traces with the strain, biomarkers,
 // deformed snapshots, summary.json's peak strain). With the adaptive
 // method the reference is one process within the tolerances the split EP
-// is held to (tests/test_mpi_tissue.cpp), and the strain within the bound
+// is held to (tests/tissue/test_mpi_tissue.cpp), and the strain within the bound
 // derived below. A 2-rank EM run killed and resumed on 2 ranks writes the
 // run never stopped (rank 0's checkpoint holds the DEM).
 #include <doctest/doctest.h>

@@ -1,7 +1,7 @@
 // `fibrodem run` and `fibrodem resume` under mpirun (run/over_ranks.hpp):
 // with one rank a run as without mpirun; with several, a scene the ranks
 // cannot share stops on every rank before anything is written.
-// (tests/test_mpi_tissue.cpp runs a scene they share.)
+// (tests/tissue/test_mpi_tissue.cpp runs a scene they share.)
 #include <doctest/doctest.h>
 
 #include <cstdlib>

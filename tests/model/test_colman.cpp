@@ -64,7 +64,7 @@ TEST_CASE("colman: model description and variants") {
   CHECK(info.variants[0].name == "colman2013");  // default
   CHECK(info.variants[1].name == "ni2017");
   CHECK(info.variants[2].name == "brocklehurst2022_tissue");
-  CHECK(info.variants[3].name == "colman2013_caf");  // tests/test_af_remodelling.cpp
+  CHECK(info.variants[3].name == "colman2013_caf");  // tests/model/test_af_remodelling.cpp
   // The default variant is the parameter defaults (one source of truth).
   for (const auto& [name, value] : info.variants[0].parameters) {
     const std::string parameter = name;  // (clang 14 cannot capture a structured binding)
