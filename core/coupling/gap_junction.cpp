@@ -11,18 +11,26 @@ namespace fibrodem {
 
 namespace {
 
+// The error for a region or map that holds no junction: its extent beside the
+// tissue's, so that one off the tissue is seen at once.
+ManifestError holds_no_junction(const Tissue& tissue, const std::string& path, const std::string& why, double x_min_um,
+                                double x_max_um, double y_min_um, double y_max_um) {
+  const auto b = tissue.bounds_um();
+  return ManifestError(path, fmt::format("holds no junction ({}its x_mm [{:g}, {:g}], y_mm [{:g}, {:g}]; the tissue "
+                                         "spans x [{:g}, {:g}] mm, y [{:g}, {:g}] mm)",
+                                         why, x_min_um / 1000, x_max_um / 1000, y_min_um / 1000, y_max_um / 1000,
+                                         b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
+}
+
 // A region that holds no junction is named: it lies off the tissue, between
 // its cells, or under later regions.
 void check_regions_hold_junctions(const Tissue& tissue, const std::vector<CouplingRegion>& regions,
                                   const std::vector<int>& junctions_held) {
   for (std::size_t k = 0; k < regions.size(); ++k) {
     if (junctions_held[k] > 0) continue;
-    const auto b = tissue.bounds_um();
     const CouplingRegion& r = regions[k];
-    throw ManifestError(r.path, fmt::format("holds no junction (none has its midpoint in it and in no later region; its x_mm [{:g}, {:g}], y_mm [{:g}, {:g}]; "
-                                            "the tissue spans x [{:g}, {:g}] mm, y [{:g}, {:g}] mm)",
-                                            r.x_min_um / 1000, r.x_max_um / 1000, r.y_min_um / 1000, r.y_max_um / 1000,
-                                            b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
+    throw holds_no_junction(tissue, r.path, "none has its midpoint in it and in no later region; ", r.x_min_um,
+                            r.x_max_um, r.y_min_um, r.y_max_um);
   }
 }
 
@@ -64,13 +72,8 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
     entries.emplace_back(j, i, -g);
   }
   check_regions_hold_junctions(tissue, regions, junctions_held);
-  if (field && junctions_in_field == 0) {
-    const auto b = tissue.bounds_um();
-    throw ManifestError(field->path, fmt::format("holds no junction (its x_mm [{:g}, {:g}], y_mm [{:g}, {:g}]; the tissue "
-                                                 "spans x [{:g}, {:g}] mm, y [{:g}, {:g}] mm)",
-                                                 field->x_min_um / 1000, field->x_max_um / 1000, field->y_min_um / 1000,
-                                                 field->y_max_um / 1000, b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
-  }
+  if (field && junctions_in_field == 0)
+    throw holds_no_junction(tissue, field->path, "", field->x_min_um, field->x_max_um, field->y_min_um, field->y_max_um);
   Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian(n, n);
   laplacian.setFromTriplets(entries.begin(), entries.end());
   laplacian.makeCompressed();
