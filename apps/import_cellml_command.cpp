@@ -2,13 +2,43 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "apps/cellml_import_module.hpp"
 #include "apps/commands.hpp"
 #include "cellml/import.hpp"
+#include "cellml/import_error.hpp"
 #include "util/plugin_name.hpp"
-#include "util/runtime_module.hpp"
 
 namespace fibrodem::cli {
+namespace {
+
+// What the import wrote, or its error; the exit status.
+int run_import(const cellml::ImportOptions& options) {
+  try {
+    const auto result = cellml::import_cellml(options);
+    std::cout << "wrote " << (result.folder / (options.name + ".cpp")).string() << " and "
+              << (result.folder / "CMakeLists.txt").string() << "\n";
+    for (const auto& note : result.notes) std::cout << "  " << note << "\n";
+    for (const auto& warning : result.unit_warnings) std::cerr << "warning: " << warning << "\n";
+    if (!result.unit_warnings.empty())
+      std::cerr << "warning: " << result.unit_warnings.size() << " unit inconsistenc"
+                << (result.unit_warnings.size() == 1 ? "y" : "ies") << " imported with the numbers as written (listed in the plugin's header; "
+                   "--strict-units refuses them)\n";
+    const std::string build = (result.folder / "build").string();
+    std::cout << "build it against an installed fibrodem:\n"
+              << "  cmake -S " << result.folder.string() << " -B " << build
+              << " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=<fibrodem's install prefix>\n"
+              << "  cmake --build " << build << "\n";
+    return 0;
+  } catch (const cellml::ImportError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 5;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace
+
 
 CLI::App* add_import_cellml_subcommand(CLI::App& app, cellml::ImportOptions& o) {
   auto* sub = app.add_subcommand("import-cellml", "Write a cell-model plugin (NAME.cpp, CMakeLists.txt) from a CellML 1.0, 1.1 or 2.0 model");
@@ -31,9 +61,7 @@ int import_cellml_command(const cellml::ImportOptions& options) {
     std::cerr << "error: --name '" << options.name << "': expected " << kPluginNameRule << "\n";
     return 5;
   }
-  const auto entry = reinterpret_cast<CellmlImportEntry>(
-      module_entry("xml", kCellmlImportEntry, "needed by `fibrodem import-cellml` to read CellML"));
-  return entry(&options);
+  return run_import(options);
 }
 
 }  // namespace fibrodem::cli

@@ -61,8 +61,8 @@ CellPartition partition_cells(const Tissue& tissue, int parts) {
   partition.part_of.assign(n, 0);
   if (parts == 1) return partition;
 
-  // Scotch (the partition module) splits the graph.
-  partition.part_of = graph_partitioner().split(compressed_graph(tissue), parts, kPartImbalance);
+  // Scotch splits the graph.
+  partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
   return partition;
 }
 

@@ -1,12 +1,10 @@
-// The shared libraries the command line loads: Cairo (pictures), Open MPI
-// (mpirun), Scotch (the split over ranks), pugixml (CellML, .pvd collections)
-// and Google Benchmark (`fibrodem bench`) are in modules opened on first use
-// (core/util/runtime_module.hpp), so a run that draws nothing and was not
-// launched by mpirun loads none of them (docs/topics/performance.md#start-up). What a process loads is read from glibc's
+// The shared libraries the command line loads: Cairo (pictures) and Open MPI
+// (mpirun) are in modules opened on first use (core/util/runtime_module.hpp),
+// so a run that draws nothing and was not launched by mpirun loads neither
+// (docs/topics/performance.md#start-up). What a process loads is read from glibc's
 // loader trace (LD_DEBUG=libs: one "calling init: FILE" line per library it
 // initialises, the executable's own needs and every dlopen alike).
 #include <doctest/doctest.h>
-#include <link.h>
 
 #include <fstream>
 #include <set>
@@ -14,7 +12,6 @@
 
 #include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
-#include "tissue/cell_partition.hpp"
 
 using namespace fibrodem;
 using fibrodem::testing::read_file;
@@ -33,18 +30,6 @@ std::set<std::string> initialised_libraries(const std::string& trace) {
   for (std::string line; std::getline(lines, line);)
     if (const auto at = line.find(marker); at != std::string::npos)
       names.insert(fs::path(line.substr(at + marker.size())).filename().string());
-  return names;
-}
-
-// The file names of the shared libraries mapped into this process.
-std::set<std::string> libraries_in_this_process() {
-  std::set<std::string> names;
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, std::size_t, void* data) {
-        static_cast<std::set<std::string>*>(data)->insert(fs::path(info->dlpi_name).filename().string());
-        return 0;
-      },
-      &names);
   return names;
 }
 
@@ -78,57 +63,6 @@ TEST_CASE("start-up: a run without pictures, not under mpirun, loads neither Cai
   CHECK_FALSE(loaded(libraries, "libmpi"));
   CHECK_FALSE(loaded(libraries, "libopen-pal"));
   CHECK_FALSE(loaded(libraries, "libfibrodem-mpi"));
-  CHECK_FALSE(loaded(libraries, "libscotch"));
-  CHECK_FALSE(loaded(libraries, "libfibrodem-partition"));
-  CHECK_FALSE(loaded(libraries, "libpugixml"));
-  CHECK_FALSE(loaded(libraries, "libfibrodem-xml"));
-  CHECK_FALSE(loaded(libraries, "libbenchmark"));
-  CHECK_FALSE(loaded(libraries, "libfibrodem-bench"));
-}
-
-TEST_CASE("start-up: the commands that need Scotch, pugixml or Google Benchmark open their module") {
-  const fs::path dir = scratch_dir("start_up_modules");
-  const auto libraries_of = [&](const std::string& args, const std::string& log) {
-    REQUIRE(run_fibrodem("LD_DEBUG=libs ", args, dir / log) == 0);
-    return initialised_libraries(read_file(dir / log));
-  };
-
-  SUBCASE("bench: Google Benchmark, in the bench module") {
-    // Listing the suites registers them without running any.
-    const auto libraries = libraries_of("bench --benchmark_list_tests=true", "bench.txt");
-    CHECK(loaded(libraries, "libfibrodem-bench.so"));
-    CHECK(loaded(libraries, "libbenchmark"));
-    CHECK(read_file(dir / "bench.txt").find("one_cell_1s/") != std::string::npos);
-    CHECK_FALSE(loaded(libraries, "libpugixml"));
-  }
-
-  SUBCASE("import-cellml: pugixml, in the xml module") {
-    const auto libraries =
-        libraries_of("import-cellml " + std::string(FIBRODEM_SOURCE_DIR) + "/tests/cellml/hh_1952_1_0.cellml" +
-                         " --name start_up_hh --out " + (dir / "start_up_hh").string() + " --overwrite",
-                     "cellml.txt");
-    CHECK(loaded(libraries, "libfibrodem-xml.so"));
-    CHECK(loaded(libraries, "libpugixml"));
-    CHECK(fs::exists(dir / "start_up_hh" / "start_up_hh.cpp"));
-    CHECK_FALSE(loaded(libraries, "libbenchmark"));
-    CHECK_FALSE(loaded(libraries, "libscotch"));
-  }
-}
-
-TEST_CASE("start-up: a split into two parts opens the partition module, and Scotch with it") {
-  // Two cells joined by one edge: one cell each side.
-  Tissue tissue;
-  for (int cell = 0; cell < 2; ++cell) {
-    tissue.type.push_back(CellType::myocyte);
-    tissue.x_um.push_back(25.0 * cell);
-    tissue.y_um.push_back(0.0);
-  }
-  tissue.cell_edges.emplace_back(0, 1);
-  const CellPartition partition = partition_cells(tissue, 2);
-  CHECK(partition.part_of[0] != partition.part_of[1]);
-  const auto libraries = libraries_in_this_process();
-  CHECK(loaded(libraries, "libfibrodem-partition.so"));
-  CHECK(loaded(libraries, "libscotch"));
 }
 
 TEST_CASE("start-up: the first picture opens the drawing module, and Cairo with it") {
@@ -193,8 +127,7 @@ TEST_CASE("start-up: a missing module is an error naming the module, the folders
   }
 }
 
-TEST_CASE("start-up: the command line declares the subcommand it is given, and all of them for --help") {
-  // (apps/fibrodem.cpp declares only the subcommand named first.)
+TEST_CASE("start-up: --help lists every subcommand, and a subcommand's options parse") {
   const fs::path dir = scratch_dir("start_up_subcommands");
   REQUIRE(run_fibrodem("", "--help", dir / "help.txt") == 0);
   const std::string help = read_file(dir / "help.txt");

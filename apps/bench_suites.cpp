@@ -1,4 +1,4 @@
-// The bench module's entry point, `fibrodem bench`: Google Benchmark suites
+// `fibrodem bench`: Google Benchmark suites
 // of the hot loops. Speed is measured here, never in timed tests. Reported
 // counter: cell_steps_per_s (cells x steps / wall time, Hustad & Cai 2022).
 #include <benchmark/benchmark.h>
@@ -7,7 +7,6 @@
 #include <iostream>
 #include <tuple>
 
-#include "apps/bench_module.hpp"
 #include "apps/commands.hpp"
 #include "integrate/fixed_step.hpp"
 #include "mechanics/dem_solver.hpp"
@@ -149,7 +148,7 @@ void dem_step(benchmark::State& state, std::string builder, int threads) {
 
 }  // namespace
 
-int run_bench_suites(const char* program, const std::vector<std::string>& args) {
+int bench_command(const char* program, const std::vector<std::string>& args) {
   PluginRegistry registry;
   std::vector<std::shared_ptr<const CellModel>> models;
   for (const auto& name : registry.available()) {
@@ -233,8 +232,3 @@ int run_bench_suites(const char* program, const std::vector<std::string>& args) 
 }
 
 }  // namespace fibrodem::cli
-
-extern "C" __attribute__((visibility("default"))) int fibrodem_bench_v1(const char* program,
-                                                                         const std::vector<std::string>* args) {
-  return fibrodem::cli::run_bench_suites(program, *args);
-}
