@@ -71,6 +71,25 @@ std::unique_ptr<MpiRanks> split_ranks(const std::string& command) {
   return ranks;
 }
 
+// A run split over ranks. SIGINT and SIGTERM stop every rank at the same
+// step (the run agrees on it over the ranks), with every output written, as
+// in one process. A rank that fails ends the job, after writing summary.json
+// if it is not rank 0 (Simulation): the others would wait for it.
+template <class Run>
+void run_split(MpiRanks& ranks, const std::filesystem::path& dir, Run&& run) {
+  install_interrupt_handlers();
+  try {
+    run();
+  } catch (const InterruptedError&) {
+    if (ranks.rank() == 0) print_outputs(dir);
+    throw;
+  } catch (const std::exception& e) {
+    print_failure("error", e.what());  // (names the rank)
+    ranks.abort(4);
+  }
+  if (ranks.rank() == 0) print_outputs(dir);
+}
+
 }  // namespace
 
 int run_command(const RunArgs& args) {
@@ -94,16 +113,11 @@ int run_command(const RunArgs& args) {
       return 0;
     }
     // The tissue split over the ranks (docs/guide/parallel.md); rank 0 writes.
-    // A rank that fails ends the job: the others would wait for it.
     options.ranks = ranks->group();
-    try {
+    run_split(*ranks, scene.output.dir, [&] {
       Simulation simulation(scene, nullptr, options);
       simulation.run();
-    } catch (const std::exception& e) {
-      print_failure("error", e.what());  // (names the rank)
-      ranks->abort(4);
-    }
-    if (ranks->rank() == 0) print_outputs(scene.output.dir);
+    });
     return 0;
   });
 }
@@ -155,14 +169,7 @@ int resume_command(const ResumeArgs& args) {
       print_outputs(args.dir);
       return 0;
     }
-    // A rank that fails ends the job: the others would wait for it.
-    try {
-      simulation.run();
-    } catch (const std::exception& e) {
-      print_failure("error", e.what());  // (names the rank)
-      ranks->abort(4);
-    }
-    if (ranks->rank() == 0) print_outputs(args.dir);
+    run_split(*ranks, args.dir, [&] { simulation.run(); });
     return 0;
   });
 }

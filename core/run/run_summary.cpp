@@ -1,5 +1,7 @@
 #include "run/run_summary.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -149,7 +151,9 @@ json run_summary(const RunFacts& f) {
 }
 
 void write_summary(const std::filesystem::path& dir, const json& summary) {
-  const std::filesystem::path tmp = dir / "summary.json.tmp";
+  // (A name of this process's own: ranks of a split run that fail at once
+  // may each write one; the last rename wins, whole.)
+  const std::filesystem::path tmp = dir / ("summary.json." + std::to_string(getpid()) + ".tmp");
   {
     std::ofstream f(tmp, std::ios::trunc);
     f << summary.dump(2, ' ', false, json::error_handler_t::replace) << '\n';  // (the manifest's strings as given)

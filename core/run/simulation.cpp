@@ -140,6 +140,7 @@ void Simulation::Impl::run() {
     }
     log->info("outputs in {}", fs::absolute(out).string());
   }
+  if (status == "failed" && split.ranks && split.ranks->rank() != 0) leave_failed_summary();
   log->flush();
   if (status == "failed") throw std::runtime_error(error);
   if (status == "interrupted") throw InterruptedError(interrupted_by, error);
@@ -260,9 +261,12 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   }
   report_progress(measured, t_new);
   times.output_s += seconds_since(measured);
-  // SIGINT / SIGTERM: stop here, at the end of a step (run() writes everything).
-  if (const int signal = interrupt_signal())
-    throw InterruptedError(signal, fmt::format("interrupted by {} at t = {} ms", signal_name(signal), t_new));
+  // SIGINT / SIGTERM: stop here, at the end of a step (run() writes
+  // everything). Split over ranks, every rank stops at the step at whose end
+  // one of them has the signal (mpirun passes it to each at its own time).
+  int signal = interrupt_signal();
+  if (split.reductions) signal = static_cast<int>(split.reductions->largest(signal));
+  if (signal) throw InterruptedError(signal, fmt::format("interrupted by {} at t = {} ms", signal_name(signal), t_new));
 }
 
 json Simulation::Impl::summary() const {
@@ -274,7 +278,9 @@ json Simulation::Impl::summary() const {
                       .solver_choice = solver_choice,
                       .simulated_ms = t_reached_ms,
                       .status = status,
-                      .error = error,
+                      .error = split.ranks && status == "failed"
+                                   ? fmt::format("rank {} of {}: {}", split.ranks->rank(), split.ranks->size(), error)
+                                   : error,
                       .wall_s = times.wall_s,
                       .steps = steps,
                       .tissue = tissue,

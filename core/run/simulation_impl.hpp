@@ -32,6 +32,7 @@
 #include "run/halo_exchange.hpp"
 #include "run/mechanics_coupling.hpp"
 #include "run/mechanics_over_ranks.hpp"
+#include "run/rank_reductions.hpp"
 #include "run/resource_estimate.hpp"
 #include "run/run_clock.hpp"
 #include "run/simulation.hpp"
@@ -84,6 +85,9 @@ struct ReentrySampling {
 // values go (simulation_ranks.cpp).
 struct RankSplit {
   std::shared_ptr<RankGroup> ranks;
+  // The step control's error and stop, and at each step's end whether a
+  // rank received SIGINT or SIGTERM, the same on every rank.
+  std::shared_ptr<RankReductions> reductions;
   RankCells share;
   std::vector<char> owned;
   std::unique_ptr<HaloExchange> halo;
@@ -196,6 +200,7 @@ struct Simulation::Impl : StepObserver {
   const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);
   std::vector<double> voltage_of_every_cell();
   void gather_from_ranks();
+  void leave_failed_summary();
 
   // ---- checkpoints (simulation_checkpoints.cpp) ----
   void plan_checkpoints();

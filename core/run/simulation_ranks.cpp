@@ -19,6 +19,7 @@
 #include "run/coupling_over_ranks.hpp"
 #include "run/over_ranks.hpp"
 #include "run/rank_reductions.hpp"
+#include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
 #include "tissue/cell_partition.hpp"
 #include "util/json_reader.hpp"
@@ -88,9 +89,8 @@ void Simulation::Impl::split_over_ranks() {
 // every rank's error and stop.
 void Simulation::Impl::connect_ranks() {
   if (!split.ranks) return;
-  system.largest_over_ranks = [reductions = std::make_shared<RankReductions>(*split.ranks)](double mine) {
-    return reductions->largest(mine);
-  };
+  split.reductions = std::make_shared<RankReductions>(*split.ranks);
+  system.largest_over_ranks = [reductions = split.reductions](double mine) { return reductions->largest(mine); };
   if (!system.coupler) return;
   split.halo = std::make_unique<HaloExchange>(*split.ranks, split.share);
   system.refresh_ghost_voltages = [h = split.halo.get()](double* V_mV) { h->refresh(V_mV); };
@@ -222,6 +222,21 @@ void Simulation::Impl::gather_from_ranks() {
   for (const auto& b : beats) write_biomarker_row(b);
   traces.merge(scene.output.traces, columns_by_rank, samples_by_rank);
   if (!out.empty()) traces.write_csv(out / "traces.csv");
+}
+
+// A rank other than 0 whose run failed (a blow-up on its cells, a model
+// fault) writes summary.json itself, "failed" with its error and its rank,
+// before the command line ends the job: rank 0, which writes the folder,
+// waits for it at the next exchange and never learns of the failure. Only
+// what every rank knows is in it (the scene, the time reached); the
+// measurements, which rank 0 gathers at the end, are not.
+void Simulation::Impl::leave_failed_summary() {
+  if (!writes_folder) return;
+  try {
+    write_summary(run_folder, summary());
+  } catch (const std::exception& e) {
+    log->error("summary.json of the failed run cannot be written: {}", e.what());
+  }
 }
 
 }  // namespace fibrodem
