@@ -144,8 +144,8 @@ int resume_command(const ResumeArgs& args) {
     scene.output.dir = args.dir;
     scene.output.overwrite = true;  // its own files
     if (args.no_report) scene.output.report = false;
-    // Split over ranks: as many as the checkpoint's (Simulation::resume_from
-    // refuses another count); each rank reads its own part of it.
+    // Split over ranks: over as many as the checkpoint's, each rank reads its
+    // own part of it; over another number, every part (Simulation::resume).
     const std::unique_ptr<MpiRanks> ranks = split_ranks("resume");
     const bool tells = !ranks || ranks->rank() == 0;
     RunOptions options;

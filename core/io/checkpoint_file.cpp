@@ -112,6 +112,19 @@ std::vector<int> CheckpointFields::ints(const std::string& name, long long expec
 
 std::string CheckpointFields::text(const std::string& name) const { return field(name, kBytes).data; }
 
+void CheckpointFields::copy_from(const CheckpointFields& other, const std::string& name) {
+  const auto it = other.fields_.find(name);
+  if (it == other.fields_.end()) throw CheckpointError("it has no field '" + name + "'");
+  fields_[name] = it->second;
+}
+
+std::vector<std::string> CheckpointFields::names_starting(const std::string& prefix) const {
+  std::vector<std::string> names;
+  for (auto it = fields_.lower_bound(prefix); it != fields_.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it)
+    names.push_back(it->first);
+  return names;
+}
+
 void CheckpointFields::bytes(const std::string& name, void* data, std::size_t size) const {
   const Field& f = field(name, kBytes);
   check_count(name, f.count, static_cast<long long>(size));

@@ -42,6 +42,12 @@ class CheckpointFields {
   void put_bytes(const std::string& name, const void* data, std::size_t size);
 
   bool has(const std::string& name) const { return fields_.count(name) != 0; }
+  // The names of the fields that begin with `prefix`, in order.
+  std::vector<std::string> names_starting(const std::string& prefix) const;
+  // Field `name` of `other`, as it is there (a run's checkpoint taken apart
+  // and put together again: run/checkpoint_recut.hpp).
+  // Throws CheckpointError if `other` has no such field.
+  void copy_from(const CheckpointFields& other, const std::string& name);
   // Each getter throws CheckpointError naming the field if it is missing, of
   // another kind, or (with `expected`) of another length.
   std::vector<double> numbers(const std::string& name, long long expected = -1) const;

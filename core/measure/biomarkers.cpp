@@ -62,7 +62,7 @@ void BiomarkerTracker::save(CheckpointFields& fields) const {
   // Cell is plain data: its bytes are its state (cell_bytes pins the layout).
   static_assert(std::is_trivially_copyable_v<Cell>);
   fields.put_integer("biomarkers.cell_bytes", static_cast<long long>(sizeof(Cell)));
-  fields.put_bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));
+  fields.put_bytes(kPerCellBytesField, cells_.data(), cells_.size() * sizeof(Cell));
   fields.put("biomarkers.v_prev", v_prev_);
   fields.put("biomarkers.dvdt_max", dvdt_max_);
   fields.put("biomarkers.peak", peak_);
@@ -76,10 +76,15 @@ void BiomarkerTracker::save(CheckpointFields& fields) const {
   }
 }
 
+std::vector<std::string> BiomarkerTracker::per_cell_number_fields() {
+  return {"biomarkers.v_prev", "biomarkers.dvdt_max", "biomarkers.peak", "biomarkers.rmp", "biomarkers.dvdt_prev",
+          "biomarkers.pre_upstroke.rmp", PreUpstrokeWindow::kIntegralField};
+}
+
 void BiomarkerTracker::load(const CheckpointFields& fields) {
   if (fields.integer("biomarkers.cell_bytes") != static_cast<long long>(sizeof(Cell)))
     throw CheckpointError("its biomarker trackers were written by another build of fibrodem");
-  fields.bytes("biomarkers.cells", cells_.data(), cells_.size() * sizeof(Cell));  // (doubles and a byte: any bytes are valid)
+  fields.bytes(kPerCellBytesField, cells_.data(), cells_.size() * sizeof(Cell));  // (doubles and a byte: any bytes are valid)
   fields.read_into("biomarkers.v_prev", v_prev_);
   fields.read_into("biomarkers.dvdt_max", dvdt_max_);
   fields.read_into("biomarkers.peak", peak_);

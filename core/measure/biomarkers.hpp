@@ -65,6 +65,12 @@ struct BeatBiomarkers {
   double dvdt_max_mV_per_ms = 0;
 };
 
+// The order of biomarkers.csv and of a run's beats in one process: by beat,
+// then cell.
+inline bool in_beat_order(const BeatBiomarkers& a, const BeatBiomarkers& b) {
+  return a.beat != b.beat ? a.beat < b.beat : a.cell < b.cell;
+}
+
 // Whether the cell fired in the beat (above): a fired beat has an activation time.
 inline bool fired(const BeatBiomarkers& b) { return std::isfinite(b.activation_ms); }
 // Whether it fired and rose as far as a myocyte's action potential: the cells
@@ -105,6 +111,12 @@ class BiomarkerTracker {
   // tracker must have been made for the same cells and onsets).
   void save(CheckpointFields& fields) const;
   void load(const CheckpointFields& fields);
+  // The fields save() writes with one entry a tracked cell: rows of one
+  // number a cell (row-major, value k * cells + c) and each cell's bytes,
+  // which a run split over another number of ranks takes cell by cell
+  // (run/checkpoint_recut.hpp). Those absent from a checkpoint are optional.
+  static std::vector<std::string> per_cell_number_fields();
+  static constexpr const char* kPerCellBytesField = "biomarkers.cells";
 
  private:
   // A cell's beat so far, beyond what the lanes' arrays hold (RMP, peak, max dV/dt).

@@ -59,16 +59,16 @@ double PreUpstrokeWindow::mean_before(std::size_t c, double t_act_ms) const {
 }
 
 void PreUpstrokeWindow::save(CheckpointFields& fields) const {
-  fields.put("biomarkers.pre_upstroke.integral", integral_);
+  fields.put(kIntegralField, integral_);
   fields.put_integer("biomarkers.pre_upstroke.newest", newest_);
   fields.put("biomarkers.pre_upstroke.t_first", t_first_);
 }
 
 void PreUpstrokeWindow::load(const CheckpointFields& fields) {
-  if (!fields.has("biomarkers.pre_upstroke.integral"))
+  if (!fields.has(kIntegralField))
     throw CheckpointError("it was written without output.biomarkers.rmp \"pre_upstroke\" (no window of V to resume)");
   std::vector<double> integral(integral_.size());
-  fields.read_into("biomarkers.pre_upstroke.integral", integral);
+  fields.read_into(kIntegralField, integral);
   integral_ = std::move(integral);
   newest_ = fields.integer("biomarkers.pre_upstroke.newest");
   t_first_ = fields.number("biomarkers.pre_upstroke.t_first");

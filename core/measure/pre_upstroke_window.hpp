@@ -33,6 +33,8 @@ class PreUpstrokeWindow {
 
   void save(CheckpointFields& fields) const;
   void load(const CheckpointFields& fields);
+  // The field of the buckets' integrals, a row a bucket of one number a cell.
+  static constexpr const char* kIntegralField = "biomarkers.pre_upstroke.integral";
 
  private:
   double* row(long long bucket) { return integral_.data() + static_cast<std::size_t>(bucket % ring_) * cells_; }

@@ -1,5 +1,7 @@
 #include "run/cell_state_checkpoint.hpp"
 
+#include "run/checkpoint_recut.hpp"
+
 namespace fibrodem {
 
 namespace {
@@ -76,39 +78,36 @@ void check_checkpoint_fits(const CellSystem& system, const CheckpointFields& fie
   });
 }
 
-// The states of the population's cells taken from the checkpoint's y of the
-// same population (state-major, as Population::y, over the checkpoint's
-// cells), each cell's column found by its number.
-void pick_own_states(Population& pop, const std::string& p, const CheckpointFields& fields, std::size_t tissue_cells) {
-  const std::vector<int> whole_cells = fields.ints(p + "cells");
-  const std::size_t whole = whole_cells.size(), states = pop.n_states();
-  const std::vector<double> y = fields.numbers(p + "y", static_cast<long long>(states * whole));
-  std::vector<long long> column(tissue_cells, -1);  // the checkpoint's column of each cell of the tissue
-  for (std::size_t j = 0; j < whole; ++j) {
-    const int cell = whole_cells[j];
-    if (cell < 0 || static_cast<std::size_t>(cell) >= tissue_cells) throw CheckpointError(other_cells(p));
-    column[static_cast<std::size_t>(cell)] = static_cast<long long>(j);
-  }
-  const std::size_t own = pop.size();
-  for (std::size_t i = 0; i < own; ++i) {
-    const long long j = column[static_cast<std::size_t>(pop.cells[i])];
-    if (j < 0) throw CheckpointError(other_cells(p));
-    for (std::size_t k = 0; k < states; ++k) pop.y[k * own + i] = y[k * whole + static_cast<std::size_t>(j)];
-  }
-}
-
 }  // namespace
 
 void check_same_cells(const CellSystem& system, const CheckpointFields& fields) {
   check_checkpoint_fits(system, fields, true);
 }
 
-void load_own_cell_states(CellSystem& system, const CheckpointFields& fields) {
-  check_checkpoint_fits(system, fields, false);
-  for (auto& pop : system.populations) pick_own_states(pop, prefix_of(pop, false), fields, system.cell_count());
-  for (auto& m : system.myofilaments) pick_own_states(m.pop, prefix_of(m.pop, true), fields, system.cell_count());
+void load_own_cell_states(CellSystem& system, const std::vector<CheckpointFields>& parts) {
+  check_checkpoint_fits(system, parts.at(0), false);
+  auto pick = [&](Population& pop, const std::string& p) {
+    std::vector<std::vector<int>> cells_of_part;
+    for (const auto& part : parts) cells_of_part.push_back(part.ints(p + "cells"));
+    pop.y = CellPlaces(cells_of_part, system.cell_count()).rows(parts, p + "y", pop.cells);
+    if (pop.y.size() != pop.n_states() * pop.size()) throw CheckpointError(other_cells(p));
+  };
+  for (auto& pop : system.populations) pick(pop, prefix_of(pop, false));
+  for (auto& m : system.myofilaments) pick(m.pop, prefix_of(m.pop, true));
   system.voltage_fresh = false;
   system.gather_voltage();
+}
+
+void recut_cell_states(const std::vector<CheckpointFields>& parts, const CellSystem& system, CheckpointFields& out) {
+  check_checkpoint_fits(system, parts.at(0), false);
+  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament* m) {
+    std::vector<std::vector<int>> cells_of_part;
+    for (const auto& part : parts) cells_of_part.push_back(part.ints(p + "cells"));
+    const CellPlaces places(cells_of_part, system.cell_count());
+    out.put(p + "cells", pop.cells);
+    for (const char* field : {"y", "inputs", "outputs"}) out.put(p + field, places.rows(parts, p + field, pop.cells));
+    if (m) out.put(p + "rest_sarcomere_length", places.rows(parts, p + "rest_sarcomere_length", pop.cells));
+  });
 }
 
 void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything) {

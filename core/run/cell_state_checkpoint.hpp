@@ -4,6 +4,8 @@
 // loaded only into the same tissue and models.
 #pragma once
 
+#include <vector>
+
 #include "integrate/cell_system.hpp"
 #include "io/checkpoint_file.hpp"
 
@@ -21,11 +23,17 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields);
 void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything);
 
 // The states alone (a new run started from them) of a system that holds
-// some of the tissue's cells (a rank's share of a run split over ranks) from
-// a checkpoint of the whole tissue (a run in one process): each population's
-// cells' states picked out of the checkpoint's by cell number. Throws
-// CheckpointError as check_same_cells does, and when a population's cell is
-// not among the checkpoint's.
-void load_own_cell_states(CellSystem& system, const CheckpointFields& fields);
+// some of the tissue's cells (a rank's share of a run split over ranks, or
+// the whole tissue) from a checkpoint's parts (one for a run in one process,
+// one a rank for a split run, rank 0's first): each population's cells'
+// states picked out by cell number. Throws CheckpointError as
+// check_same_cells does, and when a population's cell is in no part.
+void load_own_cell_states(CellSystem& system, const std::vector<CheckpointFields>& parts);
+
+// The cells' fields a system holding some of the tissue's cells would have
+// written (save_cell_states), put into `out` from a checkpoint's parts
+// (run/checkpoint_recut.hpp): each population's cells, states, inputs,
+// outputs and rest lengths, for its own cells.
+void recut_cell_states(const std::vector<CheckpointFields>& parts, const CellSystem& system, CheckpointFields& out);
 
 }  // namespace fibrodem

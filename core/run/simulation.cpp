@@ -307,7 +307,6 @@ Simulation::~Simulation() = default;
 
 void Simulation::run() { impl_->run(); }
 void Simulation::resume_from(FoundCheckpoint checkpoint) {
-  impl_->check_checkpoint_ranks(checkpoint);
   impl_->checkpoints.resume_point = std::move(checkpoint);
 }
 const Tissue& Simulation::tissue() const { return impl_->tissue; }

@@ -14,6 +14,7 @@
 #include "coupling/gap_junction.hpp"
 #include "integrate/method_choice.hpp"
 #include "run/cell_state_checkpoint.hpp"
+#include "run/checkpoint_recut.hpp"
 #include "run/population_setup.hpp"
 #include "run/settle.hpp"
 #include "run/simulation_impl.hpp"
@@ -316,14 +317,13 @@ void Simulation::Impl::start_from_initial_state() {
   const std::string path = "initial_state.from";
   try {
     const FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
-    if (found.fields.has("run.mpi_ranks"))  // (its cells are rank 0's share only)
-      throw CheckpointError(fmt::format("checkpoint {} was written by a run split over {} MPI ranks; initial_state.from "
-                                        "takes a checkpoint of a run in one process",
-                                        found.file.string(), found.fields.integer("run.mpi_ranks")));
     try {
-      // Split over ranks, each rank takes its own cells' states out of the whole tissue's.
-      if (split.ranks) load_own_cell_states(system, found.fields);
-      else load_cell_states(system, found.fields, false);
+      // Split over ranks, or from a split run's checkpoint (every rank's part
+      // beside it), the cells' states are taken cell by cell from its parts.
+      if (split.ranks || ranks_of_checkpoint(found.fields) > 1)
+        load_own_cell_states(system, read_checkpoint_parts(found.file, found.fields));
+      else
+        load_cell_states(system, found.fields, false);
     } catch (const CheckpointError& e) {
       throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());
     }

@@ -12,11 +12,41 @@
 #include <type_traits>
 
 #include "run/cell_state_checkpoint.hpp"
+#include "run/checkpoint_recut.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
 
 namespace fibrodem {
 namespace fs = std::filesystem;
+
+namespace {
+
+std::string over_ranks_text(long long ranks) {
+  return ranks == 1 ? std::string("in one process") : "split over " + std::to_string(ranks) + " MPI ranks";
+}
+
+// The beats of `cells` (in increasing order) in the parts, in one process's
+// order: by beat, then cell.
+std::vector<BeatBiomarkers> beats_of_cells(const std::vector<CheckpointFields>& parts, const std::vector<int>& cells,
+                                           std::size_t tissue_cells) {
+  std::vector<char> wanted(tissue_cells, 0);
+  for (const int cell : cells) wanted[static_cast<std::size_t>(cell)] = 1;
+  std::vector<BeatBiomarkers> beats;
+  for (const auto& part : parts) {
+    const std::string raw = part.text("run.beats");
+    for (std::size_t at = 0; at + sizeof(BeatBiomarkers) <= raw.size(); at += sizeof(BeatBiomarkers)) {
+      int cell = -1;
+      std::memcpy(&cell, raw.data() + at + offsetof(BeatBiomarkers, cell), sizeof cell);
+      if (cell < 0 || static_cast<std::size_t>(cell) >= tissue_cells || !wanted[static_cast<std::size_t>(cell)]) continue;
+      beats.emplace_back();
+      std::memcpy(static_cast<void*>(&beats.back()), raw.data() + at, sizeof(BeatBiomarkers));
+    }
+  }
+  std::stable_sort(beats.begin(), beats.end(), in_beat_order);
+  return beats;
+}
+
+}  // namespace
 
 // output.checkpoint: a fixed-step method's checkpoints fall on its steps
 // (and on its coupling steps), so that a resumed run takes the same steps.
@@ -100,52 +130,49 @@ void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const Checkpo
   split.ranks->gather({static_cast<double>(rank)});
 }
 
-// The number of ranks a checkpoint was written over (1: one process, whose
-// checkpoints carry no count) must be this run's: each rank holds its own
-// cells' states, cut by a partition that depends on the count.
-void Simulation::Impl::check_checkpoint_ranks(const FoundCheckpoint& checkpoint) const {
-  const long long written = checkpoint.fields.has("run.mpi_ranks") ? checkpoint.fields.integer("run.mpi_ranks") : 1;
-  const long long here = split.ranks ? split.ranks->size() : 1;
-  if (written == here) return;
-  auto over = [](long long n) {
-    return n == 1 ? std::string("in one process") : "split over " + std::to_string(n) + " MPI ranks";
-  };
-  throw CheckpointError(fmt::format(
-      "checkpoint {} was written by a run {}; this resume runs {}: resume it {} (the same number of ranks: "
-      "each rank's part holds its own cells)",
-      checkpoint.file.string(), over(written), over(here),
-      written == 1 ? std::string("without mpirun (or with mpirun -n 1)") : fmt::format("with mpirun -n {}", written)));
-}
-
-// Rank r > 0's part of the checkpoint resumed from (rank 0's is the
-// checkpoint itself): of the same time, written by this rank.
-CheckpointFields Simulation::Impl::read_rank_checkpoint() const {
-  const CheckpointFields& common = checkpoints.resume_point->fields;
-  const fs::path file = rank_checkpoint_path(checkpoints.resume_point->file, split.ranks->rank());
-  CheckpointFields part;
-  try {
-    part = read_checkpoint_file(file);
-  } catch (const CheckpointError& e) {
-    throw CheckpointError(fmt::format("checkpoint {}: rank {}'s part cannot be read: {}", checkpoints.resume_point->file.string(),
-                                      split.ranks->rank(), e.what()));
-  }
-  if (part.integer("run.mpi_rank") != split.ranks->rank() || part.integer("run.mpi_ranks") != split.ranks->size() ||
-      part.number("run.time_ms") != common.number("run.time_ms"))
-    throw CheckpointError(fmt::format("{} is not rank {} of {}'s part of the checkpoint at t = {:g} ms", file.string(),
-                                      split.ranks->rank(), split.ranks->size(), common.number("run.time_ms")));
-  return part;
-}
-
+// Split over another number of ranks than the checkpoint's (one process
+// counting as one), every rank reads every part and takes its own cells'
+// fields out of them (run/checkpoint_recut.hpp); over the same number, each
+// rank reads its own part.
 void Simulation::Impl::resume() {
+  const FoundCheckpoint& found = *checkpoints.resume_point;
+  const long long written = ranks_of_checkpoint(found.fields), here = split.ranks ? split.ranks->size() : 1;
   try {
-    if (split.ranks && split.ranks->rank() != 0) restore(read_rank_checkpoint());
-    else restore(checkpoints.resume_point->fields);
+    if (written != here) restore(recut_checkpoint(read_checkpoint_parts(found.file, found.fields)));
+    else if (split.ranks && split.ranks->rank() != 0) restore(read_checkpoint_part(found.file, found.fields, split.ranks->rank()));
+    else restore(found.fields);
   } catch (const CheckpointError& e) {
-    throw CheckpointError("checkpoint " + checkpoints.resume_point->file.string() + " does not fit this run: " + e.what());
+    throw CheckpointError("checkpoint " + found.file.string() + " does not fit this run: " + e.what());
   }
-  for (const auto& skipped : checkpoints.resume_point->skipped) log->warn("resume: passed over {}", skipped);
-  checkpoints.resumed_from = {{"file", fs::relative(checkpoints.resume_point->file, run_folder).string()}, {"time_ms", start_ms}};
-  log->info("resumed from checkpoint {} at t = {:g} ms", checkpoints.resume_point->file.string(), start_ms);
+  for (const auto& skipped : found.skipped) log->warn("resume: passed over {}", skipped);
+  checkpoints.resumed_from = {{"file", fs::relative(found.file, run_folder).string()}, {"time_ms", start_ms}};
+  if (written != here)
+    log->info("resumed from checkpoint {} at t = {:g} ms (written {}; its parts cut again for this run, {})", found.file.string(), start_ms,
+              over_ranks_text(written), over_ranks_text(here));
+  else
+    log->info("resumed from checkpoint {} at t = {:g} ms", found.file.string(), start_ms);
+}
+
+// What this rank would have written at the checkpoint's time had the run
+// been split as it is now, from every part: its populations' and its
+// biomarker tracker's cells cell by cell, every part's trace columns (each
+// rank reads its own), the beats of its cells; the rest (time, steps, rank
+// 0's outputs and mechanics) as the checkpoint has it.
+CheckpointFields Simulation::Impl::recut_checkpoint(const std::vector<CheckpointFields>& parts) const {
+  CheckpointFields f = parts.at(0);
+  recut_cell_states(parts, system, f);
+  std::vector<int> own;  // the tracker's cells: this rank's, in increasing order
+  for (const auto& pop : system.populations) own.insert(own.end(), pop.cells.begin(), pop.cells.end());
+  std::sort(own.begin(), own.end());
+  const CellPlaces places(own_cells_of_parts(parts), tissue.cell_count());
+  f.put_text(BiomarkerTracker::kPerCellBytesField, places.bytes(parts, BiomarkerTracker::kPerCellBytesField, own));
+  for (const auto& name : BiomarkerTracker::per_cell_number_fields())
+    if (parts[0].has(name)) f.put(name, places.rows(parts, name, own));
+  for (const auto& part : parts)
+    for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
+  const std::vector<BeatBiomarkers> own_beats = beats_of_cells(parts, own, tissue.cell_count());
+  f.put_bytes("run.beats", own_beats.data(), own_beats.size() * sizeof(BeatBiomarkers));
+  return f;
 }
 
 // The run as a checkpoint left it (the scene must be the one it was written for).
@@ -163,10 +190,21 @@ void Simulation::Impl::restore(const CheckpointFields& f) {
   restore_beats(f);
   load_cell_states(system, f, true);
   tracker->load(f);
-  // (Split over ranks, traces.csv is written whole at the end.)
-  traces.load(f, out.empty() || split.ranks ? fs::path() : out / "traces.csv");
-  if (!out.empty())
+  // Split over ranks, traces.csv and biomarkers.csv are written whole at the
+  // end (from the samples and beats held); in one process they are written
+  // as the run goes, so a split run's checkpoint resumed in one process
+  // writes what it holds first.
+  const bool written_split = ranks_of_checkpoint(f) > 1;
+  const bool streams = !out.empty() && !split.ranks;
+  traces.load(f, streams && !written_split ? out / "traces.csv" : fs::path());
+  if (streams && written_split) traces.write_csv(out / "traces.csv");
+  if (streams && !written_split) {
     biomarkers_csv = CsvWriter::resume(out / "biomarkers.csv", static_cast<std::uintmax_t>(f.integer("run.biomarkers_csv_bytes")));
+  } else if (!out.empty()) {
+    open_biomarkers_csv();
+    if (streams)
+      for (const auto& b : beats) write_biomarker_row(b);
+  }
   if (mechanics) mechanics->restore(f, start_ms);
 }
 

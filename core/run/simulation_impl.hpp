@@ -209,12 +209,12 @@ struct Simulation::Impl : StepObserver {
   void resume();
   void restore(const CheckpointFields& f);
   void restore_beats(const CheckpointFields& f);
-  void check_checkpoint_ranks(const FoundCheckpoint& checkpoint) const;
   void write_rank_checkpoint(const std::filesystem::path& file, const CheckpointFields& mine, bool kill);
-  CheckpointFields read_rank_checkpoint() const;
+  CheckpointFields recut_checkpoint(const std::vector<CheckpointFields>& parts) const;
 
   // ---- outputs and progress (simulation_outputs.cpp) ----
   void open_outputs();
+  void open_biomarkers_csv();
   void log_setup();
   double next_sample_ms() const override;
   void on_sample(double t) override;

@@ -20,6 +20,12 @@
 namespace fibrodem {
 namespace fs = std::filesystem;
 
+// biomarkers.csv with its header alone.
+void Simulation::Impl::open_biomarkers_csv() {
+  biomarkers_csv = CsvWriter(out / "biomarkers.csv", {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV",
+                                                      "apd90_ms", "dvdt_max_mV_per_ms", "apd50_ms"});
+}
+
 // A resumed run appends to run.log and continues traces.csv and
 // biomarkers.csv from the checkpoint's lengths (restore()).
 void Simulation::Impl::open_outputs() {
@@ -34,9 +40,7 @@ void Simulation::Impl::open_outputs() {
     clear_checkpoints(out);  // an earlier run's, in a folder given --overwrite
     fs::remove(out / kSnapshotCollection);  // likewise: this run lists its own snapshots
     if (!split.ranks) traces.open_csv(out / "traces.csv");  // split over ranks: written whole at the end
-    biomarkers_csv = CsvWriter(out / "biomarkers.csv",
-                               {"cell", "type", "beat", "activation_ms", "rmp_mV", "apo_mV", "apd90_ms",
-                                "dvdt_max_mV_per_ms", "apd50_ms"});
+    open_biomarkers_csv();
     // (The tissue stays as built: the writer may draw it while the run starts.)
     if (scene.output.tissue_picture) write_file([this] { write_tissue_overview(out, scene.name, tissue, scene.output.vtk_format); });
   }

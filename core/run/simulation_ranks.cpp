@@ -216,9 +216,7 @@ void Simulation::Impl::gather_from_ranks() {
   beats.clear();
   for (const auto& values : beats_by_rank)
     for (std::size_t k = 0; k + kBeatFields <= values.size(); k += kBeatFields) beats.push_back(unpack(&values[k]));
-  std::stable_sort(beats.begin(), beats.end(), [](const BeatBiomarkers& a, const BeatBiomarkers& b) {
-    return a.beat != b.beat ? a.beat < b.beat : a.cell < b.cell;
-  });
+  std::stable_sort(beats.begin(), beats.end(), in_beat_order);
   for (const auto& b : beats) write_biomarker_row(b);
   traces.merge(scene.output.traces, columns_by_rank, samples_by_rank);
   if (!out.empty()) traces.write_csv(out / "traces.csv");

@@ -3,11 +3,13 @@
 // its own cells' part, rank 0 the checkpoint with the rank count, last. A
 // split run killed (SIGKILL, every rank at the same step, or halfway
 // through writing a rank's part) and resumed on as many ranks writes the
-// same traces.csv and biomarkers.csv as the run never stopped; another
-// rank count is refused, naming both. The reference is the uninterrupted
-// run, and, since a fixed-step explicit run split over ranks computes one
-// process's potentials bit for bit, one process's resumed run too. A
-// one-process checkpoint named by initial_state.from starts a split run as
+// same traces.csv and biomarkers.csv as the run never stopped, and so does
+// one resumed on another count (every part read, each rank's cells taken
+// out of them: run/checkpoint_recut.hpp) or in one process, and a
+// one-process checkpoint resumed split. The reference is the uninterrupted
+// run: a fixed-step explicit run split over ranks computes one process's
+// potentials bit for bit, whatever the count. A checkpoint named by
+// initial_state.from, one process's or a split run's, starts a split run as
 // it starts one process's (each rank takes its own cells' states).
 #include <doctest/doctest.h>
 
@@ -15,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include "support/mpi_launch.hpp"
 #include "support/scenes.hpp"
@@ -75,15 +78,19 @@ TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the out
   CHECK_FALSE(fs::exists(checkpoints / "t_000000010000us.rank1.ckpt"));  // pruned with its checkpoint (keep 1)
   const std::string killed_summary = testing::read_file(dir / "killed" / "summary.json");
 
-  // In one process, or on 3 ranks: refused, naming both counts, the folder as it was.
-  CHECK(resume("", dir / "killed") != 0);
-  std::string log = testing::read_file(dir / "killed.resume.txt");
-  CHECK(log.find("was written by a run split over 2 MPI ranks; this resume runs in one process: resume it with "
-                 "mpirun -n 2") != std::string::npos);
-  CHECK(resume(testing::mpirun(3), dir / "killed") != 0);
-  log = testing::read_file(dir / "killed.resume.txt");
-  CHECK(log.find("split over 2 MPI ranks; this resume runs split over 3 MPI ranks") != std::string::npos);
-  CHECK(testing::read_file(dir / "killed" / "summary.json") == killed_summary);
+  // Resumed in one process, or on 3 ranks: the parts cut again for them.
+  for (const auto& [launcher, name, ranks] :
+       {std::tuple{std::string(), "killed_one", 1}, std::tuple{testing::mpirun(3), "killed_three", 3}}) {
+    const std::string folder = name;  // (clang 14 cannot capture a structured binding)
+    CAPTURE(folder);
+    fs::copy(dir / "killed", dir / folder, fs::copy_options::recursive);
+    REQUIRE(resume(launcher, dir / folder) == 0);
+    check_same_outputs(dir / "reference", dir / folder);
+    CHECK(summary_of(dir / folder)["resumed_from"]["time_ms"] == 20);
+    CHECK(summary_of(dir / folder)["mpi_ranks"] == ranks);
+    CHECK(testing::read_file(dir / folder / "run.log").find("written split over 2 MPI ranks; its parts cut again for this run") !=
+          std::string::npos);
+  }
 
   REQUIRE(resume(two, dir / "killed") == 0);
   check_same_outputs(dir / "reference", dir / "killed");
@@ -98,13 +105,6 @@ TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the out
   check_same_outputs(dir / "reference", dir / "killed_writing");
   CHECK(summary_of(dir / "killed_writing")["resumed_from"]["time_ms"] == 10);
 
-  // initial_state.from takes one process's checkpoint: a split one (rank 0's cells only) is refused.
-  json from = testing::split_sheet_planar_wave(5);
-  from["initial_state"] = {{"from", (dir / "killed").string()}};
-  std::ofstream(dir / "from.json") << from.dump();
-  CHECK(run("", dir / "from.json", dir / "from") != 0);
-  CHECK(testing::read_file(dir / "from.txt").find("was written by a run split over 2 MPI ranks; initial_state.from "
-                                                  "takes a checkpoint of a run in one process") != std::string::npos);
 }
 
 TEST_CASE("mpirun -n 2: the adaptive method split, killed and resumed on 2 ranks, writes the same outputs") {
@@ -127,25 +127,21 @@ TEST_CASE("mpirun -n 2: the adaptive method split, killed and resumed on 2 ranks
   CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"].get<double>() >= 10);
 }
 
-TEST_CASE("mpirun -n 2: a one-process checkpoint is resumed in one process only") {
+TEST_CASE("mpirun -n 2: a one-process checkpoint resumed split writes one process's outputs") {
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_checkpoints_one");
   json m = testing::split_sheet_planar_wave(20);
   m["output"]["traces"][0]["every_ms"] = 0.25;
   m["output"]["checkpoint"] = {{"every_ms", 10}};
   std::ofstream(dir / "scene.json") << m.dump();
-  REQUIRE(run(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
+  REQUIRE(run("", dir / "scene.json", dir / "one") == 0);
   REQUIRE(run("", dir / "scene.json", dir / "killed", "step:1500") != 0);
-  const std::string killed_summary = testing::read_file(dir / "killed" / "summary.json");
-
-  CHECK(resume(testing::mpirun(2), dir / "killed") != 0);
-  CHECK(testing::read_file(dir / "killed.resume.txt")
-            .find("was written by a run in one process; this resume runs split over 2 MPI ranks: resume it "
-                  "without mpirun") != std::string::npos);
-  CHECK(testing::read_file(dir / "killed" / "summary.json") == killed_summary);
-  // Resumed in one process: the 2-rank run's bytes (one process's, bit for bit).
-  REQUIRE(resume("", dir / "killed") == 0);
-  check_same_outputs(dir / "two", dir / "killed");
+  // traces.csv and biomarkers.csv as one process wrote them up to its kill
+  // are replaced by the split run's, written whole at its end.
+  REQUIRE(resume(testing::mpirun(2), dir / "killed") == 0);
+  check_same_outputs(dir / "one", dir / "killed");
+  CHECK(summary_of(dir / "killed")["mpi_ranks"] == 2);
+  CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"] == 10);
 }
 
 namespace {
@@ -190,14 +186,15 @@ TEST_CASE("mpirun -n 2: initial_state.from a one-process checkpoint gives one pr
   REQUIRE_FALSE(at_3_ms.empty());
   CHECK(trace_row_at(testing::read_file(dir / "two" / "traces.csv"), 0) == at_3_ms);
 
-  // A checkpoint written split over ranks holds rank 0's cells only: refused, naming it.
+  // A checkpoint written split over 2 ranks (each rank's cells in its
+  // part), in one process and split over 3: the same outputs again.
   json from_split = branch;
   from_split["initial_state"]["from"] = (dir / "source_two").string();
   std::ofstream(dir / "from_split.json") << from_split.dump();
-  CHECK(run(testing::mpirun(2), dir / "from_split.json", dir / "from_split") != 0);
-  CHECK(testing::read_file(dir / "from_split.txt").find("was written by a run split over 2 MPI ranks") !=
-        std::string::npos);
-  CHECK((!fs::exists(dir / "from_split") || fs::is_empty(dir / "from_split")));
+  REQUIRE(run("", dir / "from_split.json", dir / "from_split_one") == 0);
+  check_same_outputs(dir / "one", dir / "from_split_one");
+  REQUIRE(run(testing::mpirun(3), dir / "from_split.json", dir / "from_split_three") == 0);
+  check_same_outputs(dir / "one", dir / "from_split_three");
 }
 
 TEST_SUITE_END();

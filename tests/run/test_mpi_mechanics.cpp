@@ -73,14 +73,14 @@ std::set<std::string> snapshot_names(const fs::path& dir) {
 }
 
 // The same traces.csv, biomarkers.csv and summary.json mechanics figures.
-void check_same_bytes(const fs::path& one, const fs::path& two) {
+void check_same_bytes(const fs::path& one, const fs::path& two, int ranks_of_two = 2) {
   const std::string traces = testing::read_file(one / "traces.csv");
   REQUIRE(traces.rfind("t_ms,eps_xx,eps_yy,eps_xy,V_0,SL_0,", 0) == 0);  // the strain first, as one process
   CHECK(testing::read_file(two / "traces.csv") == traces);
   CHECK(testing::read_file(two / "biomarkers.csv") == testing::read_file(one / "biomarkers.csv"));
   const json a = summary_of(one), b = summary_of(two);
   CHECK(b["status"] == "completed");
-  CHECK(b["mpi_ranks"] == 2);
+  CHECK(b["mpi_ranks"] == ranks_of_two);
   CHECK(b["peak_strain"] == a["peak_strain"]);
   CHECK(b["mechanics_step_ms"] == a["mechanics_step_ms"]);
   CHECK(b["steps"] == a["steps"]);
@@ -191,7 +191,7 @@ TEST_CASE("mpirun -n 2: mechanics with the adaptive method split agrees with one
   }
 }
 
-TEST_CASE("mpirun -n 2: an EM run split, killed and resumed on 2 ranks writes the run never stopped") {
+TEST_CASE("mpirun -n 2: an EM run split, killed and resumed on 2 ranks or in one process writes the run never stopped") {
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_mechanics_checkpoints");
   // 40 ms of rush_larsen at 0.01 ms: 4000 steps, checkpoints at 10, 20, 30 ms.
@@ -207,10 +207,16 @@ TEST_CASE("mpirun -n 2: an EM run split, killed and resumed on 2 ranks writes th
   REQUIRE(testing::run_scene("FIBRODEM_TEST_KILL=step:3500 " + two, dir / "scene.json", dir / "killed") != 0);
   REQUIRE(summary_of(dir / "killed")["status"] == "running");
   CHECK(fs::exists(dir / "killed" / "checkpoints" / "t_000000030000us.rank1.ckpt"));
+  // The same checkpoint resumed in one process (its parts cut again: the
+  // myofilaments' and the DEM's states, rank 0's, with the cells').
+  fs::copy(dir / "killed", dir / "killed_one", fs::copy_options::recursive);
   REQUIRE(testing::run_fibrodem(two, "resume --quiet --no-report " + (dir / "killed").string(),
                                 dir / "resume.txt") == 0);
   CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"] == 30);
   check_same_bytes(dir / "reference", dir / "killed");
+  REQUIRE(testing::run_fibrodem("", "resume --quiet --no-report " + (dir / "killed_one").string(),
+                                dir / "resume_one.txt") == 0);
+  check_same_bytes(dir / "reference", dir / "killed_one", 1);
 }
 
 TEST_SUITE_END();
