@@ -49,6 +49,9 @@ struct StretchFrames {
   std::size_t count() const { return t_ms.size(); }
   const float* frame(std::size_t k) const { return &stretch[k * cells]; }
   void add(double t, const std::vector<double>& per_cell);
+  // Room for `frames` more frames of `cell_count` cells at once (as
+  // VoltageFrames::reserve_more, measure/reentry.hpp).
+  void reserve_more(std::size_t frames, std::size_t cell_count);
 };
 
 class CellStrain {

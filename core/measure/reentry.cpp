@@ -21,6 +21,11 @@ void VoltageFrames::add(double t, const std::vector<double>& V) {
   V_mV.insert(V_mV.end(), V.begin(), V.end());
 }
 
+void VoltageFrames::reserve_more(std::size_t frames) {
+  t_ms.reserve(t_ms.size() + frames);
+  V_mV.reserve(V_mV.size() + frames * cells);
+}
+
 json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
   std::map<int, std::pair<int, int>> by_beat;  // beat -> (unreached, measured) myocytes
   for (const auto& b : beats) {

@@ -54,6 +54,10 @@ struct VoltageFrames {
   std::size_t count() const { return t_ms.size(); }
   const float* frame(std::size_t k) const { return &V_mV[k * cells]; }
   void add(double t_ms, const std::vector<double>& V);
+  // Room for `frames` more frames at once: grown frame by frame, the array
+  // doubles its capacity, and while it moves the old and the new copies
+  // both hold every frame so far (up to twice the frames' bytes resident).
+  void reserve_more(std::size_t frames);
 };
 
 // The per-cell fields behind the summary, for maps.

@@ -73,9 +73,10 @@ struct ReentrySampling {
   std::vector<double> V_previous;
   long long next_sample = 0;  // index k of the next sample time from_ms + k every_ms
   json measured;
-  // Split over ranks: this rank's cells' V at a sample (share.owned's
-  // order), and on rank 0 every cell's as gathered (rank order) and as the
-  // frame (by tissue number); sized when the sampling starts.
+  // Every cell's V at a sample, interpolated (by tissue number). Split over
+  // ranks: this rank's cells' V at a sample (share.owned's order), and on
+  // rank 0 every cell's as gathered (rank order) and the frame; sized when
+  // the sampling starts.
   std::vector<double> own_V, gathered_V, frame_V;
 };
 

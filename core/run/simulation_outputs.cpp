@@ -166,16 +166,21 @@ void Simulation::Impl::start_reentry_sampling(double t) {
   reentry.frames = VoltageFrames(tissue.cell_count());
   system.gather_voltage();
   reentry.V_previous = system.V_mV;
+  const bool holds_frames = !split.ranks || split.ranks->rank() == 0;
+  if (holds_frames) reentry.frame_V.assign(tissue.cell_count(), 0.0);
   if (split.ranks) {
     reentry.own_V.assign(split.share.owned.size(), 0.0);
-    if (split.ranks->rank() == 0) {
-      reentry.gathered_V.assign(tissue.cell_count(), 0.0);
-      reentry.frame_V.assign(tissue.cell_count(), 0.0);
-    }
+    if (holds_frames) reentry.gathered_V.assign(tissue.cell_count(), 0.0);
   }
   const auto& spec = scene.output.reentry;
   // The first sample at or after t (a resumed run measures from where it resumed).
   reentry.next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
+  // Every frame's room at once (VoltageFrames::reserve_more): the samples
+  // from next_sample to the last at or before the run's end.
+  const long long last = static_cast<long long>(std::floor((scene.duration_ms - spec.from_ms) / spec.every_ms + 1e-9));
+  const auto to_come = static_cast<std::size_t>(std::max(0LL, last - reentry.next_sample + 1));
+  if (holds_frames) reentry.frames.reserve_more(to_come);
+  if (strain_fields) strain_fields->reserve_samples(to_come, tissue.cell_count());
   if (std::abs(t - (spec.from_ms + static_cast<double>(reentry.next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
     if (split.ranks) add_reentry_frame_over_ranks(t, nullptr);
     else reentry.frames.add(t, system.V_mV);
@@ -198,7 +203,7 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
       add_reentry_frame_over_ranks(next, &w);
       continue;
     }
-    std::vector<double> V(system.V_mV.size());
+    std::vector<double>& V = reentry.frame_V;
     for (std::size_t c = 0; c < V.size(); ++c) V[c] = reentry.V_previous[c] + w * (system.V_mV[c] - reentry.V_previous[c]);
     reentry.frames.add(next, V);
   }

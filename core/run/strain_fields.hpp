@@ -41,6 +41,8 @@ class StrainFields {
   void due(double t_ms, double w, const MechanicsSolver& mechanics);
   void complete(const MechanicsSolver& mechanics);
   const StretchFrames& stretch_frames() const { return frames_; }
+  // Room for this many more samples of every cell (StretchFrames::reserve_more).
+  void reserve_samples(std::size_t samples, std::size_t cells) { frames_.reserve_more(samples, cells); }
 
  private:
   void add_frame(double t_ms);

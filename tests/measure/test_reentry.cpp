@@ -425,3 +425,17 @@ TEST_CASE("a cross-field S1-S2 makes re-entry, S1 alone does not" * doctest::tes
   CHECK(s1["phase_singularities_max"] == 0);
   CHECK(s1["detected"] == false);
 }
+
+TEST_CASE("re-entry frames: room made for the samples to come holds them without moving") {
+  // A run reserves every frame when its sampling starts, so that the array
+  // never doubles (both copies resident while it moves) during the run.
+  VoltageFrames frames(5);
+  frames.add(0.0, std::vector<double>(5, -80.0));
+  frames.reserve_more(3);
+  const float* first = frames.frame(0);
+  for (int k = 1; k <= 3; ++k) frames.add(k, std::vector<double>(5, -80.0 + k));
+  CHECK(frames.count() == 4);
+  CHECK(frames.frame(0) == first);  // not moved
+  CHECK(frames.V_mV.capacity() == 20);
+  CHECK(frames.frame(3)[4] == doctest::Approx(-77.0));
+}
