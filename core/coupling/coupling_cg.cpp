@@ -38,16 +38,21 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
   }
   column_.resize(static_cast<std::size_t>(start_[slices]));
   weight_nS_.assign(static_cast<std::size_t>(start_[slices]), 0.0);
+  row_length_.assign(static_cast<std::size_t>(padded_), 0);
+  diagonal_position_.assign(static_cast<std::size_t>(padded_), 0);
   for (long s = 0; s < slices; ++s)
     for (long lane = 0; lane < kSlice; ++lane) {
       const long i = s * kSlice + lane;
-      long k = 0;
+      long k = 0, diagonal_at = -1;
       if (i < n_)
         entries(i, [&](int j, double weight) {
+          if (diagonal_at < 0 && j > i) diagonal_at = k;
           column_[start_[s] + k * kSlice + lane] = j;
           weight_nS_[start_[s] + k * kSlice + lane] = weight;
           ++k;
         });
+      row_length_[static_cast<std::size_t>(i)] = static_cast<int>(k);
+      diagonal_position_[static_cast<std::size_t>(i)] = static_cast<int>(diagonal_at < 0 ? k : diagonal_at);
       for (; k < width_[s]; ++k) column_[start_[s] + k * kSlice + lane] = static_cast<int>(i);  // weight 0
     }
   for (auto* v : {&x_, &r_, &z_, &p_, &q_})
@@ -160,38 +165,21 @@ inline void CouplingCg::slice_product(long s, const double* y, double* sum) cons
 }
 
 double CouplingCg::row_current(long i, const double* V) const {
-  // The row's entries in column order, the diagonal among them, gathered a
-  // piece at a time and summed by the loop L's compressed rows were summed
-  // by: a loop of that shape is compiled alike (whether its chain of
-  // products is fused into FMAs), so the currents keep their bits.
-  constexpr int kPiece = 32;
-  int column[kPiece];
-  double weight[kPiece];
+  // The row's entries in L's column order, the diagonal in its place: the
+  // sum L's compressed rows gave, term by term in the same order and by a
+  // loop of the same shape (whether its chain of products is fused into
+  // FMAs), so the currents keep their bits.
   const long s = i / kSlice, lane = i % kSlice;
-  const double diagonal = diagonal_nS_[static_cast<std::size_t>(i)];
-  bool diagonal_due = diagonal != 0;  // (no diagonal entry: a cell without junctions)
+  const int* column = column_.data() + start_[s] + lane;
+  const double* weight = weight_nS_.data() + start_[s] + lane;
+  const long before = diagonal_position_[static_cast<std::size_t>(i)], length = row_length_[static_cast<std::size_t>(i)];
   double current = 0.0;
   long k = 0;
-  while (true) {
-    int count = 0;
-    for (; k < width_[s] && count < kPiece - 1; ++k) {
-      const long at = start_[s] + k * kSlice + lane;
-      const int j = column_[at];
-      if (j == i) {  // padding: the row's entries are done
-        k = width_[s];
-        break;
-      }
-      if (diagonal_due && j > i) {
-        column[count] = static_cast<int>(i), weight[count++] = diagonal;
-        diagonal_due = false;
-      }
-      column[count] = j, weight[count++] = weight_nS_[at];
-    }
-    const bool last = k >= width_[s];
-    if (last && diagonal_due) column[count] = static_cast<int>(i), weight[count++] = diagonal;
-    for (int e = 0; e < count; ++e) current -= weight[e] * V[column[e]];
-    if (last) return current;
-  }
+  for (; k < before; ++k) current -= weight[k * kSlice] * V[column[k * kSlice]];
+  // (No diagonal entry: a cell without junctions.)
+  if (const double diagonal = diagonal_nS_[static_cast<std::size_t>(i)]; diagonal != 0) current -= diagonal * V[i];
+  for (; k < length; ++k) current -= weight[k * kSlice] * V[column[k * kSlice]];
+  return current;
 }
 
 std::vector<double> CouplingCg::diagonal_nS() const {

@@ -156,6 +156,9 @@ class CouplingCg {
   std::vector<int> width_, column_;
   std::vector<double> weight_nS_;
   std::vector<double> diagonal_nS_, inverse_capacitance_;  // L_ii, 1/C_i
+  // Per row: its entries before the padding, and how many of them come
+  // before the diagonal in L's column order (row_current).
+  std::vector<int> row_length_, diagonal_position_;
   // Work vectors of padded_ rows, sized once: the iterate x, r,
   // z = M^-1 r, the search direction p, q = A p (v is the caller's, which
   // solve() writes only at its end). Between solves x_ holds the last
