@@ -169,16 +169,15 @@ double CouplingCg::row_current(long i, const double* V) const {
   // sum L's compressed rows gave, term by term in the same order and by a
   // loop of the same shape (whether its chain of products is fused into
   // FMAs), so the currents keep their bits.
-  const long s = i / kSlice, lane = i % kSlice;
-  const int* column = column_.data() + start_[s] + lane;
-  const double* weight = weight_nS_.data() + start_[s] + lane;
+  // (Indices, not pointers: a tissue without junctions has no entries at all.)
+  const long s = i / kSlice, first = start_[s] + i % kSlice;
   const long before = diagonal_position_[static_cast<std::size_t>(i)], length = row_length_[static_cast<std::size_t>(i)];
   double current = 0.0;
   long k = 0;
-  for (; k < before; ++k) current -= weight[k * kSlice] * V[column[k * kSlice]];
+  for (; k < before; ++k) current -= weight_nS_[first + k * kSlice] * V[column_[first + k * kSlice]];
   // (No diagonal entry: a cell without junctions.)
   if (const double diagonal = diagonal_nS_[static_cast<std::size_t>(i)]; diagonal != 0) current -= diagonal * V[i];
-  for (; k < length; ++k) current -= weight[k * kSlice] * V[column[k * kSlice]];
+  for (; k < length; ++k) current -= weight_nS_[first + k * kSlice] * V[column_[first + k * kSlice]];
   return current;
 }
 
