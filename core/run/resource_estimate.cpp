@@ -194,14 +194,15 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     const double pairs = static_cast<double>(system.coupled_pairs.size());
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
-    // size of compressed rows with the diagonal) and the CG's 6 other
+    // size of compressed rows with the diagonal), the CG's 6 other
     // vectors of a double a cell (1/C, and x, r, z, p, q; A's diagonal and
-    // M^-1 are computed where read), built with the coupler, explicit or not
+    // M^-1 are computed where read) and each row's length and diagonal
+    // place (two ints), built with the coupler, explicit or not
     // (coupling/coupling_cg.hpp); the coupled pairs are the tissue's own
     // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 48 * cells,
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 56 * cells,
                         "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on) {
