@@ -78,6 +78,13 @@ void check_checkpoint_fits(const CellSystem& system, const CheckpointFields& fie
   });
 }
 
+// Where each cell of population `p` ("ionic.myocyte.") is in a checkpoint's parts.
+CellPlaces population_places(const std::vector<CheckpointFields>& parts, const std::string& p, std::size_t tissue_cells) {
+  std::vector<std::vector<int>> cells_of_part;
+  for (const auto& part : parts) cells_of_part.push_back(part.ints(p + "cells"));
+  return CellPlaces(cells_of_part, tissue_cells);
+}
+
 }  // namespace
 
 void check_same_cells(const CellSystem& system, const CheckpointFields& fields) {
@@ -87,9 +94,7 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields) 
 void load_own_cell_states(CellSystem& system, const std::vector<CheckpointFields>& parts) {
   check_checkpoint_fits(system, parts.at(0), false);
   auto pick = [&](Population& pop, const std::string& p) {
-    std::vector<std::vector<int>> cells_of_part;
-    for (const auto& part : parts) cells_of_part.push_back(part.ints(p + "cells"));
-    pop.y = CellPlaces(cells_of_part, system.cell_count()).rows(parts, p + "y", pop.cells);
+    pop.y = population_places(parts, p, system.cell_count()).rows(parts, p + "y", pop.cells);
     if (pop.y.size() != pop.n_states() * pop.size()) throw CheckpointError(other_cells(p));
   };
   for (auto& pop : system.populations) pick(pop, prefix_of(pop, false));
@@ -101,9 +106,7 @@ void load_own_cell_states(CellSystem& system, const std::vector<CheckpointFields
 void recut_cell_states(const std::vector<CheckpointFields>& parts, const CellSystem& system, CheckpointFields& out) {
   check_checkpoint_fits(system, parts.at(0), false);
   for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament* m) {
-    std::vector<std::vector<int>> cells_of_part;
-    for (const auto& part : parts) cells_of_part.push_back(part.ints(p + "cells"));
-    const CellPlaces places(cells_of_part, system.cell_count());
+    const CellPlaces places = population_places(parts, p, system.cell_count());
     out.put(p + "cells", pop.cells);
     for (const char* field : {"y", "inputs", "outputs"}) out.put(p + field, places.rows(parts, p + field, pop.cells));
     if (m) out.put(p + "rest_sarcomere_length", places.rows(parts, p + "rest_sarcomere_length", pop.cells));
