@@ -94,38 +94,55 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
       0);
 }
 
-CouplingCg::CouplingCg(const CouplingCg& whole, const std::vector<int>& own, const std::vector<int>& ghosts,
-                       Ranks& ranks)
-    : n_(static_cast<long>(own.size())),
-      max_rate_per_ms_(whole.max_rate_per_ms_),  // the whole tissue's: the drift allowance, as every rank's
-      max_iterations_(whole.max_iterations_),
-      ranks_(&ranks) {
+CouplingCg::CouplingCg(const Laplacian& laplacian, const std::vector<double>& capacitance_pF,
+                       const std::vector<int>& own, const std::vector<int>& ghosts, Ranks& ranks)
+    : n_(static_cast<long>(own.size())), max_iterations_(kMaxIterations), ranks_(&ranks) {
   padded_ = (n_ + kSlice - 1) / kSlice * kSlice;
-  // A whole-tissue cell's column here: own cells first, ghosts past the padded rows.
-  std::vector<int> local(static_cast<std::size_t>(whole.n_), -1);
+  // A tissue cell's column here: own cells first, ghosts past the padded rows.
+  std::vector<int> local(static_cast<std::size_t>(laplacian.rows()), -1);
   for (long k = 0; k < n_; ++k) local[static_cast<std::size_t>(own[k])] = static_cast<int>(k);
   for (std::size_t g = 0; g < ghosts.size(); ++g)
     local[static_cast<std::size_t>(ghosts[g])] = static_cast<int>(padded_ + static_cast<long>(g));
   diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
   inverse_capacitance_.assign(static_cast<std::size_t>(padded_), kPaddingInverseCapacitance);
+  const int* outer = laplacian.outerIndexPtr();
+  const int* column = laplacian.innerIndexPtr();
+  const double* value = laplacian.valuePtr();
   for (long k = 0; k < n_; ++k) {
-    diagonal_nS_[k] = whole.diagonal_nS_[static_cast<std::size_t>(own[k])];
-    inverse_capacitance_[k] = whole.inverse_capacitance_[static_cast<std::size_t>(own[k])];
+    const int i = own[k];
+    if (!(capacitance_pF[i] > 0))
+      throw std::invalid_argument(fmt::format("coupling CG: cell {} has capacitance {} pF, expected > 0", i,
+                                              capacitance_pF[i]));
+    inverse_capacitance_[k] = 1.0 / capacitance_pF[i];
+    for (int e = outer[i]; e < outer[i + 1]; ++e)
+      if (column[e] == i) diagonal_nS_[k] = value[e];
+    max_rate_per_ms_ = std::max(max_rate_per_ms_, diagonal_nS_[k] * inverse_capacitance_[k]);
   }
   slice_rows(
       [&](long k, auto&& emit) {
-        const long i = own[k], s = i / kSlice, lane = i % kSlice;
-        for (long e = 0; e < whole.width_[s]; ++e) {
-          const long at = whole.start_[s] + e * kSlice + lane;
-          const int j = whole.column_[at];
-          if (j == i) return;  // padding: the row's entries are done
+        const int i = own[k];
+        for (int e = outer[i]; e < outer[i + 1]; ++e) {
+          const int j = column[e];
+          if (j == i) continue;
           if (local[static_cast<std::size_t>(j)] < 0)
             throw std::logic_error(fmt::format("coupling CG over ranks: cell {} reaches cell {}, neither its "
                                                "rank's nor a ghost", i, j));
-          emit(local[static_cast<std::size_t>(j)], whole.weight_nS_[at]);
+          emit(local[static_cast<std::size_t>(j)], value[e]);
         }
       },
       static_cast<long>(ghosts.size()));
+  // Where a row's diagonal falls among its entries, in the tissue's column
+  // order (a ghost's column here comes after every own cell's, whatever its
+  // cell), so that row_current sums as the whole tissue's row does.
+  for (long k = 0; k < n_; ++k) {
+    const int i = own[k];
+    int before = 0;
+    for (int e = outer[i]; e < outer[i + 1]; ++e) before += column[e] < i;
+    diagonal_position_[static_cast<std::size_t>(k)] = before;
+  }
+  // The whole tissue's largest rate: every rank's drift allowance alike.
+  double unused = 0;
+  ranks.reduce(unused, max_rate_per_ms_);
 }
 
 // f(first_row, end_row) -> Sums for each chunk of kRowsPerChunk rows (whole
@@ -164,7 +181,8 @@ inline void CouplingCg::slice_product(long s, const double* y, double* sum) cons
   }
 }
 
-double CouplingCg::row_current(long i, const double* V) const {
+template <class Potential>
+double CouplingCg::current_of_row(long i, Potential&& V) const {
   // The row's entries in L's column order, the diagonal in its place: the
   // sum L's compressed rows gave, term by term in the same order and by a
   // loop of the same shape (whether its chain of products is fused into
@@ -174,11 +192,19 @@ double CouplingCg::row_current(long i, const double* V) const {
   const long before = diagonal_position_[static_cast<std::size_t>(i)], length = row_length_[static_cast<std::size_t>(i)];
   double current = 0.0;
   long k = 0;
-  for (; k < before; ++k) current -= weight_nS_[first + k * kSlice] * V[column_[first + k * kSlice]];
+  for (; k < before; ++k) current -= weight_nS_[first + k * kSlice] * V(column_[first + k * kSlice]);
   // (No diagonal entry: a cell without junctions.)
-  if (const double diagonal = diagonal_nS_[static_cast<std::size_t>(i)]; diagonal != 0) current -= diagonal * V[i];
-  for (; k < length; ++k) current -= weight_nS_[first + k * kSlice] * V[column_[first + k * kSlice]];
+  if (const double diagonal = diagonal_nS_[static_cast<std::size_t>(i)]; diagonal != 0) current -= diagonal * V(i);
+  for (; k < length; ++k) current -= weight_nS_[first + k * kSlice] * V(column_[first + k * kSlice]);
   return current;
+}
+
+double CouplingCg::row_current(long i, const double* V) const {
+  return current_of_row(i, [V](long j) { return V[j]; });
+}
+
+double CouplingCg::row_current(long i, const double* V, const int* cell_of_column) const {
+  return current_of_row(i, [V, cell_of_column](long j) { return V[cell_of_column[j]]; });
 }
 
 std::vector<double> CouplingCg::diagonal_nS() const {

@@ -50,8 +50,8 @@
 // come from them too (row_current), each row summed in L's column order.
 //
 // Split over ranks (docs/guide/parallel.md): a rank's CG holds its own rows of L
-// (from the whole tissue's, each row's entries in the same order), its
-// vectors its own cells then its ghosts (other ranks' cells its rows reach).
+// only (each row's entries in L's order), its vectors its own cells then its
+// ghosts (other ranks' cells its rows reach).
 // Before each product the ghosts' entries of the vector multiplied come from
 // their owners (Ranks::refresh_ghosts: one exchange an iteration), and every
 // dot product and max-norm is reduced over the ranks (Ranks::reduce: the
@@ -90,12 +90,17 @@ class CouplingCg {
     // and its largest by every rank's largest: the same bits on every rank.
     virtual void reduce(double& sum, double& largest) = 0;
   };
-  // This rank's rows `own` of the whole tissue's CG (cells in increasing
-  // order), numbered 0 .. own.size()-1; the columns of other ranks' cells,
-  // `ghosts` (increasing), numbered from first_ghost(). solve() then takes
-  // and returns the own cells' potentials, in own's order; every rank calls
-  // it at the same point (it exchanges and reduces through `ranks`).
-  CouplingCg(const CouplingCg& whole, const std::vector<int>& own, const std::vector<int>& ghosts, Ranks& ranks);
+  // This rank's rows `own` of the tissue's L (cells in increasing order;
+  // L's other rows are not read, and may be empty), numbered 0 ..
+  // own.size()-1; the columns of other ranks' cells, `ghosts` (increasing),
+  // numbered from first_ghost(); capacitances by tissue cell. solve() then
+  // takes and returns the own cells' potentials, in own's order; every rank
+  // calls it at the same point (it exchanges and reduces through `ranks`),
+  // and constructs it at the same point (it takes the whole tissue's
+  // largest L_ii / C_i, for the stopping test's drift allowance, through
+  // `ranks`).
+  CouplingCg(const Laplacian& laplacian_nS, const std::vector<double>& capacitance_pF, const std::vector<int>& own,
+             const std::vector<int>& ghosts, Ranks& ranks);
   // Where a vector's ghost entries start (split over ranks).
   long first_ghost() const { return padded_; }
 
@@ -113,6 +118,11 @@ class CouplingCg {
   // one by one in column order, the diagonal among them (the order of L's
   // compressed rows), so that it is the same sum whatever the threads.
   double row_current(long i, const double* V_mV) const;
+  // The same for a rank's row i (split over ranks), V by tissue cell:
+  // cell_of_column[j] is the cell of column j (own rows' cells, then past
+  // first_ghost() the ghosts'). The same terms in the same order as the
+  // whole tissue's row: the same bits.
+  double row_current(long i, const double* V_mV, const int* cell_of_column) const;
   // L_ii [nS] of each cell.
   std::vector<double> diagonal_nS() const;
 
@@ -136,6 +146,9 @@ class CouplingCg {
   double direction(double beta);
   // sum[lane] = sum_j L_ij y_j over the off-diagonal entries of slice s's rows.
   void slice_product(long s, const double* y, double* sum) const;
+  // Row i of -L V, V(j) the potential of column j.
+  template <class Potential>
+  double current_of_row(long i, Potential&& V) const;
   [[noreturn]] void fail(double dt_ms, double tolerance_mV, double bound_mV, int iterations) const;
   // Slices rows [0, n_): entries(i, emit) calls emit(column, weight_nS) on
   // row i's off-diagonal entries, in order. Sizes the work vectors, with

@@ -34,12 +34,15 @@ void check_regions_hold_junctions(const Tissue& tissue, const std::vector<Coupli
   }
 }
 
-Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, const JunctionConductances& base_nS,
-                                                          const std::vector<CouplingRegion>& regions,
-                                                          const CouplingField* field) {
+}  // namespace
+
+CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const JunctionConductances& base_nS,
+                                            const std::vector<CouplingRegion>& regions, const CouplingField* field,
+                                            const std::vector<char>* own_rows) {
   const auto n = static_cast<Eigen::Index>(tissue.cell_count());
+  const auto own = [own_rows](int cell) { return !own_rows || (*own_rows)[static_cast<std::size_t>(cell)]; };
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(4 * tissue.cell_edges.size());
+  if (!own_rows) entries.reserve(4 * tissue.cell_edges.size());
   std::vector<int> junctions_held(regions.size(), 0);
   std::size_t junctions_in_field = 0;
   for (const auto& [i, j] : tissue.cell_edges) {
@@ -66,10 +69,8 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
       ++junctions_in_field;
     }
     if (g == 0.0) continue;
-    entries.emplace_back(i, i, g);
-    entries.emplace_back(j, j, g);
-    entries.emplace_back(i, j, -g);
-    entries.emplace_back(j, i, -g);
+    if (own(i)) entries.emplace_back(i, i, g), entries.emplace_back(i, j, -g);
+    if (own(j)) entries.emplace_back(j, j, g), entries.emplace_back(j, i, -g);
   }
   check_regions_hold_junctions(tissue, regions, junctions_held);
   if (field && junctions_in_field == 0)
@@ -80,13 +81,11 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_of(const Tissue& tissue, 
   return laplacian;
 }
 
-}  // namespace
-
 // (L exists whole only while the CG slices it.)
 GapJunctionCoupler::GapJunctionCoupler(const Tissue& tissue, const JunctionConductances& g_nS,
                                        std::vector<double> capacitance_pF, const std::vector<CouplingRegion>& regions,
                                        const CouplingField* field)
-    : cg_(laplacian_of(tissue, g_nS, regions, field), capacitance_pF), max_rate_per_ms_(0.0) {
+    : cg_(junction_laplacian_nS(tissue, g_nS, regions, field), capacitance_pF), max_rate_per_ms_(0.0) {
   const std::vector<double> total = total_conductance_nS();
   for (std::size_t i = 0; i < total.size(); ++i)
     max_rate_per_ms_ = std::max(max_rate_per_ms_, 2.0 * total[i] / capacitance_pF[i]);

@@ -20,6 +20,15 @@
 
 namespace fibrodem {
 
+// L [nS] of the tissue's junctions, every cell a row; given `own_rows` (a
+// flag per cell: a rank's cells, split over ranks), only their rows are
+// filled. Regions and the map are checked against every junction, so that a
+// region that holds none is the same error on every rank.
+CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const JunctionConductances& g_nS,
+                                            const std::vector<CouplingRegion>& regions = {},
+                                            const CouplingField* field = nullptr,
+                                            const std::vector<char>* own_rows = nullptr);
+
 class GapJunctionCoupler final : public Coupler {
  public:
   // `regions` override g_nS where they hold a junction's midpoint, and
@@ -34,8 +43,6 @@ class GapJunctionCoupler final : public Coupler {
   std::string describe_solves() const override;
   double max_rate_per_ms() const override;
   std::vector<double> total_conductance_nS() const override;
-  // Its CG (a run split over ranks takes its rows from it).
-  const CouplingCg& solver() const { return cg_; }
 
  private:
   CouplingCg cg_;

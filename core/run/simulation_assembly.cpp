@@ -15,6 +15,7 @@
 #include "integrate/method_choice.hpp"
 #include "run/cell_state_checkpoint.hpp"
 #include "run/checkpoint_recut.hpp"
+#include "run/coupling_over_ranks.hpp"
 #include "run/population_setup.hpp"
 #include "run/settle.hpp"
 #include "run/simulation_impl.hpp"
@@ -244,9 +245,14 @@ void Simulation::Impl::build_coupling() {
   std::vector<double> capacitance(tissue.cell_count());
   for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
     capacitance[cell] = system.populations[system.where[cell].first].capacitance_pF;
-  system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.conductances(), capacitance,
-                                                        scene.coupling.regions,
-                                                        scene.coupling.field ? &*scene.coupling.field : nullptr);
+  const CouplingField* field = scene.coupling.field ? &*scene.coupling.field : nullptr;
+  // Split over ranks, this rank's rows only (run/coupling_over_ranks.hpp).
+  if (split.ranks)
+    system.coupler = std::make_unique<CouplingOverRanks>(tissue, scene.coupling.conductances(), capacitance,
+                                                         scene.coupling.regions, field, *split.ranks, split.share);
+  else
+    system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.conductances(), capacitance,
+                                                          scene.coupling.regions, field);
   system.coupled_pairs = tissue.cell_edges;
   // (CVODE takes the coupling into its implicit solve; the adaptive method
   // takes each cell's own potential in it exponentially.)

@@ -16,7 +16,6 @@
 #include <stdexcept>
 
 #include "model/simd.hpp"
-#include "run/coupling_over_ranks.hpp"
 #include "run/over_ranks.hpp"
 #include "run/rank_reductions.hpp"
 #include "run/run_summary.hpp"
@@ -83,10 +82,9 @@ void Simulation::Impl::split_over_ranks() {
                                    split.share.neighbours.size()));
 }
 
-// The gap currents of this rank's cells read their ghosts' potentials; the
-// implicit coupling step (the adaptive method's, coupling.scheme "implicit")
-// solves this rank's rows with the others; the adaptive step control takes
-// every rank's error and stop.
+// The gap currents of this rank's cells read their ghosts' potentials (the
+// coupler, this rank's rows with the others': build_coupling); the adaptive
+// step control takes every rank's error and stop.
 void Simulation::Impl::connect_ranks() {
   if (!split.ranks) return;
   split.reductions = std::make_shared<RankReductions>(*split.ranks);
@@ -94,11 +92,6 @@ void Simulation::Impl::connect_ranks() {
   if (!system.coupler) return;
   split.halo = std::make_unique<HaloExchange>(*split.ranks, split.share);
   system.refresh_ghost_voltages = [h = split.halo.get()](double* V_mV) { h->refresh(V_mV); };
-  if (!system.implicit_coupling) return;
-  if (!dynamic_cast<GapJunctionCoupler*>(system.coupler.get()))
-    throw std::logic_error("split over ranks: the implicit coupling step needs the gap-junction coupler");
-  std::unique_ptr<GapJunctionCoupler> whole(static_cast<GapJunctionCoupler*>(system.coupler.release()));
-  system.coupler = std::make_unique<CouplingOverRanks>(std::move(whole), *split.ranks, split.share);
 }
 
 // The biomarker tracker: of every cell in one process; split over ranks, of

@@ -158,7 +158,7 @@ SplitSolve solve_split(int ranks, bool drop_halo, double dt_ms, double tolerance
     threads.emplace_back([&, r] {
       ThreadRanks::Group group(all, r);
       const RankCells share = rank_cells(tissue, partition, r);
-      CouplingOverRanks coupler(std::make_unique<GapJunctionCoupler>(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C), group, share);
+      CouplingOverRanks coupler(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C, {}, nullptr, group, share);
       // Another rank's cells hold a stale value (as in a run): the solve must not read them.
       std::vector<double> V = potentials(tissue.cell_count());
       for (std::size_t i = 0; i < V.size(); ++i)
@@ -203,6 +203,49 @@ TEST_CASE("coupling CG over 2 and 3 ranks: within its tolerance of a direct solv
       // The same number of ranks: the same bits.
       CHECK(solve_split(ranks, false, dt_ms, tolerance_mV).V == split.V);
     }
+  }
+}
+
+TEST_CASE("coupling over 2 and 3 ranks: each rank's rows give one process's currents, bit for bit") {
+  // A rank holds its own rows of L only, their columns numbered its own way;
+  // each row must still sum the terms of the whole tissue's row in its order.
+  const Tissue tissue = sheet();
+  const auto C = capacitances(tissue);
+  const JunctionConductances g_nS{kD_m_nS, kD_m_nS, kD_f_nS};
+  const GapJunctionCoupler whole(tissue, g_nS, C);
+  std::vector<double> V = potentials(tissue.cell_count());
+  for (std::size_t i = 0; i < V.size(); ++i) V[i] += 1e-3 * std::sin(static_cast<double>(i));  // no two alike
+  std::vector<double> every(tissue.cell_count());
+  for (int i = 0; i < static_cast<int>(every.size()); ++i) whole.current_into(V.data(), &i, 1, &every[static_cast<std::size_t>(i)]);
+  for (const int ranks : {2, 3}) {
+    CAPTURE(ranks);
+    const CellPartition partition = partition_cells(tissue, ranks);
+    ThreadRanks all(ranks, false);
+    std::vector<double> split(tissue.cell_count(), std::nan("")), added(tissue.cell_count(), 0.0);
+    std::vector<double> rates(static_cast<std::size_t>(ranks));
+    std::mutex result_mutex;
+    std::vector<std::thread> threads;
+    for (int r = 0; r < ranks; ++r)
+      threads.emplace_back([&, r] {
+        ThreadRanks::Group group(all, r);
+        const RankCells share = rank_cells(tissue, partition, r);
+        const CouplingOverRanks coupler(tissue, g_nS, C, {}, nullptr, group, share);
+        std::vector<double> mine(share.owned.size()), own_added(tissue.cell_count(), 0.0);
+        coupler.current_into(V.data(), share.owned.data(), share.owned.size(), mine.data());
+        coupler.add_current(V.data(), own_added.data());
+        std::lock_guard<std::mutex> lock(result_mutex);
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+          const auto cell = static_cast<std::size_t>(share.owned[k]);
+          split[cell] = mine[k];
+          added[cell] = own_added[cell];
+        }
+        rates[static_cast<std::size_t>(r)] = coupler.max_rate_per_ms();
+      });
+    for (auto& thread : threads) thread.join();
+    CHECK(split == every);
+    CHECK(added == every);
+    // The stability limit's rate is the whole tissue's on every rank.
+    for (double rate : rates) CHECK(rate == whole.max_rate_per_ms());
   }
 }
 
