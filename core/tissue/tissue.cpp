@@ -12,6 +12,7 @@ std::size_t Tissue::count(CellType t) const {
 }
 
 std::array<double, 4> Tissue::bounds_um() const {
+  if (particles_released_) return released_bounds_um_;
   constexpr double inf = std::numeric_limits<double>::infinity();
   std::array<double, 4> b = {inf, -inf, inf, -inf};
   auto extend = [&b](double x, double y, double r) {
@@ -55,6 +56,13 @@ void Tissue::finalise() {
   // A junction's bonds each added its pair (up to 4 on the brick sheets):
   // the room they took is returned (47 MB on an 846,279-cell sheet).
   cell_edges.shrink_to_fit();
+}
+
+void Tissue::release_particles() {
+  released_bounds_um_ = bounds_um();
+  particles_released_ = true;
+  for (auto* v : {&particles, &collagen}) std::vector<Particle>().swap(*v);
+  for (auto* v : {&bonds, &collagen_bonds}) std::vector<Bond>().swap(*v);
 }
 
 int add_myocyte(Tissue& tissue, double x, double y, double angle) {

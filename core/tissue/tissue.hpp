@@ -54,6 +54,15 @@ struct Tissue {
   void add_collagen_bond(int p, int q) { collagen_bonds.push_back({p, q}); }
   // Sorts and de-duplicates the cell edges; call once the builder is done.
   void finalise();
+  // Frees the particles and bonds (collagen's too), keeping the cells, their
+  // graph and the bounds the particles gave (bounds_um() is unchanged): for
+  // a process that neither steps the DEM nor draws the tissue, such as a
+  // rank other than 0 of a split run (docs/guide/parallel.md).
+  void release_particles();
+
+ private:
+  bool particles_released_ = false;
+  std::array<double, 4> released_bounds_um_{};
 };
 
 // Geometry of the paper's cells (seed paper, section 2.2): a myocyte is 7

@@ -344,3 +344,26 @@ TEST_CASE("an unantialiased tissue picture colours each particle's centre as Cai
   CHECK(coloured == t.particles.size());
   CHECK(same == t.particles.size());
 }
+
+TEST_CASE("a tissue that frees its particles keeps its cells, their graph and its bounds") {
+  // (A split run's rank other than 0: run/simulation_ranks.cpp.) The bounds
+  // come from the particles' edges, not the cells' centres: a region given
+  // as fractions of them picks the same cells after as before.
+  Tissue t = testing::build_tissue({{"builder", "in_series"}, {"width_mm", 0.5}, {"height_mm", 1.0}}, 3);
+  const auto bounds = t.bounds_um();
+  const auto edges = t.cell_edges;
+  const auto cells = t.cell_count();
+  REQUIRE(!t.particles.empty());
+  REQUIRE(!t.bonds.empty());
+  t.release_particles();
+  CHECK(t.particles.empty());
+  CHECK(t.bonds.empty());
+  CHECK(t.particles.capacity() == 0);
+  CHECK(t.cell_count() == cells);
+  CHECK(t.cell_edges == edges);
+  CHECK(t.bounds_um() == bounds);
+  // The centres alone would span less (by a particle's radius at least).
+  double x_min = t.x_um[0];
+  for (double x : t.x_um) x_min = std::min(x_min, x);
+  CHECK(x_min > bounds[0] + kParticleRadius_um - 1e-9);
+}
