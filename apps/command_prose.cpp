@@ -49,7 +49,9 @@ interrupted or killed run too ([guide/reports.md](../guide/reports.md)).)"}},
         "",
         R"(Reads the manifest, applies the overrides, loads the plugins and builds the
 scene without running it; prints what would be built and the estimated memory
-and output size (checkpoints included).)"}},
+and output size (checkpoints included). Under `mpirun -n N` it splits the scene
+as `run` would and prints each rank's memory
+([guide/parallel.md](../guide/parallel.md#memory-per-rank)).)"}},
       {"compare",
        {{},
         R"(The manifests are two (A and B), or one made into two by `--a` and `--b`.)",

@@ -195,17 +195,32 @@ int report_command(const ReportArgs& args) {
   });
 }
 
+// Under mpirun, the scene split as `run` would split it: each rank's memory
+// (its own cells, rank 0 also what it gathers and writes) on a line of its own.
 int validate_command(const RunArgs& args) {
   return guarded([&] {
     Scene scene = load_scene(args);
-    scene.output.dir.clear();      // validating writes nothing
-    Simulation simulation(scene);  // builds tissue, loads plugins, checks names; does not run
+    scene.output.dir.clear();  // validating writes nothing
+    refuse_split_over_ranks("validate", scene);
+    const std::unique_ptr<MpiRanks> ranks = split_ranks("validate");
+    RunOptions options;
+    if (ranks) options.ranks = ranks->group();
+    Simulation simulation(scene, nullptr, options);  // builds tissue, loads plugins, checks names; does not run
+    const std::vector<std::string> estimates =
+        ranks ? ranks->gather(simulation.resource_estimate()) : std::vector<std::string>{simulation.resource_estimate()};
+    if (ranks && ranks->rank() != 0) return 0;
     const Tissue& tissue = simulation.tissue();
     std::cout << args.manifest << ": valid. " << tissue.cell_count() << " cells ("
               << tissue.count(CellType::myocyte) << " myocytes, " << tissue.count(CellType::fibroblast)
               << " fibroblasts); processes:";
     for (const auto& p : simulation.processes().built) std::cout << " " << p.name;
-    std::cout << "; " << simulation.integrator_description() << "; " << simulation.resource_estimate() << "\n";
+    std::cout << "; " << simulation.integrator_description() << "; ";
+    if (!ranks) {
+      std::cout << estimates[0] << "\n";
+      return 0;
+    }
+    std::cout << "split over " << ranks->size() << " MPI ranks, each rank's estimate:\n";
+    for (std::size_t r = 0; r < estimates.size(); ++r) std::cout << "  rank " << r << ": " << estimates[r] << "\n";
     return 0;
   });
 }

@@ -115,10 +115,17 @@ std::string ResourceEstimate::describe() const {
 // freed its stepping work (Simulation::Impl::release_run_buffers); the
 // report is read from disk row by row and stays below both.
 ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, const CellSystem& system,
-                                    bool mechanics) {
+                                    bool mechanics, int rank, int ranks) {
   ResourceEstimate e;
   const SolverSpec& solver = scene.solver;
-  double states = 0, cells = static_cast<double>(system.cell_count());
+  // `cells`: this process's own (every cell in one process); `tissue_cells`:
+  // the tissue's, of which rank 0 gathers what it writes.
+  const double tissue_cells = static_cast<double>(tissue.cell_count());
+  const bool split = ranks > 1, gathers = rank == 0;
+  double states = 0, cells = 0;
+  for (const auto& pop : system.populations) cells += static_cast<double>(pop.size());
+  if (!split) cells = tissue_cells;  // (a tissue's cells are all in populations; a test's system may have none)
+  const double gathered_cells = gathers ? tissue_cells : cells;
   for (const auto& pop : system.populations) states += static_cast<double>(pop.size() * pop.n_states());
   for (const auto& m : system.myofilaments) states += static_cast<double>(m.pop.size() * m.pop.n_states());
   const double particles = static_cast<double>(tissue.particles.size() + tissue.collagen.size());
@@ -134,9 +141,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // The tissue as built: its particles, bonds, cell graph and cells, with
   // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
   // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
-  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, cells),
+  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, tissue_cells),
                       1.5 * (sizeof(Particle) * particles + sizeof(Bond) * bonds +
-                             sizeof(std::pair<int, int>) * edges + 20 * cells),
+                             sizeof(std::pair<int, int>) * edges + 20 * tissue_cells),
                       "a smaller tissue"});
   // The biomarker tracker's per-cell state (88 bytes a cell, and its cell
   // type in a byte) and a BeatBiomarkers a cell and beat (room reserved for
@@ -145,6 +152,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   const double onsets = static_cast<double>(system.stimulus.onsets(scene.duration_ms).size());
   const double beats = std::max(1.0, onsets);
   const double beats_bytes = sizeof(BeatBiomarkers) * cells * beats;
+  const double gathered_beats_bytes = sizeof(BeatBiomarkers) * gathered_cells * beats;
   const bool beats_while_stepping = onsets > 1;
   e.memory.push_back({fmt::format("biomarkers: {:.0f} cells x {:.0f} beats", cells, beats),
                       89 * cells + (beats_while_stepping ? beats_bytes : 0.0), "a smaller tissue"});
@@ -191,7 +199,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         dense ? "solver.linear_solver \"band\" or \"krylov\"" : "a smaller tissue"});
   }
   if (system.coupler) {
-    const double pairs = static_cast<double>(system.coupled_pairs.size());
+    // (Split over ranks: this rank's rows, about its share of the pairs,
+    // and each tissue cell's row here, an int.)
+    const double pairs = static_cast<double>(system.coupled_pairs.size()) * cells / std::max(1.0, tissue_cells);
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
     // size of compressed rows with the diagonal), the CG's 6 other
@@ -202,26 +212,26 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 56 * cells,
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 56 * cells + (split ? 4 * tissue_cells : 0.0),
                         "a smaller tissue"});
   }
-  if (const auto& re = scene.output.reentry; re.on) {
+  if (const auto& re = scene.output.reentry; re.on && gathers) {
     // V of every cell at every sample, as float (with mechanics its fibre
     // stretch too, run/strain_fields.hpp), and the spectrum's bins.
     const double frames = samples(scene.duration_ms, re.from_ms, re.every_ms);
     // (one spectrum over the bins of both bands, measure/dominant_frequency.hpp)
     const double band_hz = std::max(re.f_max_hz, re.clinical_f_max_hz) - std::min(re.f_min_hz, re.clinical_f_min_hz);
     const double bins = std::max(0.0, band_hz * frames * re.every_ms / 1000.0) + 1;
-    stepping.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples{}", cells, frames,
+    stepping.push_back({fmt::format("reentry: {:.0f} cells x {:.0f} samples{}", tissue_cells, frames,
                                     mechanics ? " (V and fibre stretch)" : ""),
-                        (mechanics ? 8 : 4) * cells * frames + 16 * cells * bins,
+                        (mechanics ? 8 : 4) * tissue_cells * frames + 16 * tissue_cells * bins,
                         "output.reentry: a larger every_ms, a later from_ms, or a smaller tissue"});
   }
   // A picture drawn on the background thread while the cells step
   // (tissue.png as the stepping starts, each snapshot's PNG). The VTK files
   // are streamed to disk: 64 kB buffers whatever the tissue.
   const bool pictures_while_stepping =
-      scene.output.tissue_picture || (scene.output.snapshots.every_ms > 0 && scene.output.snapshots.png);
+      gathers && (scene.output.tissue_picture || (scene.output.snapshots.every_ms > 0 && scene.output.snapshots.png));
   if (pictures_while_stepping)
     stepping.push_back({"a picture being drawn", picture_bytes(tissue),
                         "output.snapshots.png false and output.tissue_picture false"});
@@ -231,14 +241,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // A one-beat run's biomarkers, kept as the stepping ends; the maps: four
   // per-cell fields, the activation map's picture (the VTK file is
   // streamed). Only what exceeds the stepping's freed work adds to the peak.
-  const double beats_after = beats_while_stepping ? 0.0 : beats_bytes;
+  const double beats_after = beats_while_stepping ? 0.0 : gathered_beats_bytes;
   if (beats_after > 0) {
     e.memory.push_back({"the beat's biomarkers, beyond the stepping's freed work",
                         std::max(0.0, beats_after - stepping_bytes), "a smaller tissue"});
   }
-  if (scene.output.maps) {
-    const double maps = 32 * cells + picture_bytes(tissue);
-    e.memory.push_back({fmt::format("maps: {:.0f} cells, beyond the stepping's freed work", cells),
+  if (scene.output.maps && gathers) {
+    const double maps = 32 * tissue_cells + picture_bytes(tissue);
+    e.memory.push_back({fmt::format("maps: {:.0f} cells, beyond the stepping's freed work", tissue_cells),
                         std::max(0.0, beats_after + maps - stepping_bytes) - std::max(0.0, beats_after - stepping_bytes),
                         "output.maps false"});
   }
@@ -259,12 +269,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                                   (snap.strain && mechanics ? png_frame_bytes(tissue) : 0.0) +
                                   (snap.vtk ? vtk_frame_bytes(scene.output.vtk_format, particles, mechanics) : 0.0)),
                         "output.snapshots: a larger every_ms, or png/vtk/strain false"});
-    e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * cells + 300.0 * particles + 1e5, ""});
+    e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * tissue_cells + 300.0 * particles + 1e5, ""});
     if (scene.output.checkpoint.every_ms > 0) {
       // A checkpoint: the states (with inputs and outputs, ~1.5 x), the
       // biomarker trackers (~124 bytes a cell), the traces so far (at most
       // all), DEM bodies, particles and bonds; `keep` of them and one being written.
-      const double one = 12 * states + 124 * cells + 8 * columns * trace_samples +
+      // (Split over ranks: every rank's part, in the one folder.)
+      const double all_states = split ? states * tissue_cells / std::max(1.0, cells) : states;
+      const double one = 12 * all_states + 124 * tissue_cells + 8 * columns * trace_samples +
                          (mechanics ? 300 * particles + 110.0 * static_cast<double>(tissue.bonds.size()) : 0.0);
       const int copies = scene.output.checkpoint.keep + 1;
       e.output.push_back({fmt::format("{} checkpoints", copies), copies * one,

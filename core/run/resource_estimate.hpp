@@ -26,8 +26,12 @@ struct ResourceEstimate {
 };
 
 // The estimate for a scene whose cells, models and coupling are built.
+// Split over ranks, `rank`'s (of `ranks`): the system's populations hold
+// its own cells, whose states, trackers and coupling rows it keeps; rank 0
+// alone keeps what it gathers from every rank for the outputs (pictures,
+// maps, re-entry frames, every beat) and steps the DEM (`mechanics`).
 ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, const CellSystem& system,
-                                    bool mechanics);
+                                    bool mechanics, int rank = 0, int ranks = 1);
 
 // The DEM's memory for a tissue (its bodies, particles with the collagen's,
 // and bonds), and the check made before the DEM is built: throws

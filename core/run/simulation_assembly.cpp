@@ -360,7 +360,8 @@ void Simulation::Impl::check_explicit_stability() {
 // Before anything large is allocated (integrator buffers, traces, CVODE's
 // matrices): a scene that cannot fit is refused with the estimate.
 void Simulation::Impl::guard_resources() {
-  resources = estimate_resources(scene, tissue, system, mechanics != nullptr);
+  resources = estimate_resources(scene, tissue, system, mechanics != nullptr, split.ranks ? split.ranks->rank() : 0,
+                                 split.ranks ? split.ranks->size() : 1);
   check_resources(resources, available_memory_bytes(),
                   scene.output.dir.empty() ? std::numeric_limits<double>::infinity()
                                            : available_disk_bytes(scene.output.dir));

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdlib>
+#include <fstream>
 
 #include "run/over_ranks.hpp"
 #include "support/mpi_launch.hpp"
@@ -99,6 +100,35 @@ TEST_CASE("mpirun -n 2 fibrodem run refuses on every rank and writes nothing") {
   CHECK(count_of(resume_log, "`fibrodem resume` under mpirun with 2 ranks") == 2);
   CHECK(resume_log.find("methods run split). Nothing was written") != std::string::npos);
   CHECK(testing::read_file(dir / "out" / "summary.json") == summary);
+}
+
+TEST_CASE("mpirun -n 2 fibrodem validate: each rank's memory, for its own cells") {
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
+  const auto dir = testing::scratch_dir("mpi_validate");
+  json m = strand_manifest();
+  m["tissue"]["cells"] = 40;
+  m["solver"] = {{"method", "auto"}};  // (the adaptive method on 40 cells: split)
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(testing::run_fibrodem(testing::mpirun(2), "validate " + (dir / "scene.json").string(), dir / "log.txt") == 0);
+  const std::string log = testing::read_file(dir / "log.txt");
+  CHECK(count_of(log, ": valid. 40 cells") == 1);  // rank 0 tells
+  CHECK(log.find("split over 2 MPI ranks, each rank's estimate:") != std::string::npos);
+  // Each rank's biomarkers are its own cells', together the tissue's; rank
+  // 0 keeps the tissue's particles (it draws), rank 1 none.
+  const auto number_after = [&](const std::string& from, const std::string& what) {
+    const std::size_t line = log.find(from);
+    REQUIRE(line != std::string::npos);
+    const std::size_t at = log.find(what, line);
+    REQUIRE(at != std::string::npos);
+    return std::stol(log.substr(at + what.size()));
+  };
+  const long own_0 = number_after("  rank 0: memory ~", "biomarkers: "),
+             own_1 = number_after("  rank 1: memory ~", "biomarkers: ");
+  CHECK(own_0 + own_1 == 40);
+  CHECK(own_0 > 0);
+  CHECK(own_1 > 0);
+  CHECK(number_after("  rank 0: memory ~", "tissue: ") == 40);
+  CHECK(number_after("  rank 1: memory ~", "tissue: ") == 0);
 }
 
 TEST_SUITE_END();
