@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <iostream>
+#include <memory>
 #include <tuple>
 
 #include "apps/commands.hpp"
@@ -146,6 +147,29 @@ void dem_step(benchmark::State& state, std::string builder, int threads) {
   state.counters["particles"] = static_cast<double>(tissue.particles.size());
 }
 
+// The machine's memory bandwidth as STREAM's triad measures it (McCalpin
+// 1995, IEEE TCCA Newsletter): a[i] = b[i] + s c[i] over three arrays of
+// 256 MB each, far past any last-level cache, on `threads` threads (each
+// array first touched by the threads that stream it). Bytes counted as
+// STREAM counts them, 24 an element (two read, one written; the write's
+// read for ownership left out). docs/topics/performance.md sets the large
+// sheet's stepping against it.
+void memory_triad(benchmark::State& state, int threads) {
+  constexpr long kElements = 1L << 25;
+  omp_set_num_threads(threads);
+  std::unique_ptr<double[]> a(new double[kElements]), b(new double[kElements]), c(new double[kElements]);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < kElements; ++i) a[i] = 0.0, b[i] = 1.0, c[i] = 2.0;
+  const double s = 3.0;
+  for (auto _ : state) {
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < kElements; ++i) a[i] = b[i] + s * c[i];
+    benchmark::DoNotOptimize(a.get());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(state.iterations() * 24 * kElements);
+}
+
 }  // namespace
 
 int bench_command(const char* program, const std::vector<std::string>& args) {
@@ -219,6 +243,10 @@ int bench_command(const char* program, const std::vector<std::string>& args) {
           dem_step, std::string(builder), threads)
           ->Unit(benchmark::kMicrosecond)
           ->UseRealTime();
+  for (int threads : {1, 2})
+    benchmark::RegisterBenchmark(("memory_triad/threads:" + std::to_string(threads)).c_str(), memory_triad, threads)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   std::vector<std::string> storage = {program};
   storage.insert(storage.end(), args.begin(), args.end());
   std::vector<char*> argv;
