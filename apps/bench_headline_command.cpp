@@ -1,5 +1,5 @@
 // `fibrodem bench headline [--baseline OTHER] [--repeat N] [--examples DIR]
-//  [--skip-em]`: the speed figures users ask about, in one table, each as a
+//  [--skip-em] [--large]`: the speed figures users ask about, in one table, each as a
 // ratio to another build measured in the same run (machines are shared and
 // noisy: only ratios taken side by side mean much).
 //
@@ -14,6 +14,7 @@
 //     alone and on two independent threads (no shared work): their ratio is
 //     the most 2 threads can gain on this machine at the time (the ceiling
 //     beside the scenes' gains);
+//   - with --large, the first 30 ms of examples/scale/sheet_5cm.json;
 //   - whole runs of the paper's Fig. 3 scenes at their manifests' settings
 //     (examples/fig3_in_series_ep.json and _em.json, 500 ms, Rush-Larsen
 //     0.01 ms; without their settle before t = 0) and with solver.method "auto" (which a build without it
@@ -183,6 +184,8 @@ CLI::App* add_bench_headline_subcommand(CLI::App& bench, BenchHeadlineArgs& a) {
   head->add_option("--repeat", a.repeat, "rounds, alternating the builds; figures are medians (default 3)");
   head->add_option("--examples", a.examples, "folder of the Fig. 3 manifests (default: examples)");
   head->add_flag("--skip-em", a.skip_em, "leave out the electromechanical scene (the longest)");
+  head->add_flag("--large", a.large,
+                 "add the 846,279-cell sheet (examples/scale/sheet_5cm.json, its first 30 ms: ~2 min a run)");
   return head;
 }
 
@@ -204,6 +207,12 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
       scenes.push_back({"Fig. 3 in-series EM, 500 ms, 1 thread", em, one_thread, em_at});
       scenes.push_back({"Fig. 3 in-series EM, 500 ms, solver auto", em, automatic});
     }
+    // The large sheet as shipped, cut to the front's entry (30 ms: set-up,
+    // 2 snapshots, ~880 adaptive steps): where a million-cell second spends
+    // its time, per cell-step.
+    if (args.large)
+      scenes.push_back({"sheet 5 cm (846,279 cells), first 30 ms, auto", fs::path(args.examples) / "scale" / "sheet_5cm.json",
+                        "--set duration_ms=30"});
     for (const auto& scene : scenes)
       if (!fs::exists(scene.manifest))
         throw ManifestError("--examples", "no " + scene.manifest.string() + " (run from the repository root)");

@@ -108,6 +108,7 @@ struct BenchHeadlineArgs {
   int repeat = 3;
   std::string examples = "examples";
   bool skip_em = false;
+  bool large = false;
 };
 
 int run_command(const RunArgs& args);
