@@ -141,10 +141,12 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // The tissue as built: its particles, bonds, cell graph and cells, with
   // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
   // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
+  const auto tissue_bytes = [&](double with_particles, double with_bonds) {
+    return 1.5 * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds + sizeof(std::pair<int, int>) * edges +
+                  20 * tissue_cells);
+  };
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, tissue_cells),
-                      1.5 * (sizeof(Particle) * particles + sizeof(Bond) * bonds +
-                             sizeof(std::pair<int, int>) * edges + 20 * tissue_cells),
-                      "a smaller tissue"});
+                      tissue_bytes(particles, bonds), "a smaller tissue"});
   // The biomarker tracker's per-cell state (88 bytes a cell, and its cell
   // type in a byte) and a BeatBiomarkers a cell and beat (room reserved for
   // them all at the first); scale sheet 2.5 cm: 18.8 and 13.5 MB. With one
@@ -259,6 +261,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
   if (mechanics) e.memory.push_back(dem_memory(tissue));
+  // A rank other than 0 builds the whole tissue, then frees its particles
+  // before the stepping (run/simulation_ranks.cpp): its peak may be then.
+  if (split && !gathers) {
+    const double build = kProgramBytes + tissue_bytes(static_cast<double>(tissue.built_particles()),
+                                                      static_cast<double>(tissue.built_bonds()));
+    const double beyond = std::max(0.0, build - e.memory_bytes());
+    e.memory.push_back({"the whole tissue while it is built, beyond the stepping's", beyond, "a smaller tissue"});
+  }
   if (!scene.output.dir.empty()) {
     e.output.push_back({"traces.csv", trace_samples * (24 * columns + 24),
                         "output.traces: fewer cells or variables, or a larger every_ms"});

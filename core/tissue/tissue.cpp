@@ -60,6 +60,8 @@ void Tissue::finalise() {
 
 void Tissue::release_particles() {
   released_bounds_um_ = bounds_um();
+  released_particles_ = built_particles();
+  released_bonds_ = built_bonds();
   particles_released_ = true;
   for (auto* v : {&particles, &collagen}) std::vector<Particle>().swap(*v);
   for (auto* v : {&bonds, &collagen_bonds}) std::vector<Bond>().swap(*v);

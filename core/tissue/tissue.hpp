@@ -59,10 +59,14 @@ struct Tissue {
   // a process that neither steps the DEM nor draws the tissue, such as a
   // rank other than 0 of a split run (docs/guide/parallel.md).
   void release_particles();
+  // Particles and bonds as built (collagen's included), released or not.
+  std::size_t built_particles() const { return particles_released_ ? released_particles_ : particles.size() + collagen.size(); }
+  std::size_t built_bonds() const { return particles_released_ ? released_bonds_ : bonds.size() + collagen_bonds.size(); }
 
  private:
   bool particles_released_ = false;
   std::array<double, 4> released_bounds_um_{};
+  std::size_t released_particles_ = 0, released_bonds_ = 0;
 };
 
 // Geometry of the paper's cells (seed paper, section 2.2): a myocyte is 7
