@@ -62,30 +62,39 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
   chunk_largest_.assign(chunks, 0.0);
 }
 
-CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitance_pF, int max_iterations)
-    : n_(laplacian.rows()), max_iterations_(max_iterations) {
-  if (static_cast<long>(capacitance_pF.size()) != n_)
-    throw std::invalid_argument(fmt::format("coupling CG: {} capacitances for {} cells", capacitance_pF.size(), n_));
-  const long slices = (n_ + kSlice - 1) / kSlice;
-  padded_ = slices * kSlice;
-  // Rows past n_ (padding) hold zeros throughout (r, z, p, q, x): their
-  // entries and L_ii are 0, so they add nothing to any sum. Their 1/C is 1,
-  // so that A's diagonal is C/dt > 0 there too and its inverse needs no
-  // guard (kPaddingInverseCapacitance).
+// Row k's 1/C and L_ii, from the tissue's cell cell_of(k), and the largest
+// L_ii / C_i of the rows. Rows past n_ (padding) hold zeros throughout (r,
+// z, p, q, x): their entries and L_ii are 0, so they add nothing to any sum.
+// Their 1/C is 1, so that A's diagonal is C/dt > 0 there too and its
+// inverse needs no guard (kPaddingInverseCapacitance).
+template <class CellOf>
+void CouplingCg::take_diagonal(const Laplacian& laplacian, const std::vector<double>& capacitance_pF, CellOf&& cell_of) {
+  padded_ = (n_ + kSlice - 1) / kSlice * kSlice;
   diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
   inverse_capacitance_.assign(static_cast<std::size_t>(padded_), kPaddingInverseCapacitance);
   const int* outer = laplacian.outerIndexPtr();
   const int* column = laplacian.innerIndexPtr();
   const double* value = laplacian.valuePtr();
-  for (long i = 0; i < n_; ++i) {
+  for (long k = 0; k < n_; ++k) {
+    const int i = cell_of(k);
     if (!(capacitance_pF[i] > 0))
       throw std::invalid_argument(fmt::format("coupling CG: cell {} has capacitance {} pF, expected > 0", i,
                                               capacitance_pF[i]));
-    inverse_capacitance_[i] = 1.0 / capacitance_pF[i];
-    for (int k = outer[i]; k < outer[i + 1]; ++k)
-      if (column[k] == i) diagonal_nS_[i] = value[k];
-    max_rate_per_ms_ = std::max(max_rate_per_ms_, diagonal_nS_[i] * inverse_capacitance_[i]);
+    inverse_capacitance_[k] = 1.0 / capacitance_pF[i];
+    for (int e = outer[i]; e < outer[i + 1]; ++e)
+      if (column[e] == i) diagonal_nS_[k] = value[e];
+    max_rate_per_ms_ = std::max(max_rate_per_ms_, diagonal_nS_[k] * inverse_capacitance_[k]);
   }
+}
+
+CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitance_pF, int max_iterations)
+    : n_(laplacian.rows()), max_iterations_(max_iterations) {
+  if (static_cast<long>(capacitance_pF.size()) != n_)
+    throw std::invalid_argument(fmt::format("coupling CG: {} capacitances for {} cells", capacitance_pF.size(), n_));
+  take_diagonal(laplacian, capacitance_pF, [](long i) { return static_cast<int>(i); });
+  const int* outer = laplacian.outerIndexPtr();
+  const int* column = laplacian.innerIndexPtr();
+  const double* value = laplacian.valuePtr();
   slice_rows(
       [&](long i, auto&& emit) {
         for (int e = outer[i]; e < outer[i + 1]; ++e)
@@ -97,27 +106,15 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
 CouplingCg::CouplingCg(const Laplacian& laplacian, const std::vector<double>& capacitance_pF,
                        const std::vector<int>& own, const std::vector<int>& ghosts, Ranks& ranks)
     : n_(static_cast<long>(own.size())), max_iterations_(kMaxIterations), ranks_(&ranks) {
-  padded_ = (n_ + kSlice - 1) / kSlice * kSlice;
+  take_diagonal(laplacian, capacitance_pF, [&own](long k) { return own[static_cast<std::size_t>(k)]; });
   // A tissue cell's column here: own cells first, ghosts past the padded rows.
   std::vector<int> local(static_cast<std::size_t>(laplacian.rows()), -1);
   for (long k = 0; k < n_; ++k) local[static_cast<std::size_t>(own[k])] = static_cast<int>(k);
   for (std::size_t g = 0; g < ghosts.size(); ++g)
     local[static_cast<std::size_t>(ghosts[g])] = static_cast<int>(padded_ + static_cast<long>(g));
-  diagonal_nS_.assign(static_cast<std::size_t>(padded_), 0.0);
-  inverse_capacitance_.assign(static_cast<std::size_t>(padded_), kPaddingInverseCapacitance);
   const int* outer = laplacian.outerIndexPtr();
   const int* column = laplacian.innerIndexPtr();
   const double* value = laplacian.valuePtr();
-  for (long k = 0; k < n_; ++k) {
-    const int i = own[k];
-    if (!(capacitance_pF[i] > 0))
-      throw std::invalid_argument(fmt::format("coupling CG: cell {} has capacitance {} pF, expected > 0", i,
-                                              capacitance_pF[i]));
-    inverse_capacitance_[k] = 1.0 / capacitance_pF[i];
-    for (int e = outer[i]; e < outer[i + 1]; ++e)
-      if (column[e] == i) diagonal_nS_[k] = value[e];
-    max_rate_per_ms_ = std::max(max_rate_per_ms_, diagonal_nS_[k] * inverse_capacitance_[k]);
-  }
   slice_rows(
       [&](long k, auto&& emit) {
         const int i = own[k];

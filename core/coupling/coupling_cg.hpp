@@ -150,6 +150,8 @@ class CouplingCg {
   template <class Potential>
   double current_of_row(long i, Potential&& V) const;
   [[noreturn]] void fail(double dt_ms, double tolerance_mV, double bound_mV, int iterations) const;
+  template <class CellOf>
+  void take_diagonal(const Laplacian& laplacian, const std::vector<double>& capacitance_pF, CellOf&& cell_of);
   // Slices rows [0, n_): entries(i, emit) calls emit(column, weight_nS) on
   // row i's off-diagonal entries, in order. Sizes the work vectors, with
   // `ghosts` entries past the padded rows.

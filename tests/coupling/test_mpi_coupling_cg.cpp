@@ -137,6 +137,22 @@ std::vector<double> direct_solve(const Tissue& tissue, const std::vector<double>
   return test::direct_solve(test::dense_laplacian(tissue, kD_m_nS, kD_f_nS), C, V, dt_ms);
 }
 
+// each(group, share) on `ranks` threads at once, each a rank of the tissue's
+// partition (its results the caller's to guard).
+template <class Each>
+void on_thread_ranks(const Tissue& tissue, int ranks, bool drop_halo, Each&& each) {
+  const CellPartition partition = partition_cells(tissue, ranks);
+  ThreadRanks all(ranks, drop_halo);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+    threads.emplace_back([&, r] {
+      ThreadRanks::Group group(all, r);
+      each(group, rank_cells(tissue, partition, r));
+    });
+  for (auto& thread : threads) thread.join();
+  CHECK(all.layouts_agree);
+}
+
 struct SplitSolve {
   std::vector<double> V;                       // every rank's own cells' solution, by global cell
   std::vector<std::string> statistics;         // each rank's describe_solves()
@@ -148,30 +164,23 @@ struct SplitSolve {
 SplitSolve solve_split(int ranks, bool drop_halo, double dt_ms, double tolerance_mV) {
   const Tissue tissue = sheet();
   const auto C = capacitances(tissue);
-  const CellPartition partition = partition_cells(tissue, ranks);
-  ThreadRanks all(ranks, drop_halo);
   SplitSolve result{std::vector<double>(tissue.cell_count(), std::nan("")), std::vector<std::string>(ranks),
                     std::vector<long long>(ranks)};
   std::mutex result_mutex;
-  std::vector<std::thread> threads;
-  for (int r = 0; r < ranks; ++r)
-    threads.emplace_back([&, r] {
-      ThreadRanks::Group group(all, r);
-      const RankCells share = rank_cells(tissue, partition, r);
-      CouplingOverRanks coupler(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C, {}, nullptr, group, share);
-      // Another rank's cells hold a stale value (as in a run): the solve must not read them.
-      std::vector<double> V = potentials(tissue.cell_count());
-      for (std::size_t i = 0; i < V.size(); ++i)
-        if (!std::binary_search(share.owned.begin(), share.owned.end(), static_cast<int>(i))) V[i] = 1e3;
-      coupler.implicit_step(V.data(), dt_ms, tolerance_mV);
-      coupler.implicit_step(V.data(), 0.5 * dt_ms, tolerance_mV);
-      std::lock_guard<std::mutex> lock(result_mutex);
-      for (int cell : share.owned) result.V[static_cast<std::size_t>(cell)] = V[static_cast<std::size_t>(cell)];
-      result.statistics[static_cast<std::size_t>(r)] = coupler.describe_solves();
-      result.exchanges[static_cast<std::size_t>(r)] = coupler.exchanges();
-    });
-  for (auto& thread : threads) thread.join();
-  CHECK(all.layouts_agree);
+  on_thread_ranks(tissue, ranks, drop_halo, [&](ThreadRanks::Group& group, const RankCells& share) {
+    const int r = share.rank;
+    CouplingOverRanks coupler(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C, {}, nullptr, group, share);
+    // Another rank's cells hold a stale value (as in a run): the solve must not read them.
+    std::vector<double> V = potentials(tissue.cell_count());
+    for (std::size_t i = 0; i < V.size(); ++i)
+      if (!std::binary_search(share.owned.begin(), share.owned.end(), static_cast<int>(i))) V[i] = 1e3;
+    coupler.implicit_step(V.data(), dt_ms, tolerance_mV);
+    coupler.implicit_step(V.data(), 0.5 * dt_ms, tolerance_mV);
+    std::lock_guard<std::mutex> lock(result_mutex);
+    for (int cell : share.owned) result.V[static_cast<std::size_t>(cell)] = V[static_cast<std::size_t>(cell)];
+    result.statistics[static_cast<std::size_t>(r)] = coupler.describe_solves();
+    result.exchanges[static_cast<std::size_t>(r)] = coupler.exchanges();
+  });
   return result;
 }
 
@@ -219,29 +228,22 @@ TEST_CASE("coupling over 2 and 3 ranks: each rank's rows give one process's curr
   for (int i = 0; i < static_cast<int>(every.size()); ++i) whole.current_into(V.data(), &i, 1, &every[static_cast<std::size_t>(i)]);
   for (const int ranks : {2, 3}) {
     CAPTURE(ranks);
-    const CellPartition partition = partition_cells(tissue, ranks);
-    ThreadRanks all(ranks, false);
     std::vector<double> split(tissue.cell_count(), std::nan("")), added(tissue.cell_count(), 0.0);
     std::vector<double> rates(static_cast<std::size_t>(ranks));
     std::mutex result_mutex;
-    std::vector<std::thread> threads;
-    for (int r = 0; r < ranks; ++r)
-      threads.emplace_back([&, r] {
-        ThreadRanks::Group group(all, r);
-        const RankCells share = rank_cells(tissue, partition, r);
-        const CouplingOverRanks coupler(tissue, g_nS, C, {}, nullptr, group, share);
-        std::vector<double> mine(share.owned.size()), own_added(tissue.cell_count(), 0.0);
-        coupler.current_into(V.data(), share.owned.data(), share.owned.size(), mine.data());
-        coupler.add_current(V.data(), own_added.data());
-        std::lock_guard<std::mutex> lock(result_mutex);
-        for (std::size_t k = 0; k < mine.size(); ++k) {
-          const auto cell = static_cast<std::size_t>(share.owned[k]);
-          split[cell] = mine[k];
-          added[cell] = own_added[cell];
-        }
-        rates[static_cast<std::size_t>(r)] = coupler.max_rate_per_ms();
-      });
-    for (auto& thread : threads) thread.join();
+    on_thread_ranks(tissue, ranks, false, [&](ThreadRanks::Group& group, const RankCells& share) {
+      const CouplingOverRanks coupler(tissue, g_nS, C, {}, nullptr, group, share);
+      std::vector<double> mine(share.owned.size()), own_added(tissue.cell_count(), 0.0);
+      coupler.current_into(V.data(), share.owned.data(), share.owned.size(), mine.data());
+      coupler.add_current(V.data(), own_added.data());
+      std::lock_guard<std::mutex> lock(result_mutex);
+      for (std::size_t k = 0; k < mine.size(); ++k) {
+        const auto cell = static_cast<std::size_t>(share.owned[k]);
+        split[cell] = mine[k];
+        added[cell] = own_added[cell];
+      }
+      rates[static_cast<std::size_t>(share.rank)] = coupler.max_rate_per_ms();
+    });
     CHECK(split == every);
     CHECK(added == every);
     // The stability limit's rate is the whole tissue's on every rank.
