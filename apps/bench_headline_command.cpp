@@ -211,8 +211,8 @@ int bench_headline_command(const BenchHeadlineArgs& args) {
     // 2 snapshots, ~880 adaptive steps): where a million-cell second spends
     // its time, per cell-step.
     if (args.large)
-      scenes.push_back({"sheet 5 cm (846,279 cells), first 30 ms, auto", fs::path(args.examples) / "scale" / "sheet_5cm.json",
-                        "--set duration_ms=30"});
+      scenes.push_back({"sheet 5 cm (846,279 cells), first 30 ms, auto",
+                        fs::path(args.examples) / "scale" / "sheet_5cm.json", "--set duration_ms=30"});
     for (const auto& scene : scenes)
       if (!fs::exists(scene.manifest))
         throw ManifestError("--examples", "no " + scene.manifest.string() + " (run from the repository root)");

@@ -47,7 +47,8 @@ CouplingOverRanks::CouplingOverRanks(const Tissue& tissue, const JunctionConduct
   std::copy(owned_.begin(), owned_.end(), cell_of_column_.begin());
   cell_of_column_.insert(cell_of_column_.end(), share.ghosts.begin(), share.ghosts.end());
   row_of_cell_.assign(cells_, -1);
-  for (std::size_t k = 0; k < owned_.size(); ++k) row_of_cell_[static_cast<std::size_t>(owned_[k])] = static_cast<int>(k);
+  for (std::size_t k = 0; k < owned_.size(); ++k)
+    row_of_cell_[static_cast<std::size_t>(owned_[k])] = static_cast<int>(k);
   // GapJunctionCoupler's: the largest 2 L_ii / C_i, over every rank's cells.
   const std::vector<double> own_total_nS = cg_.diagonal_nS();
   for (std::size_t k = 0; k < owned_.size(); ++k)

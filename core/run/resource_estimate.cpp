@@ -214,8 +214,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), matrix + 56 * cells + (split ? 4 * tissue_cells : 0.0),
-                        "a smaller tissue"});
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs),
+                        matrix + 56 * cells + (split ? 4 * tissue_cells : 0.0), "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on && gathers) {
     // V of every cell at every sample, as float (with mechanics its fibre

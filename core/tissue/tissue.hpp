@@ -60,8 +60,12 @@ struct Tissue {
   // rank other than 0 of a split run (docs/guide/parallel.md).
   void release_particles();
   // Particles and bonds as built (collagen's included), released or not.
-  std::size_t built_particles() const { return particles_released_ ? released_particles_ : particles.size() + collagen.size(); }
-  std::size_t built_bonds() const { return particles_released_ ? released_bonds_ : bonds.size() + collagen_bonds.size(); }
+  std::size_t built_particles() const {
+    return particles_released_ ? released_particles_ : particles.size() + collagen.size();
+  }
+  std::size_t built_bonds() const {
+    return particles_released_ ? released_bonds_ : bonds.size() + collagen_bonds.size();
+  }
 
  private:
   bool particles_released_ = false;
