@@ -22,7 +22,9 @@ constexpr double kDriftPerIteration = 8;
 }  // namespace
 
 // The off-diagonal entries in slices of kSlice rows, entry k of a slice's
-// rows side by side, each row's entries in L's order.
+// rows side by side, each row's entries in L's order; a row's diagonal
+// place is before its first entry past the diagonal in the tissue's column
+// order (row_current).
 template <class Entries>
 void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
   const long slices = padded_ / kSlice;
@@ -31,7 +33,7 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
   for (long s = 0; s < slices; ++s) {
     for (long lane = 0; lane < kSlice && s * kSlice + lane < n_; ++lane) {
       int count = 0;
-      entries(s * kSlice + lane, [&](int, double) { ++count; });
+      entries(s * kSlice + lane, [&](int, double, bool) { ++count; });
       width_[s] = std::max(width_[s], count);
     }
     start_[s + 1] = start_[s] + width_[s] * kSlice;
@@ -45,8 +47,8 @@ void CouplingCg::slice_rows(Entries&& entries, long ghosts) {
       const long i = s * kSlice + lane;
       long k = 0, diagonal_at = -1;
       if (i < n_)
-        entries(i, [&](int j, double weight) {
-          if (diagonal_at < 0 && j > i) diagonal_at = k;
+        entries(i, [&](int j, double weight, bool past_diagonal) {
+          if (diagonal_at < 0 && past_diagonal) diagonal_at = k;
           column_[start_[s] + k * kSlice + lane] = j;
           weight_nS_[start_[s] + k * kSlice + lane] = weight;
           ++k;
@@ -98,7 +100,7 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
   slice_rows(
       [&](long i, auto&& emit) {
         for (int e = outer[i]; e < outer[i + 1]; ++e)
-          if (column[e] != i) emit(column[e], value[e]);
+          if (column[e] != i) emit(column[e], value[e], column[e] > i);
       },
       0);
 }
@@ -124,19 +126,12 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, const std::vector<double>& ca
           if (local[static_cast<std::size_t>(j)] < 0)
             throw std::logic_error(fmt::format("coupling CG over ranks: cell {} reaches cell {}, neither its "
                                                "rank's nor a ghost", i, j));
-          emit(local[static_cast<std::size_t>(j)], value[e]);
+          // (Past the diagonal by tissue cell: a ghost's column here comes
+          // after every own cell's, whatever its cell.)
+          emit(local[static_cast<std::size_t>(j)], value[e], j > i);
         }
       },
       static_cast<long>(ghosts.size()));
-  // Where a row's diagonal falls among its entries, in the tissue's column
-  // order (a ghost's column here comes after every own cell's, whatever its
-  // cell), so that row_current sums as the whole tissue's row does.
-  for (long k = 0; k < n_; ++k) {
-    const int i = own[k];
-    int before = 0;
-    for (int e = outer[i]; e < outer[i + 1]; ++e) before += column[e] < i;
-    diagonal_position_[static_cast<std::size_t>(k)] = before;
-  }
   // The whole tissue's largest rate: every rank's drift allowance alike.
   double unused = 0;
   ranks.reduce(unused, max_rate_per_ms_);

@@ -152,8 +152,9 @@ class CouplingCg {
   [[noreturn]] void fail(double dt_ms, double tolerance_mV, double bound_mV, int iterations) const;
   template <class CellOf>
   void take_diagonal(const Laplacian& laplacian, const std::vector<double>& capacitance_pF, CellOf&& cell_of);
-  // Slices rows [0, n_): entries(i, emit) calls emit(column, weight_nS) on
-  // row i's off-diagonal entries, in order. Sizes the work vectors, with
+  // Slices rows [0, n_): entries(i, emit) calls emit(column, weight_nS,
+  // past_diagonal) on row i's off-diagonal entries, in order (past_diagonal:
+  // the entry's cell comes after row i's in the tissue's numbering). Sizes the work vectors, with
   // `ghosts` entries past the padded rows.
   template <class Entries>
   void slice_rows(Entries&& entries, long ghosts);
