@@ -85,6 +85,10 @@ class OneRank final : public RankGroup {
   void gather_all(const double* mine, std::size_t count, double* every_rank) override {
     std::copy(mine, mine + count, every_rank);
   }
+  void gather_all_into(const double* mine, std::size_t count, double* every_rank, const int*,
+                       const int* offsets) override {
+    std::copy(mine, mine + count, every_rank + (offsets ? offsets[0] : 0));
+  }
 };
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "apps/mpi_world.hpp"
-#include "run/rank_group.hpp"
+#include "util/rank_group.hpp"
 
 namespace fibrodem::cli {
 

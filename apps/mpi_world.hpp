@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "run/rank_group.hpp"
+#include "util/rank_group.hpp"
 
 namespace fibrodem::cli {
 

@@ -16,7 +16,7 @@
 #include "coupling/coupling_cg.hpp"
 #include "coupling/gap_junction.hpp"
 #include "run/halo_exchange.hpp"
-#include "run/rank_group.hpp"
+#include "util/rank_group.hpp"
 #include "run/rank_reductions.hpp"
 #include "tissue/rank_cells.hpp"
 

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "run/rank_group.hpp"
+#include "util/rank_group.hpp"
 #include "tissue/rank_cells.hpp"
 
 namespace fibrodem {

@@ -12,7 +12,7 @@
 
 #include "integrate/cell_system.hpp"
 #include "run/mechanics_coupling.hpp"
-#include "run/rank_group.hpp"
+#include "util/rank_group.hpp"
 
 namespace fibrodem {
 

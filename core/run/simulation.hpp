@@ -15,7 +15,7 @@
 #include "measure/biomarkers.hpp"
 #include "model/plugin_registry.hpp"
 #include "run/checkpoint_dir.hpp"
-#include "run/rank_group.hpp"
+#include "util/rank_group.hpp"
 #include "scene/effects.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"

@@ -37,4 +37,9 @@ void WorldGroup::gather_all(const double* mine, std::size_t count, double* every
                 MPI_COMM_WORLD);
 }
 
+void WorldGroup::gather_all_into(const double* mine, std::size_t count, double* every_rank, const int* counts,
+                                 const int* offsets) {
+  MPI_Allgatherv(mine, static_cast<int>(count), MPI_DOUBLE, every_rank, counts, offsets, MPI_DOUBLE, MPI_COMM_WORLD);
+}
+
 }  // namespace fibrodem::mpi

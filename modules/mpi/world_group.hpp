@@ -22,6 +22,8 @@ class WorldGroup final : public RankGroup {
   void gather_into(const double* mine, std::size_t count, double* every_rank, const int* counts,
                    const int* offsets) override;
   void gather_all(const double* mine, std::size_t count, double* every_rank) override;
+  void gather_all_into(const double* mine, std::size_t count, double* every_rank, const int* counts,
+                       const int* offsets) override;
 
  private:
   static constexpr int kHaloTag = 17;

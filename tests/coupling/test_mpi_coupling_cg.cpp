@@ -9,15 +9,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
-#include <map>
 #include <mutex>
-#include <stdexcept>
-#include <thread>
 #include <vector>
 
 #include "coupling/gap_junction.hpp"
 #include "support/coupling_reference.hpp"
+#include "support/thread_ranks.hpp"
 #include "run/coupling_over_ranks.hpp"
 #include "tissue/cell_partition.hpp"
 #include "tissue/rank_cells.hpp"
@@ -27,80 +24,9 @@ using namespace fibrodem;
 // Every case here is labelled "mpi" for ctest (tests/CMakeLists.txt).
 TEST_SUITE_BEGIN("mpi");
 using test::max_difference;
+using test::ThreadRanks;
 
 namespace {
-
-// Ranks as threads: messages and gathers through shared memory, each call a
-// meeting of every rank (as the MPI calls are). With drop_halo, exchange()
-// delivers nothing: the ghosts keep whatever they held.
-class ThreadRanks {
- public:
-  ThreadRanks(int size, bool drop_halo) : size_(size), drop_halo_(drop_halo), gathered_(static_cast<std::size_t>(size)) {}
-
-  class Group final : public RankGroup {
-   public:
-    Group(ThreadRanks& all, int rank) : all_(all), rank_(rank) {}
-    int rank() const override { return rank_; }
-    int size() const override { return all_.size_; }
-    void exchange(const std::vector<HaloMessage>& messages) override {
-      for (const HaloMessage& m : messages) {
-        std::lock_guard<std::mutex> lock(all_.mutex_);
-        all_.posted_[{rank_, m.rank}].assign(m.send, m.send + m.send_count);
-      }
-      all_.meet();
-      if (!all_.drop_halo_)
-        for (const HaloMessage& m : messages) {
-          std::lock_guard<std::mutex> lock(all_.mutex_);
-          const std::vector<double>& sent = all_.posted_.at({m.rank, rank_});
-          if (sent.size() != m.receive_count) all_.layouts_agree = false;
-          std::copy_n(sent.begin(), std::min(sent.size(), m.receive_count), m.receive);
-        }
-      all_.meet();
-    }
-    void gather_all(const double* mine, std::size_t count, double* every_rank) override {
-      all_.gathered_[static_cast<std::size_t>(rank_)].assign(mine, mine + count);
-      all_.meet();
-      for (int r = 0; r < all_.size_; ++r)
-        std::copy_n(all_.gathered_[static_cast<std::size_t>(r)].begin(), count, every_rank + r * static_cast<long>(count));
-      all_.meet();
-    }
-    std::vector<std::vector<double>> gather(const std::vector<double>&) override {
-      throw std::logic_error("not used");
-    }
-    std::vector<std::string> gather_text(const std::string&) override { throw std::logic_error("not used"); }
-    void gather_into(const double*, std::size_t, double*, const int*, const int*) override {
-      throw std::logic_error("not used");
-    }
-
-   private:
-    ThreadRanks& all_;
-    int rank_;
-  };
-  bool layouts_agree = true;  // each message as long as its receiver expects
-
- private:
-  // Returns once every rank has called it.
-  void meet() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    const long generation = generation_;
-    if (++arrived_ == size_) {
-      arrived_ = 0;
-      ++generation_;
-      met_.notify_all();
-    } else {
-      met_.wait(lock, [&] { return generation_ != generation; });
-    }
-  }
-
-  int size_;
-  bool drop_halo_;
-  std::mutex mutex_;
-  std::condition_variable met_;
-  int arrived_ = 0;
-  long generation_ = 0;
-  std::map<std::pair<int, int>, std::vector<double>> posted_;  // (from, to) -> values
-  std::vector<std::vector<double>> gathered_;
-};
 
 // A 9 x 12 sheet, 4-neighbour junctions, every fifth cell a fibroblast.
 Tissue sheet() {
@@ -143,13 +69,7 @@ template <class Each>
 void on_thread_ranks(const Tissue& tissue, int ranks, bool drop_halo, Each&& each) {
   const CellPartition partition = partition_cells(tissue, ranks);
   ThreadRanks all(ranks, drop_halo);
-  std::vector<std::thread> threads;
-  for (int r = 0; r < ranks; ++r)
-    threads.emplace_back([&, r] {
-      ThreadRanks::Group group(all, r);
-      each(group, rank_cells(tissue, partition, r));
-    });
-  for (auto& thread : threads) thread.join();
+  all.run([&](ThreadRanks::Group& group) { each(group, rank_cells(tissue, partition, group.rank())); });
   CHECK(all.layouts_agree);
 }
 

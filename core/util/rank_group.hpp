@@ -44,6 +44,12 @@ class RankGroup {
   // What a reduction the same on every rank needs (run/rank_reductions.hpp):
   // each rank then adds or compares the same values in the same order.
   virtual void gather_all(const double* mine, std::size_t count, double* every_rank) = 0;
+  // Every rank receives counts[r] values from each rank r into every_rank
+  // from offsets[r] (the caller's buffer), each rank sending its `count`
+  // (counts[rank()]): what the DEM over ranks needs to make every body's
+  // state known to every rank (mechanics/dem_split.hpp). (Collective.)
+  virtual void gather_all_into(const double* mine, std::size_t count, double* every_rank, const int* counts,
+                               const int* offsets) = 0;
 };
 
 }  // namespace fibrodem
