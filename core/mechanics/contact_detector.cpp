@@ -47,40 +47,51 @@ bool ContactDetector::needs_rebuild(const double* x, const double* y, const doub
 bool ContactDetector::needs_rebuild(const FitSums& sums, double origin_x, double origin_y, const double* x,
                                     const double* y, const double* r) const {
   if (builds_ == 0) return true;
-  const std::size_t n = body_.size();
-  // Best-fit affine map from the built positions to these: A = M S0^-1,
-  // M = sum (x - c)(x0 - c0)^T = sum (x - o)(x0 - c0)^T - (c - o) e0^T,
-  // e0 = sum (x0 - c0), o the sums' origin.
-  const double inv_n = 1.0 / static_cast<double>(n);
+  const AffineFit fit = affine_fit(sums, origin_x, origin_y);
+  return beyond_skin(fit, departure(fit, x, y, r, 0, body_.size()));
+}
+
+// Best-fit affine map from the built positions to these: A = M S0^-1,
+// M = sum (x - c)(x0 - c0)^T = sum (x - o)(x0 - c0)^T - (c - o) e0^T,
+// e0 = sum (x0 - c0), o the sums' origin.
+ContactDetector::AffineFit ContactDetector::affine_fit(const FitSums& sums, double origin_x, double origin_y) const {
+  const double inv_n = 1.0 / static_cast<double>(body_.size());
   const double cx_o = sums[0] * inv_n, cy_o = sums[1] * inv_n;  // c - o
-  const double cx = origin_x + cx_o, cy = origin_y + cy_o;
-  double a00 = 1, a01 = 0, a10 = 0, a11 = 1;
+  AffineFit fit;
+  fit.cx = origin_x + cx_o;
+  fit.cy = origin_y + cy_o;
   if (affine_) {
     const double mxx = sums[2] - cx_o * ex0_, mxy = sums[3] - cx_o * ey0_;
     const double myx = sums[4] - cy_o * ex0_, myy = sums[5] - cy_o * ey0_;
-    a00 = mxx * s0inv_[0][0] + mxy * s0inv_[1][0];
-    a01 = mxx * s0inv_[0][1] + mxy * s0inv_[1][1];
-    a10 = myx * s0inv_[0][0] + myy * s0inv_[1][0];
-    a11 = myx * s0inv_[0][1] + myy * s0inv_[1][1];
+    fit.a00 = mxx * s0inv_[0][0] + mxy * s0inv_[1][0];
+    fit.a01 = mxx * s0inv_[0][1] + mxy * s0inv_[1][1];
+    fit.a10 = myx * s0inv_[0][0] + myy * s0inv_[1][0];
+    fit.a11 = myx * s0inv_[0][1] + myy * s0inv_[1][1];
   }
-  // The largest departure from the affine motion and the largest radius
-  // growth; a non-finite position or radius wins (the build then names it):
-  // v * 0 is NaN only for a NaN or infinite v, and sums keep a NaN, while
-  // plain maxima keep the loop in SIMD lanes. Maxima: any order gives them.
-  // Threads take runs of kMaxBlock particles, each reduced in SIMD lanes
-  // apart: clang 14 at -O1 keeps one lane of a combined `parallel for simd`
-  // reduction (a sum comes out a quarter of itself on AVX2, a maximum misses
-  // particles), so this list was kept past moves that needed a new one, and
-  // which particles it missed depended on the thread count.
+  return fit;
+}
+
+// The largest departure from the affine motion and the largest radius
+// growth; a non-finite position or radius is flagged (the build then names
+// it): v * 0 is NaN only for a NaN or infinite v, and sums keep a NaN, while
+// plain maxima keep the loop in SIMD lanes. Maxima: any order gives them.
+// Threads take runs of kMaxBlock particles, each reduced in SIMD lanes
+// apart: clang 14 at -O1 keeps one lane of a combined `parallel for simd`
+// reduction (a sum comes out a quarter of itself on AVX2, a maximum misses
+// particles), so this list was kept past moves that needed a new one, and
+// which particles it missed depended on the thread count.
+ContactDetector::Departure ContactDetector::departure(const AffineFit& fit, const double* x, const double* y,
+                                                      const double* r, std::size_t begin, std::size_t end) const {
   constexpr std::size_t kMaxBlock = 512;
-  const std::size_t blocks = (n + kMaxBlock - 1) / kMaxBlock;
+  const std::size_t blocks = (end - begin + kMaxBlock - 1) / kMaxBlock;
+  const double cx = fit.cx, cy = fit.cy, a00 = fit.a00, a01 = fit.a01, a10 = fit.a10, a11 = fit.a11;
   double u2 = 0, dr = 0, probe = 0;
 #pragma omp parallel for schedule(static) reduction(max : u2, dr) reduction(+ : probe)
   for (std::size_t k = 0; k < blocks; ++k) {
     double block_u2 = 0, block_dr = 0, block_probe = 0;
-    const std::size_t end = std::min(n, (k + 1) * kMaxBlock);
+    const std::size_t first = begin + k * kMaxBlock, last = std::min(end, first + kMaxBlock);
 #pragma omp simd reduction(max : block_u2, block_dr) reduction(+ : block_probe)
-    for (std::size_t i = k * kMaxBlock; i < end; ++i) {
+    for (std::size_t i = first; i < last; ++i) {
       const double dx0 = x0_[i] - cx0_, dy0 = y0_[i] - cy0_;
       const double ux = x[i] - cx - (a00 * dx0 + a01 * dy0), uy = y[i] - cy - (a10 * dx0 + a11 * dy0);
       const double u2_i = ux * ux + uy * uy, dr_i = r[i] - r0_[i];
@@ -92,12 +103,17 @@ bool ContactDetector::needs_rebuild(const FitSums& sums, double origin_x, double
     dr = std::max(dr, block_dr);
     probe += block_probe;
   }
-  if (std::isnan(probe)) return true;
+  return {u2, dr, std::isnan(probe) ? 1.0 : 0.0};
+}
+
+bool ContactDetector::beyond_skin(const AffineFit& fit, const Departure& d) const {
+  if (builds_ == 0 || d.not_finite != 0) return true;
   // Smallest singular value of A (2 x 2): s^2 = (T - sqrt(T^2 - 4 D^2)) / 2.
-  const double t = a00 * a00 + a01 * a01 + a10 * a10 + a11 * a11, d = a00 * a11 - a01 * a10;
-  const double s_min = std::sqrt(std::max(0.0, 0.5 * (t - std::sqrt(std::max(0.0, t * t - 4 * d * d)))));
+  const double t = fit.a00 * fit.a00 + fit.a01 * fit.a01 + fit.a10 * fit.a10 + fit.a11 * fit.a11;
+  const double det = fit.a00 * fit.a11 - fit.a01 * fit.a10;
+  const double s_min = std::sqrt(std::max(0.0, 0.5 * (t - std::sqrt(std::max(0.0, t * t - 4 * det * det)))));
   const double worst_r = s_min < 1 ? 2 * rmax0_ : 0.0;
-  return !(s_min * (worst_r + skin_) - worst_r >= 2 * (std::sqrt(u2) + std::max(0.0, dr)));
+  return !(s_min * (worst_r + skin_) - worst_r >= 2 * (std::sqrt(d.u2) + std::max(0.0, d.dr)));
 }
 
 // e0 = sum (x0 - c0) of the built positions: zero but for rounding, which

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -64,6 +65,23 @@ class ContactDetector {
   // taken from (origin_x, origin_y).
   bool needs_rebuild(const FitSums& sums, double origin_x, double origin_y, const double* x, const double* y,
                      const double* r) const;
+  // needs_rebuild() in its three parts, for a DEM split over ranks
+  // (mechanics/dem_split.hpp), where each rank holds the present places of
+  // its own particles only: the best-fit affine map from the sums over
+  // every particle; the departures from it of particles [begin, end),
+  // maxima that combine in any order (max of each field); and the decision.
+  struct AffineFit {
+    double cx = 0, cy = 0, a00 = 1, a01 = 0, a10 = 0, a11 = 1;
+  };
+  struct Departure {
+    double u2 = 0, dr = 0;  // largest squared departure, radius growth [m^2, m]
+    double not_finite = 0;  // 1 if some position or radius is not finite
+  };
+  AffineFit affine_fit(const FitSums& sums, double origin_x, double origin_y) const;
+  Departure departure(const AffineFit& fit, const double* x, const double* y, const double* r, std::size_t begin,
+                      std::size_t end) const;
+  bool beyond_skin(const AffineFit& fit, const Departure& d) const;
+  bool built() const { return builds_ > 0; }
   // The same, summing the positions itself.
   bool needs_rebuild(const double* x, const double* y, const double* r) const;
   // Lists the candidate pairs (p < q, ascending) at these positions and radii
