@@ -216,7 +216,9 @@ void DemBodies::partition_bodies() {
   part_first_body = parts_of_bodies(bx.size(), kStepParts, [&](std::size_t b) { return move_work(b); });
   constexpr double kShapeWork = 1.0, kDiskPassWork = 0.02;
   shape_part_first_body =
-      parts_of_bodies(bx.size(), kStepParts, [&](std::size_t b) { return bclump[b] ? kShapeWork : kDiskPassWork; });
+      parts_of_bodies(bx.size(), kStepParts, [&](std::size_t b) {
+        return !steps(b) ? 0.0 : bclump[b] ? kShapeWork : kDiskPassWork;
+      });
 }
 
 // The force sums' parts: runs of whole bodies of about equal work there,
@@ -231,11 +233,13 @@ void DemBodies::partition_force_sums(const ContactIncidence& particle_contacts) 
 }
 
 double DemBodies::move_work(std::size_t b) const {
+  if (!steps(b)) return 0;
   constexpr double kBodyWork = 2.2;
   return kBodyWork + (body_particle_start[b + 1] - body_particle_start[b]);
 }
 
 double DemBodies::sum_work(std::size_t b, const ContactIncidence& particle_contacts) const {
+  if (!steps(b)) return 0;
   double work = 2.0;  // the kick and the body's own sums, in contact-terms
   for (int k = body_particle_start[b]; k < body_particle_start[b + 1]; ++k) {
     const auto i = static_cast<std::size_t>(body_particle[k]);
@@ -270,7 +274,7 @@ double DemBodies::kinetic_energy_J() const {
 MechanicsSolver::Motion DemBodies::fastest_motion() const {
   MechanicsSolver::Motion m;
   for (std::size_t b = 0; b < bx.size(); ++b) {
-    if (bfixed[b]) continue;
+    if (bfixed[b] || !steps(b)) continue;
     const double reach = 0.5 * (brest[b].n - 1) * bs[b] + br[b];
     const double speed = std::hypot(bvx[b], bvy[b]) + std::abs(bw[b]) * reach;
     const double accel = std::hypot(bfx[b], bfy[b]) * inv_m[b] + std::abs(btq[b]) * inv_i[b] * reach;

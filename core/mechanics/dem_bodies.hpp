@@ -69,7 +69,10 @@ class DemBodies {
   // The force sums' parts, by each body's contacts (set again whenever the
   // contacts change).
   void partition_force_sums(const ContactIncidence& particle_contacts);
-  // A body's work in the move loop and in the force sums (the parts' weights).
+  // The move loop's and the shapes' parts (again once `own` is set).
+  void partition_bodies();
+  // A body's work in the move loop and in the force sums (the parts' weights;
+  // 0 for a body another rank steps).
   double move_work(std::size_t b) const;
   double sum_work(std::size_t b, const ContactIncidence& particle_contacts) const;
 
@@ -108,6 +111,11 @@ class DemBodies {
   std::vector<int> body_particle_start, body_particle;  // each body's particles, ascending (CSR)
   double origin_x = 0, origin_y = 0;  // the particles' centre at rest (the fits' origin)
 
+  // Split over ranks (dem_split.hpp): 1 for each body this rank steps;
+  // empty in one process, which steps every body.
+  std::vector<std::uint8_t> own;
+  bool steps(std::size_t b) const { return own.empty() || own[b] != 0; }
+
   std::vector<std::size_t> part_first_body;        // the move loop's kStepParts parts of bodies
   std::vector<std::size_t> sum_part_first_body;    // the force sums' parts (by contacts)
   std::vector<std::size_t> shape_part_first_body;  // the clumps' shapes' parts (by clumps)
@@ -115,7 +123,20 @@ class DemBodies {
  private:
   void add_bodies(const Tissue& tissue, const DemSpec& spec);
   void index_particles();
-  void partition_bodies();
 };
+
+// Each array of the bodies' evolving state, with its checkpoint field's
+// name (Bodies: DemBodies or const DemBodies): pose, velocity, force, and
+// the clump's shape on its way to the target.
+template <class Bodies, class F>
+void for_each_evolving_body_array(Bodies& b, F&& f) {
+  f("dem.body.x", b.bx), f("dem.body.y", b.by), f("dem.body.theta", b.bth);
+  f("dem.body.vx", b.bvx), f("dem.body.vy", b.bvy), f("dem.body.omega", b.bw);
+  f("dem.body.fx", b.bfx), f("dem.body.fy", b.bfy), f("dem.body.torque", b.btq);
+  f("dem.body.r", b.br), f("dem.body.s", b.bs), f("dem.body.sdot", b.bsdot), f("dem.body.lambda", b.blambda);
+  f("dem.body.target_r", b.btarget_r), f("dem.body.target_s", b.btarget_s), f("dem.body.ux", b.bux);
+  f("dem.body.uy", b.buy);
+}
+inline constexpr std::size_t kEvolvingBodyArrays = 17;
 
 }  // namespace fibrodem

@@ -2,7 +2,10 @@
 // evolves, both contact sets whole, the contact list's state and the clock.
 #include <array>
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <numeric>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -12,17 +15,11 @@ namespace fibrodem {
 
 namespace {
 
-// Each evolving array of the bodies with its checkpoint field's name, for
-// save and load alike (Bodies: DemBodies or const DemBodies).
+// Each evolving array of the bodies and their particles with its checkpoint
+// field's name, for save and load alike (Bodies: DemBodies or const DemBodies).
 template <class Bodies, class F>
 void for_each_evolving_array(Bodies& b, F&& f) {
-  // Bodies: pose, velocity, force, and the clump's shape on its way to the target.
-  f("dem.body.x", b.bx), f("dem.body.y", b.by), f("dem.body.theta", b.bth);
-  f("dem.body.vx", b.bvx), f("dem.body.vy", b.bvy), f("dem.body.omega", b.bw);
-  f("dem.body.fx", b.bfx), f("dem.body.fy", b.bfy), f("dem.body.torque", b.btq);
-  f("dem.body.r", b.br), f("dem.body.s", b.bs), f("dem.body.sdot", b.bsdot), f("dem.body.lambda", b.blambda);
-  f("dem.body.target_r", b.btarget_r), f("dem.body.target_s", b.btarget_s), f("dem.body.ux", b.bux);
-  f("dem.body.uy", b.buy);
+  for_each_evolving_body_array(b, f);
   // Particles, now and a step ago (the strain's half-step velocities).
   f("dem.particle.x", b.px), f("dem.particle.y", b.py), f("dem.particle.x_old", b.px_old);
   f("dem.particle.y_old", b.py_old), f("dem.particle.vx", b.pvx), f("dem.particle.vy", b.pvy);
@@ -57,14 +54,46 @@ void get_array(const CheckpointFields& fields, const std::string& name, std::vec
   fields.bytes(name, v.data(), v.size());
 }
 
+// Split over ranks, a set's order in one process (bonds as the tissue lists
+// them, contacts by pairs), in which a checkpoint holds them (any number of
+// ranks then reads it); else the set's own.
+std::vector<std::size_t> saved_order(const BondSet& set, const std::vector<int>* bond_id) {
+  std::vector<std::size_t> order(set.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  if (bond_id)
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return (*bond_id)[a] < (*bond_id)[b]; });
+  else
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return std::pair(set.p[a], set.q[a]) < std::pair(set.p[b], set.q[b]);
+    });
+  return order;
+}
+
+template <class T>
+std::vector<T> in_order(const std::vector<T>& v, const std::vector<std::size_t>* order) {
+  if (!order) return v;
+  std::vector<T> out(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) out[k] = v[(*order)[k]];
+  return out;
+}
+
 }  // namespace
 
+// Split over ranks, rank 0 writes it, once gather_on_rank0(true) gave it
+// every body's and contact's state.
 void DemSolver::save(CheckpointFields& fields) const {
   for_each_evolving_array(bodies_, [&](const std::string& name, const std::vector<double>& v) { fields.put(name, v); });
-  for_each_bond_array(contacts_.bonds, "dem.bond.",
-                      [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
-  for_each_bond_array(contacts_.contacts, "dem.contact.",
-                      [&](const std::string& name, const auto& v) { put_array(fields, name, v); });
+  std::vector<std::size_t> bond_order, contact_order;
+  if (split_) {
+    bond_order = saved_order(contacts_.bonds, &contacts_.bond_id);
+    contact_order = saved_order(contacts_.contacts, nullptr);
+  }
+  for_each_bond_array(contacts_.bonds, "dem.bond.", [&](const std::string& name, const auto& v) {
+    put_array(fields, name, in_order(v, split_ ? &bond_order : nullptr));
+  });
+  for_each_bond_array(contacts_.contacts, "dem.contact.", [&](const std::string& name, const auto& v) {
+    put_array(fields, name, in_order(v, split_ ? &contact_order : nullptr));
+  });
   if (contacts_.detects()) contacts_.detector()->save(fields);
   // Masses of motion: mass scaling sets them for the contacts listed (without
   // it they are the density's, and a checkpoint needs none).
@@ -118,6 +147,10 @@ void DemSolver::load(const CheckpointFields& fields) {
     B.inv_i[b] = 1 / B.inertia[b];
   }
   if (multirate_.on()) multirate_.load(fields, bodies_, contacts_);
+  if (split_) {  // (the sets in tissue order: this rank's contacts first again)
+    std::iota(contacts_.bond_id.begin(), contacts_.bond_id.end(), 0);
+    contacts_.reorder(contact_order());
+  }
   index_contacts();
   out_dirty_ = true;
 }

@@ -36,6 +36,7 @@ void DemContacts::form_bonds(const Tissue& t, const DemBodies& bodies) {
   const std::size_t np = pbody.size();
   const std::size_t n = t.bonds.size() + t.collagen_bonds.size();
   bonds.resize(n);
+  bond_id.resize(n);
   std::vector<std::pair<int, int>> bonded(n);
   for (std::size_t k = 0; k < n; ++k) {
     const bool collagen = k >= t.bonds.size();
@@ -46,6 +47,7 @@ void DemContacts::form_bonds(const Tissue& t, const DemBodies& bodies) {
     if (pbody[p] == pbody[q])
       throw std::invalid_argument("bond " + std::to_string(k) + " joins two particles of one clump");
     set_constants(bonds, k, p, q, bodies, collagen);
+    bond_id[k] = static_cast<int>(k);
     bonds.ref_gap[k] = std::hypot(px[q] - px[p], py[q] - py[p]) - br[pbody[p]] - br[pbody[q]];
     bonds.kb[k] = law_->bending_stiffness(bonds.kn[k], br[pbody[p]], br[pbody[q]]);
     bonds.intact[k] = 1;
@@ -117,26 +119,43 @@ void DemContacts::rebuild_list(const DemBodies& bodies, const ContactOrder& orde
 // in `order`'s, which rebuild_list's merge needs); returns how many are
 // fast. (At the start, a reclassification and a checkpoint's load.)
 std::size_t DemContacts::reorder(const ContactOrder& order) {
-  auto order_set = [&order](BondSet& set, bool by_pairs) {
+  auto fast_first = [&order](const BondSet& set) {
     std::vector<std::size_t> perm(set.size());
     std::iota(perm.begin(), perm.end(), std::size_t{0});
-    auto fast = [&](std::size_t k) { return order.fast(set.p[k], set.q[k]); };
-    if (by_pairs)
-      std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {
-        return order.less(set.p[a], set.q[a], set.p[b], set.q[b]);
-      });
-    else
-      std::stable_partition(perm.begin(), perm.end(), fast);
-    const auto mid = std::partition_point(perm.begin(), perm.end(), fast);
-    permute(set.p, perm), permute(set.q, perm), permute(set.kn, perm), permute(set.ks, perm);
-    permute(set.m_eff, perm), permute(set.ref_gap, perm), permute(set.cn, perm), permute(set.cs, perm);
-    permute(set.kb, perm), permute(set.fn, perm), permute(set.fs, perm), permute(set.mb, perm);
-    permute(set.intact, perm);
-    return static_cast<std::size_t>(mid - perm.begin());
+    std::stable_partition(perm.begin(), perm.end(), [&](std::size_t k) { return order.fast(set.p[k], set.q[k]); });
+    return perm;
   };
-  const std::size_t fast_bonds = order_set(bonds, false);
-  order_set(contacts, true);
+  permute_bonds(fast_first(bonds));
+  std::vector<std::size_t> perm(contacts.size());
+  std::iota(perm.begin(), perm.end(), std::size_t{0});
+  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {
+    return order.less(contacts.p[a], contacts.q[a], contacts.p[b], contacts.q[b]);
+  });
+  permute_set(contacts, perm);
+  std::size_t fast_bonds = 0;
+  while (fast_bonds < bonds.size() && order.fast(bonds.p[fast_bonds], bonds.q[fast_bonds])) ++fast_bonds;
   return fast_bonds;
+}
+
+// One process's order: bonds as the tissue lists them, contacts by (p, q).
+void DemContacts::put_in_tissue_order() {
+  std::vector<std::size_t> perm(bonds.size());
+  std::iota(perm.begin(), perm.end(), std::size_t{0});
+  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) { return bond_id[a] < bond_id[b]; });
+  permute_bonds(perm);
+  reorder(ContactOrder{});
+}
+
+void DemContacts::permute_bonds(const std::vector<std::size_t>& perm) {
+  permute_set(bonds, perm);
+  permute(bond_id, perm);
+}
+
+void DemContacts::permute_set(BondSet& set, const std::vector<std::size_t>& perm) {
+  permute(set.p, perm), permute(set.q, perm), permute(set.kn, perm), permute(set.ks, perm);
+  permute(set.m_eff, perm), permute(set.ref_gap, perm), permute(set.cn, perm), permute(set.cs, perm);
+  permute(set.kb, perm), permute(set.fn, perm), permute(set.fs, perm), permute(set.mb, perm);
+  permute(set.intact, perm);
 }
 
 void DemContacts::index(const DemBodies& bodies) {

@@ -56,6 +56,10 @@ class DemContacts {
   // Both sets put in `order` (bonds: the fast ones moved first, each part in
   // its order); returns how many bonds are fast.
   std::size_t reorder(const ContactOrder& order);
+  // One process's order, whatever `order` put them in: bonds as the tissue
+  // lists them (bond_id), unbonded contacts by (p, q) (what a checkpoint
+  // holds; a DEM split over ranks writes its sets so).
+  void put_in_tissue_order();
   // The per-contact arrays and the incidences, after the contacts changed.
   void index(const DemBodies& bodies);
   // Each contact's stiffness on its bodies, summed per body (body_kt, body_kr).
@@ -86,6 +90,7 @@ class DemContacts {
 
   // Bonds, then unbonded contacts (numbered so, 0.. bonds.size() + contacts.size()).
   BondSet bonds, contacts;
+  std::vector<int> bond_id;  // each bond's place in the tissue's list (reorder moves bonds)
   // Each contact's force on q (minus on p) and moments on its ends (moment[end],
   // end as in ContactIncidence's entries); one contact's in one cache line's
   // half, as a particle's sum reads them.
@@ -105,6 +110,8 @@ class DemContacts {
     alignas(64) double gap[kBlock], dn[kBlock], ds[kBlock], dth[kBlock], nx[kBlock], ny[kBlock];
     alignas(64) double lp[kBlock], lq[kBlock], fn[kBlock], fs[kBlock], mt[kBlock];
   };
+  void permute_bonds(const std::vector<std::size_t>& perm);
+  static void permute_set(BondSet& set, const std::vector<std::size_t>& perm);
   void set_constants(BondSet& set, std::size_t k, int p, int q, const DemBodies& bodies,
                      bool through_collagen = false) const;
   void block(const DemBodies& bodies, BondSet& set, std::size_t begin, std::size_t count, std::size_t number,

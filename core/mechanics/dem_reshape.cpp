@@ -29,7 +29,7 @@ void DemBodies::set_cell_length_ratios(const std::vector<double>& ratio) {
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < kStepParts; ++k)
       for (std::size_t b = shape_part_first_body[k]; b < shape_part_first_body[k + 1]; ++b) {
-        if (!bclump[b]) continue;  // a fibroblast keeps its disk
+        if (!bclump[b] || !steps(b)) continue;  // a fibroblast keeps its disk; another rank's body
         const auto c = static_cast<std::size_t>(bcell[b]);
         const double l = ratio[c];
         if (!(l >= 0.5 && l <= 1.5)) {
@@ -62,7 +62,7 @@ void DemBodies::set_cell_length_ratios(const std::vector<double>& ratio) {
 #pragma omp for schedule(static) nowait
       for (std::size_t k = 0; k < kStepParts; ++k)
         for (std::size_t b = shape_part_first_body[k]; b < shape_part_first_body[k + 1]; ++b) {
-          if (!bclump[b] || brest[b].n < 2) continue;
+          if (!bclump[b] || brest[b].n < 2 || !steps(b)) continue;
           blambda[b] = ratio[static_cast<std::size_t>(bcell[b])];
           btarget_r[b] = next_r[b];
           btarget_s[b] = next_s[b];

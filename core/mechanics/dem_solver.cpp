@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "mechanics/dem_step_inline.hpp"
 #include "util/number_text.hpp"
@@ -50,7 +51,12 @@ void DemSolver::step(double dt_ms) {
   // (length ratios at the end of the step), particles.
   bodies_.px_old.swap(bodies_.px);
   bodies_.py_old.swap(bodies_.py);
-  update_list_and_strain(move_and_sum<true>(dt), dt);
+  StepSums sums = move_and_sum<true>(dt);
+  if (split_) {
+    split_->refresh_ghosts(bodies_);
+    reduce_over_ranks(sums);
+  }
+  update_list_and_strain(sums, dt);
   compute_forces_and_kick(dt, 0.5 * dt);
   time_s_ += dt;
   ++steps_;
@@ -102,6 +108,7 @@ DemSolver::StepSums DemSolver::move_and_sum(double dt_s) {
   for (std::size_t k = 0; k < kStepParts; ++k) {
     StepSums sum{};  // (in registers: part[k] could alias the arrays read)
     for (std::size_t b = B.part_first_body[k]; b < B.part_first_body[k + 1]; ++b) {
+      if (!B.steps(b)) continue;  // another rank's
       if constexpr (kMove) {
         B.kick(b, h);
         B.drift_and_reshape(b, dt_s);
@@ -141,13 +148,37 @@ DemSolver::StepSums DemSolver::move_and_sum(double dt_s) {
 // From the move loop's sums: the contact list rebuilt if some pair may have
 // come into contact, and the strain over the step of dt_s.
 void DemSolver::update_list_and_strain(const StepSums& sums, double dt_s) {
-  const ContactDetector* detector = contacts_.detector();
-  if (detector && detector->needs_rebuild(sums.fit, bodies_.origin_x, bodies_.origin_y, bodies_.px.data(),
-                                          bodies_.py.data(), bodies_.pr.data()))
+  if (list_needs_rebuild(sums)) {
+    if (split_) split_->share_bodies(bodies_);  // (every rank builds the whole tissue's list)
     rebuild_contacts();
+  }
   const bool by_particle = spec_.strain_bodies == StrainBodies::particles;
   strain_fit_.add(sums.strain, by_particle ? bodies_.particle_count() : bodies_.size(), dt_s,
                   (time_s_ + dt_s) * 1e3);
+}
+
+// In one process from every particle; split over ranks, from the sums over
+// every rank's bodies and the maxima over every rank's particles.
+bool DemSolver::list_needs_rebuild(const StepSums& sums) {
+  const ContactDetector* detector = contacts_.detector();
+  if (!detector) return false;
+  const DemBodies& B = bodies_;
+  if (!split_)
+    return detector->needs_rebuild(sums.fit, B.origin_x, B.origin_y, B.px.data(), B.py.data(), B.pr.data());
+  if (!detector->built()) return true;
+  const ContactDetector::AffineFit fit = detector->affine_fit(sums.fit, B.origin_x, B.origin_y);
+  return detector->beyond_skin(fit, split_->departure(*detector, fit, B));
+}
+
+// The move loop's sums over every rank's bodies, in one message.
+void DemSolver::reduce_over_ranks(StepSums& sums) {
+  constexpr std::size_t ns = std::tuple_size_v<DemStrainFit::Sums>, nf = std::tuple_size_v<ContactDetector::FitSums>;
+  double values[ns + nf];
+  std::copy(sums.strain.begin(), sums.strain.end(), values);
+  std::copy(sums.fit.begin(), sums.fit.end(), values + ns);
+  split_->sum(values, ns + nf);
+  std::copy(values, values + ns, sums.strain.begin());
+  std::copy(values + ns, values + ns + nf, sums.fit.begin());
 }
 
 // Forces per contact in parallel (blocks of bonds, then of contacts), then
@@ -156,12 +187,16 @@ void DemSolver::update_list_and_strain(const StepSums& sums, double dt_s) {
 // DemBodies::partition_force_sums).
 void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
   DemBodies& B = bodies_;
+  // (Split over ranks: the contacts that touch this rank's bodies, listed first.)
+  const std::size_t bonds = split_ ? split_->own_bonds() : contacts_.bonds.size();
+  const std::size_t contacts = split_ ? split_->own_contacts() : contacts_.contacts.size();
 #pragma omp parallel
   {
-    contacts_.forces_of_range(B, 0, contacts_.bonds.size(), 0, contacts_.contacts.size(), dt_s);
+    contacts_.forces_of_range(B, 0, bonds, 0, contacts, dt_s);
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < kStepParts; ++k)
       for (std::size_t b = B.sum_part_first_body[k]; b < B.sum_part_first_body[k + 1]; ++b) {
+        if (!B.steps(b)) continue;
         double f[3];
         contacts_.sum_body(B, b, B.bx[b], B.by[b], kEveryContact, f);
         B.bfx[b] = f[0];
@@ -174,7 +209,7 @@ void DemSolver::compute_forces_and_kick(double dt_s, double h_s) {
 
 // A new Verlet list of unbonded contacts, then the stable step.
 void DemSolver::rebuild_contacts() {
-  contacts_.rebuild_list(bodies_, multirate_.order(bodies_));
+  contacts_.rebuild_list(bodies_, contact_order());
   index_contacts();
   compute_stable_step();
   if (spec_.dt_ms > stable_step_ms_ && steps_ > 0)
@@ -191,6 +226,32 @@ void DemSolver::index_contacts() {
   contacts_.index(bodies_);
   bodies_.partition_force_sums(contacts_.particle_contacts);
   multirate_.index(bodies_, contacts_);
+  if (split_) split_->plan_halo(bodies_, contacts_);
+}
+
+// The contacts' order in their sets: multirate's (fast first), the split's
+// (this rank's first), else by pairs.
+ContactOrder DemSolver::contact_order() const {
+  return split_ ? split_->order(bodies_) : multirate_.order(bodies_);
+}
+
+void DemSolver::split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank) {
+  if (multirate_.on())
+    throw std::invalid_argument("mechanics.multirate cannot be split over ranks (its substeps are not split)");
+  split_ = std::make_unique<DemSplit>(ranks, cell_rank, bodies_, contacts_);
+  contacts_.reorder(contact_order());
+  index_contacts();
+}
+
+void DemSolver::gather_on_rank0(bool whole_state) {
+  if (!split_) return;
+  split_->gather_bodies(bodies_, whole_state);
+  if (whole_state) {
+    split_->gather_contacts(contacts_, bodies_);
+    contacts_.reorder(contact_order());
+    index_contacts();
+  }
+  out_dirty_ = true;
 }
 
 void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) { bodies_.set_cell_length_ratios(ratio); }
@@ -216,7 +277,13 @@ void DemSolver::set_body_velocity(std::size_t b, double vx, double vy, double w)
   bodies_.bw[b] = w;
 }
 
-MechanicsSolver::Motion DemSolver::fastest_motion() const { return bodies_.fastest_motion(); }
+MechanicsSolver::Motion DemSolver::fastest_motion() const {
+  Motion m = bodies_.fastest_motion();
+  if (!split_) return m;
+  double values[2] = {m.speed_m_per_s, m.acceleration_m_per_s2};
+  split_->max(values, 2);
+  return {values[0], values[1]};
+}
 
 std::string DemSolver::report() const {
   std::string r = std::to_string(steps_) + " steps, stable step now " + significant_digits(stable_step_ms_, 6) +

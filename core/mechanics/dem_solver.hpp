@@ -65,6 +65,12 @@
 // Deterministic: the same bits for any number of threads; no allocation per
 // step.
 //
+// Ranks (split_over_ranks; dem_split.hpp): each rank of a split run steps
+// its own cells' bodies (the loops pass over the others: DemBodies::own)
+// and the contacts that touch them (listed first in their sets), trading
+// its border bodies with its neighbours after the move; the step's sums
+// and the contact list's check are reduced over the ranks.
+//
 // Parts and files (each part with its own state; DemSolver owns them and
 // orchestrates the step): DemBodies (dem_bodies.hpp: bodies, particles and
 // their parts; dem_bodies.cpp, dem_reshape.cpp for the clumps' shapes),
@@ -72,7 +78,8 @@
 // incidences; dem_contacts.cpp, dem_contact_forces.cpp), DemMultirate
 // (dem_multirate.hpp: the classes, boundary and scratch of the multirate
 // scheme; dem_multirate.cpp, dem_multirate_step.cpp for its step),
-// DemMassScaling (dem_mass_scaling.hpp), DemStrainFit (dem_strain.hpp). The
+// DemMassScaling (dem_mass_scaling.hpp), DemStrainFit (dem_strain.hpp),
+// DemSplit (dem_split.hpp: over ranks). The
 // per-body and per-particle pieces the step's loops inline:
 // dem_step_inline.hpp. The solver itself: dem_solver.cpp (the step and its
 // fused move loop), dem_stable_step.cpp, dem_checkpoint.cpp.
@@ -80,6 +87,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -89,6 +97,7 @@
 #include "mechanics/dem_contacts.hpp"
 #include "mechanics/dem_mass_scaling.hpp"
 #include "mechanics/dem_multirate.hpp"
+#include "mechanics/dem_split.hpp"
 #include "mechanics/dem_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
 
@@ -112,6 +121,11 @@ class DemSolver final : public MechanicsSolver {
   Motion fastest_motion() const override;
   void save(CheckpointFields& fields) const override;
   void load(const CheckpointFields& fields) override;
+  // Split over ranks (dem_split.hpp); refuses multirate, whose substeps are
+  // not split.
+  void split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank) override;
+  void gather_on_rank0(bool whole_state) override;
+  bool split() const { return split_ != nullptr; }
 
   double step_ms() const override { return spec_.dt_ms > 0 ? spec_.dt_ms : stable_step_ms_; }
   const DemSpec& spec() const { return spec_; }
@@ -171,6 +185,9 @@ class DemSolver final : public MechanicsSolver {
   void compute_forces_and_kick(double dt_s, double h_s);
   void rebuild_contacts();
   void index_contacts();
+  ContactOrder contact_order() const;
+  bool list_needs_rebuild(const StepSums& sums);
+  void reduce_over_ranks(StepSums& sums);
   void compute_stable_step();
 
   DemSpec spec_;
@@ -179,6 +196,7 @@ class DemSolver final : public MechanicsSolver {
   DemMultirate multirate_;
   DemMassScaling mass_scaling_;
   DemStrainFit strain_fit_;
+  std::unique_ptr<DemSplit> split_;  // over ranks; null in one process
 
   double stable_step_ms_ = 0;
   double bonded_stable_step_ms_ = 0;  // at the start (a loaded checkpoint's is checked against it)

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "mechanics/contact_law.hpp"
 #include "mechanics/dem_spec.hpp"
 #include "tissue/tissue.hpp"
+#include "util/rank_group.hpp"
 
 namespace fibrodem {
 
@@ -59,6 +61,21 @@ class MechanicsSolver {
     double speed_m_per_s = 0, acceleration_m_per_s2 = 0;
   };
   virtual Motion fastest_motion() const = 0;
+
+  // Split over the ranks of one run (docs/guide/parallel.md, "The DEM over
+  // ranks"): from now on each rank steps the bodies of its own cells
+  // (cell_rank: every cell's rank, the same on every rank), and every call
+  // that changes or reads the whole tissue is collective: every rank makes
+  // it at the same point (step, fastest_motion, gather_on_rank0, load).
+  // strain() is the whole tissue's on every rank. Throws
+  // std::invalid_argument for a spec (or a solver) that cannot be split.
+  virtual void split_over_ranks(RankGroup& /*ranks*/, const std::vector<int>& /*cell_rank*/) {
+    throw std::invalid_argument("this mechanics solver cannot be split over ranks");
+  }
+  // Split: every body's present state on rank 0, for particles() there
+  // (and, with whole_state, everything save() writes). Collective; nothing
+  // in one process.
+  virtual void gather_on_rank0(bool /*whole_state*/) {}
 };
 
 // The spec's solver (`dem`) for a tissue; throws std::invalid_argument if the

@@ -50,8 +50,8 @@ struct StrainCourse {
   std::size_t steps = 0, substeps = 0, light_bodies = 0;
 };
 
-inline StrainCourse twitch(const Tissue& t, const DemSpec& spec, double until_ms) {
-  DemSolver dem(t, spec);
+// The strain's course of `dem` (built for t) through the twitch.
+inline StrainCourse twitch_of(const Tissue& t, DemSolver& dem, double until_ms) {
   StrainCourse out;
   out.step_ms = dem.step_ms();
   std::vector<double> ratio(t.cell_count(), 1.0);
@@ -72,6 +72,12 @@ inline StrainCourse twitch(const Tissue& t, const DemSpec& spec, double until_ms
   out.steps = dem.steps();
   out.substeps = dem.substeps();
   out.light_bodies = dem.light_bodies();
+  return out;
+}
+
+inline StrainCourse twitch(const Tissue& t, const DemSpec& spec, double until_ms) {
+  DemSolver dem(t, spec);
+  const StrainCourse out = twitch_of(t, dem, until_ms);
   MESSAGE(dem.report());
   return out;
 }
