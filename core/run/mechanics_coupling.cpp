@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -92,10 +93,65 @@ void MechanicsCoupling::skip_to(double t) {
   }
 }
 
+// (Split over ranks, each rank's cells hold its own lengths only: every
+// rank's answer, reduced.)
 bool MechanicsCoupling::drive_unchanged(const std::vector<double>& length_ratio) const {
+  double changed = 0;
   for (std::size_t cell = 0; cell < length_ratio.size(); ++cell)
-    if (!(std::abs(length_ratio[cell] - length_ratio_[cell]) <= kDriveTolerance)) return false;
-  return true;
+    if (!(std::abs(length_ratio[cell] - length_ratio_[cell]) <= kDriveTolerance)) {
+      changed = 1;
+      break;
+    }
+  if (ranks_) {
+    std::vector<double> every(static_cast<std::size_t>(ranks_->size()));
+    ranks_->gather_all(&changed, 1, every.data());
+    changed = *std::max_element(every.begin(), every.end());
+  }
+  return changed == 0;
+}
+
+void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank) {
+  try {
+    solver_->split_over_ranks(ranks, cell_rank);
+  } catch (const std::invalid_argument& e) {
+    throw ManifestError("mechanics", e.what());
+  }
+  ranks_ = &ranks;
+  cell_counts_.assign(static_cast<std::size_t>(ranks.size()), 0);
+  for (int r : cell_rank) ++cell_counts_[static_cast<std::size_t>(r)];
+  cells_in_rank_order_.resize(cell_rank.size());
+  std::iota(cells_in_rank_order_.begin(), cells_in_rank_order_.end(), 0);
+  std::stable_sort(cells_in_rank_order_.begin(), cells_in_rank_order_.end(),
+                   [&](int a, int b) { return cell_rank[a] < cell_rank[b]; });
+  cell_offsets_.assign(cell_counts_.size(), 0);
+  for (std::size_t r = 1; r < cell_counts_.size(); ++r) cell_offsets_[r] = cell_offsets_[r - 1] + cell_counts_[r - 1];
+}
+
+// Split over ranks, a rank's lengths of other ranks' cells stay at rest
+// (1), as the cells it steps give them (CellSystem::stretch_by_cell), so
+// that only its own cells' lengths move its drive.
+void MechanicsCoupling::keep_own_lengths() {
+  const auto me = static_cast<std::size_t>(ranks_->rank());
+  std::vector<char> own(length_ratio_.size(), 0);
+  for (int k = cell_offsets_[me]; k < cell_offsets_[me] + cell_counts_[me]; ++k)
+    own[static_cast<std::size_t>(cells_in_rank_order_[static_cast<std::size_t>(k)])] = 1;
+  for (auto* v : {&length_ratio_from_, &length_ratio_to_, &length_ratio_})
+    for (std::size_t c = 0; c < v->size(); ++c)
+      if (!own[c]) (*v)[c] = 1.0;
+}
+
+// Split over ranks: every cell's value from its own rank, on rank 0 (by
+// tissue number; empty elsewhere). Collective.
+std::vector<double> MechanicsCoupling::on_rank0(const std::vector<double>& by_cell) const {
+  const auto me = static_cast<std::size_t>(ranks_->rank());
+  std::vector<double> mine;
+  for (int k = cell_offsets_[me]; k < cell_offsets_[me] + cell_counts_[me]; ++k)
+    mine.push_back(by_cell[static_cast<std::size_t>(cells_in_rank_order_[static_cast<std::size_t>(k)])]);
+  std::vector<double> gathered(me == 0 ? by_cell.size() : 0), out(gathered.size());
+  ranks_->gather_into(mine.data(), mine.size(), gathered.data(), cell_counts_.data(), cell_offsets_.data());
+  for (std::size_t k = 0; k < gathered.size(); ++k)
+    out[static_cast<std::size_t>(cells_in_rank_order_[k])] = gathered[k];
+  return out;
 }
 
 // Whether no body could have moved rest_distance_m_ between falling asleep
@@ -125,12 +181,18 @@ std::string MechanicsCoupling::report() const {
 }
 
 void MechanicsCoupling::save(CheckpointFields& f) const {
+  std::vector<double> from = length_ratio_from_, to = length_ratio_to_, seen = length_ratio_;
+  if (ranks_) {
+    solver_->gather_on_rank0(true);
+    from = on_rank0(from), to = on_rank0(to), seen = on_rank0(seen);
+    if (ranks_->rank() != 0) return;
+  }
   solver_->save(f);
   f.put("run.mechanics", std::vector<double>{time_ms_, step_ms_, length_ratio_from_ms_, peak_strain_[0],
                                              peak_strain_[1], peak_strain_[2]});
-  f.put("run.length_ratio_from", length_ratio_from_);
-  f.put("run.length_ratio_to", length_ratio_to_);
-  f.put("run.length_ratio_seen", length_ratio_);
+  f.put("run.length_ratio_from", from);
+  f.put("run.length_ratio_to", to);
+  f.put("run.length_ratio_seen", seen);
   f.put("run.mechanics_rest",
         std::vector<double>{motion_unknown_ ? 1.0 : 0.0, asleep_ ? 1.0 : 0.0, asleep_since_ms_,
                             asleep_motion_.speed_m_per_s, asleep_motion_.acceleration_m_per_s2,
@@ -151,10 +213,12 @@ void MechanicsCoupling::restore(const CheckpointFields& f, double start_ms) {
   // A checkpoint written without the rest state resumes awake, as its run was.
   if (!f.has("run.mechanics_rest")) {
     length_ratio_ = length_ratio_from_;
+    if (ranks_) keep_own_lengths();
     motion_unknown_ = true, asleep_ = false, skipped_steps_ = skipped_this_sleep_ = 0, slept_ms_ = 0;
     return;
   }
   f.read_into("run.length_ratio_seen", length_ratio_);
+  if (ranks_) keep_own_lengths();
   const auto r = f.numbers("run.mechanics_rest", 8);
   if (!(r[5] >= 0 && r[5] < 1e18 && r[6] >= 0 && r[6] <= r[5] && r[7] >= 0 && r[3] >= 0 && r[4] >= 0))
     throw CheckpointError("its mechanics' rest state is out of range");

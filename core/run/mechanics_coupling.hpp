@@ -32,6 +32,7 @@
 #include "measure/cell_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "tissue/tissue.hpp"
+#include "util/rank_group.hpp"
 
 namespace fibrodem {
 
@@ -68,6 +69,16 @@ class MechanicsCoupling {
   void save(CheckpointFields& fields) const;
   void restore(const CheckpointFields& fields, double start_ms);
 
+  // Split over the ranks of one run (docs/guide/parallel.md, "The DEM over
+  // ranks"): the solver steps each rank's own cells' bodies
+  // (MechanicsSolver::split_over_ranks; cell_rank: every cell's rank), and
+  // every call below is collective: advance (its rest decisions are every
+  // rank's), save (rank 0 gathers every body, contact and cell length and
+  // writes them) and restore (every rank reads the checkpoint itself).
+  // Throws ManifestError at "mechanics" for a spec the solver cannot split.
+  void split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank);
+  bool split() const { return ranks_ != nullptr; }
+
   // From now on, each advance ends by measuring every cell's fibre stretch
   // (measure/cell_strain.hpp) from the particles where they are.
   void track_fibre_stretch(const Tissue& tissue);
@@ -91,10 +102,16 @@ class MechanicsCoupling {
   void step_to(double t_ms);
   void skip_to(double t_ms);
   bool drive_unchanged(const std::vector<double>& length_ratio) const;
+  std::vector<double> on_rank0(const std::vector<double>& by_cell) const;
+  void keep_own_lengths();
   bool still_at_rest(double t_ms) const;
   void fall_asleep_if_at_rest();
 
   std::unique_ptr<MechanicsSolver> solver_;
+  // Split over ranks: the ranks, each rank's cells rank after rank (each
+  // ascending), their counts and offsets there (RankGroup::gather_into's).
+  RankGroup* ranks_ = nullptr;
+  std::vector<int> cells_in_rank_order_, cell_counts_, cell_offsets_;
   double step_ms_ = 0, time_ms_ = 0, seconds_ = 0;
   // Cells' lengths relative to rest at the last cell step's start and end,
   // and as handed to a DEM step between them.

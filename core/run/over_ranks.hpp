@@ -2,7 +2,8 @@
 // the electrophysiology of one tissue with the adaptive method or a
 // fixed-step one (euler, rush_larsen, rush_larsen2), explicit or implicit
 // gap-junction coupling, contraction, mechano-electric feedback and the
-// mechanics (the DEM stepped on rank 0: run/mechanics_over_ranks.hpp),
+// mechanics (the DEM split too: mechanics/dem_split.hpp; or stepped on
+// rank 0: run/mechanics_over_ranks.hpp),
 // settle, initial_state.from (a one-process checkpoint), its biomarkers,
 // traces of states and strain, snapshots, re-entry, maps, summary and
 // checkpoints (resumed on as many ranks). Anything else (CVODE) stops on

@@ -29,7 +29,8 @@ struct ResourceEstimate {
 // Split over ranks, `rank`'s (of `ranks`): the system's populations hold
 // its own cells, whose states, trackers and coupling rows it keeps; rank 0
 // alone keeps what it gathers from every rank for the outputs (pictures,
-// maps, re-entry frames, every beat) and steps the DEM (`mechanics`).
+// maps, re-entry frames, every beat); `mechanics`: this rank holds the
+// DEM (every rank when the DEM is split, else rank 0).
 ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, const CellSystem& system,
                                     bool mechanics, int rank = 0, int ranks = 1);
 

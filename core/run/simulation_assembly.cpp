@@ -272,16 +272,21 @@ void Simulation::Impl::build_coupling() {
 }
 // DEM tissue mechanics: cells' lengths from their myofilaments drive it;
 // back to the cells flows their fibre stretch if the stretch-activated
-// current reads it. Split over ranks, rank 0 alone keeps it (built on every
-// rank: a spec it refuses stops every rank alike).
+// current reads it. Split over ranks, each rank steps its own cells' bodies
+// (docs/guide/parallel.md, "The DEM over ranks"), unless the run samples
+// the whole tissue's strain field as it goes (output.reentry's fibre-stretch
+// frames) or steps light bodies in substeps (multirate): rank 0 alone
+// then keeps it (built on every rank: a spec it refuses stops every rank
+// alike).
 void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
   const bool tissue_stretch =
       plan.has("mechano_electric_feedback") && scene.mechano_electric.stretch == StretchSource::tissue;
   if (tissue_stretch && split.ranks)
     throw ManifestError("mechano_electric_feedback.stretch",
-                        "\"tissue\" needs every cell's stretch on every rank, and the DEM runs on rank 0 alone: "
-                        "run it in one process, or use \"sarcomere\" over ranks");
+                        "\"tissue\" measures every cell's stretch from the whole tissue's particles at every "
+                        "cell step, which a run split over ranks does not gather: run it in one process, or use "
+                        "\"sarcomere\" over ranks");
   check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
   strain_fields = make_strain_fields(tissue, scene.output, plan.notes);
@@ -290,6 +295,24 @@ void Simulation::Impl::build_mechanics() {
     system.sac.tissue_stretch = &mechanics->fibre_stretch();
   }
   if (!split.ranks) return;
+  // (The strain field at snapshots is drawn from the bodies gathered then;
+  // the re-entry samples' would gather them at every sample.)
+  const bool strain_sampled = strain_fields && scene.output.reentry.on;
+  if (!scene.mechanics.multirate && !strain_sampled) {
+    std::vector<int> cell_rank(tissue.cell_count());
+    for (std::size_t r = 0; r < split.cell_counts.size(); ++r)
+      for (int k = split.cell_offsets[r]; k < split.cell_offsets[r] + split.cell_counts[r]; ++k) {
+        const auto cell = static_cast<std::size_t>(split.cells_in_rank_order[static_cast<std::size_t>(k)]);
+        cell_rank[cell] = static_cast<int>(r);
+      }
+    mechanics->split_over_ranks(*split.ranks, cell_rank);
+    plan.notes.push_back("mechanics split over the ranks: each steps its own cells' bodies");
+    if (split.ranks->rank() != 0) strain_fields.reset();
+    return;
+  }
+  plan.notes.push_back(std::string("mechanics on rank 0 alone: ") +
+                       (scene.mechanics.multirate ? "mechanics.multirate" : "output.reentry's fibre-stretch frames") +
+                       " is not split over ranks");
   mechanics_over_ranks =
       std::make_unique<MechanicsOverRanks>(*split.ranks, split.share.owned, split.cells_in_rank_order, split.cell_counts, split.cell_offsets);
   if (split.ranks->rank() != 0) mechanics.reset(), strain_fields.reset();

@@ -141,6 +141,9 @@ void Simulation::Impl::resume() {
     if (written != here) restore(recut_checkpoint(read_checkpoint_parts(found.file, found.fields)));
     else if (split.ranks && split.ranks->rank() != 0) restore(read_checkpoint_part(found.file, found.fields, split.ranks->rank()));
     else restore(found.fields);
+    // The DEM split over ranks: every rank takes the whole tissue's from the
+    // checkpoint itself (rank 0's, written as one process writes it).
+    if (mechanics && mechanics->split()) mechanics->restore(found.fields, start_ms);
   } catch (const CheckpointError& e) {
     throw CheckpointError("checkpoint " + found.file.string() + " does not fit this run: " + e.what());
   }
@@ -205,7 +208,7 @@ void Simulation::Impl::restore(const CheckpointFields& f) {
     if (streams)
       for (const auto& b : beats) write_biomarker_row(b);
   }
-  if (mechanics) mechanics->restore(f, start_ms);
+  if (mechanics && !mechanics->split()) mechanics->restore(f, start_ms);  // (split: resume())
 }
 
 // The beats measured so far, each checked (a cell of the tissue, its type)

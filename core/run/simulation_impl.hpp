@@ -117,8 +117,8 @@ struct Simulation::Impl : StepObserver {
   std::string solver_choice;  // why solver.method "auto" chose what it did (empty: a method was named)
   StabilityEstimate stability;
   ResourceEstimate resources;
-  std::unique_ptr<MechanicsCoupling> mechanics;  // split over ranks: rank 0's only
-  std::unique_ptr<MechanicsOverRanks> mechanics_over_ranks;  // split over ranks, with mechanics
+  std::unique_ptr<MechanicsCoupling> mechanics;  // split over ranks: every rank's (the DEM split), or rank 0's alone
+  std::unique_ptr<MechanicsOverRanks> mechanics_over_ranks;  // split over ranks, the DEM on rank 0
 
   // ---- where it stands ----
   std::string status = "set up";

@@ -143,6 +143,7 @@ void Simulation::Impl::snapshot_if_due(double t) {
     ++snapshots_taken;
     std::vector<double> every_cell;
     if (split.ranks) {
+      if (mechanics) mechanics->solver().gather_on_rank0(false);  // (split: every body's place to rank 0)
       every_cell = voltage_of_every_cell();
       if (split.ranks->rank() != 0) return;
     }

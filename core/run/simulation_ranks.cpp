@@ -208,6 +208,7 @@ std::vector<double> Simulation::Impl::voltage_of_every_cell() {
 // cell) and traces, and writes biomarkers.csv and traces.csv.
 void Simulation::Impl::gather_from_ranks() {
   if (!split.ranks) return;
+  if (mechanics) mechanics->solver().gather_on_rank0(true);  // (split: for its report)
   std::vector<double> mine;
   mine.reserve(beats.size() * kBeatFields);
   for (const auto& b : beats) pack(b, mine);
