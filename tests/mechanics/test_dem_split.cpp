@@ -99,7 +99,10 @@ TEST_CASE(
   };
   const std::vector<Case> cases = {{small_in_series_tissue(), 600e-6, kTwitch_ms},
                                    {small_interstitial_tissue(), 1200e-6, 10}};
-  for (const auto& [t, size_m, until_ms] : cases) {
+  for (const Case& c : cases) {
+    // (Named, not bound: clang 14 cannot capture a structured binding.)
+    const Tissue& t = c.tissue;
+    const double size_m = c.size_m, until_ms = c.until_ms;
     CAPTURE(t.cell_count());
     const DemSpec spec;
     const Outcome reference = one_process(t, spec, until_ms);
