@@ -296,9 +296,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   return e;
 }
 
+// (As built: a rank of a split run keeps the whole DEM after freeing the
+// tissue's own particles.)
 ResourceEstimate::Part dem_memory(const Tissue& tissue) {
-  const std::size_t particles = tissue.particles.size() + tissue.collagen.size();
-  const std::size_t bonds = tissue.bonds.size() + tissue.collagen_bonds.size();
+  const std::size_t particles = tissue.built_particles(), bonds = tissue.built_bonds();
   return {fmt::format("DEM: {} particles, {} bonds", particles, bonds),
           256.0 * static_cast<double>(particles) + 64.0 * static_cast<double>(bonds), "a smaller tissue"};
 }
