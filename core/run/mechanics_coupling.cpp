@@ -103,9 +103,8 @@ bool MechanicsCoupling::drive_unchanged(const std::vector<double>& length_ratio)
       break;
     }
   if (ranks_) {
-    std::vector<double> every(static_cast<std::size_t>(ranks_->size()));
-    ranks_->gather_all(&changed, 1, every.data());
-    changed = *std::max_element(every.begin(), every.end());
+    ranks_->gather_all(&changed, 1, every_rank_.data());
+    changed = *std::max_element(every_rank_.begin(), every_rank_.end());
   }
   return changed == 0;
 }
@@ -117,6 +116,7 @@ void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int
     throw ManifestError("mechanics", e.what());
   }
   ranks_ = &ranks;
+  every_rank_.assign(static_cast<std::size_t>(ranks.size()), 0.0);
   cell_counts_.assign(static_cast<std::size_t>(ranks.size()), 0);
   for (int r : cell_rank) ++cell_counts_[static_cast<std::size_t>(r)];
   cells_in_rank_order_.resize(cell_rank.size());

@@ -112,6 +112,7 @@ class MechanicsCoupling {
   // ascending), their counts and offsets there (RankGroup::gather_into's).
   RankGroup* ranks_ = nullptr;
   std::vector<int> cells_in_rank_order_, cell_counts_, cell_offsets_;
+  mutable std::vector<double> every_rank_;  // a reduction's values, one a rank (made once)
   double step_ms_ = 0, time_ms_ = 0, seconds_ = 0;
   // Cells' lengths relative to rest at the last cell step's start and end,
   // and as handed to a DEM step between them.
