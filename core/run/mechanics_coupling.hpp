@@ -80,7 +80,10 @@ class MechanicsCoupling {
   bool split() const { return ranks_ != nullptr; }
 
   // From now on, each advance ends by measuring every cell's fibre stretch
-  // (measure/cell_strain.hpp) from the particles where they are.
+  // (measure/cell_strain.hpp) from the particles where they are. (Split
+  // over ranks, a rank's own cells' are right: their neighbours are bonded
+  // to them, so each is a body of the rank's or a ghost, current after
+  // every step; the rest of its particles are as last shared.)
   void track_fibre_stretch(const Tissue& tissue);
   // By tissue cell number, as of the last advance that stepped (1 before
   // the first); NaN where the strain is unresolved; empty unless tracked.

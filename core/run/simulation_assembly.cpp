@@ -282,23 +282,27 @@ void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
   const bool tissue_stretch =
       plan.has("mechano_electric_feedback") && scene.mechano_electric.stretch == StretchSource::tissue;
-  if (tissue_stretch && split.ranks)
+  strain_fields = make_strain_fields(tissue, scene.output, plan.notes);
+  // (The strain field at snapshots is drawn from the bodies gathered then;
+  // the re-entry samples' would gather them at every sample.)
+  const bool strain_sampled = strain_fields && scene.output.reentry.on;
+  const bool dem_split = split.ranks && !scene.mechanics.multirate && !strain_sampled;
+  // (Split, a cell's fibre stretch reads its own and its neighbours' bodies,
+  // which its rank steps or holds as ghosts.)
+  if (tissue_stretch && split.ranks && !dem_split)
     throw ManifestError("mechano_electric_feedback.stretch",
-                        "\"tissue\" measures every cell's stretch from the whole tissue's particles at every "
-                        "cell step, which a run split over ranks does not gather: run it in one process, or use "
-                        "\"sarcomere\" over ranks");
+                        "\"tissue\" over ranks needs the DEM split over them, which " +
+                            std::string(scene.mechanics.multirate ? "mechanics.multirate"
+                                                                  : "output.reentry's fibre-stretch frames") +
+                            " keeps on rank 0: run it in one process, or use \"sarcomere\" over ranks");
   check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
-  strain_fields = make_strain_fields(tissue, scene.output, plan.notes);
   if (tissue_stretch) {
     mechanics->track_fibre_stretch(tissue);
     system.sac.tissue_stretch = &mechanics->fibre_stretch();
   }
   if (!split.ranks) return;
-  // (The strain field at snapshots is drawn from the bodies gathered then;
-  // the re-entry samples' would gather them at every sample.)
-  const bool strain_sampled = strain_fields && scene.output.reentry.on;
-  if (!scene.mechanics.multirate && !strain_sampled) {
+  if (dem_split) {
     std::vector<int> cell_rank(tissue.cell_count());
     for (std::size_t r = 0; r < split.cell_counts.size(); ++r)
       for (int k = split.cell_offsets[r]; k < split.cell_offsets[r] + split.cell_counts[r]; ++k) {

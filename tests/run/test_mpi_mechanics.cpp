@@ -289,4 +289,45 @@ TEST_CASE(
   check_same_bytes(dir / "reference", dir / "killed_three", 3, true);
 }
 
+TEST_CASE("mpirun -n 2: the tissue's stretch feeding the cells, with the DEM split, agrees with one process") {
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
+  const auto dir = testing::scratch_dir("mpi_dem_split_tissue_stretch");
+  // Each rank measures its own cells' fibre stretch from its own and its
+  // ghost bodies (mechano_electric_feedback.stretch "tissue"); the DEM's
+  // rounding (its strain within 1e-16 of its peak, above) reaches V
+  // through the stretch-activated current: V within 1e-6 mV, SL within
+  // 1e-9 um, the strain within 1e-12 of its peak (measured below).
+  json m = em_sheet("in_series", 80);
+  m["effects"].push_back("mechano_electric_feedback");
+  m["mechano_electric_feedback"] = {{"stretch", "tissue"}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "scene.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
+  REQUIRE(summary_of(dir / "two")["notes"].dump().find("mechanics split over the ranks") != std::string::npos);
+  const auto ta = csv_rows(dir / "one" / "traces.csv"), tb = csv_rows(dir / "two" / "traces.csv");
+  REQUIRE(ta.size() == tb.size());
+  REQUIRE(ta[0] == tb[0]);
+  const double peak_yy = summary_of(dir / "one")["peak_strain"]["yy"].get<double>();
+  CHECK(std::abs(peak_yy) > 1e-4);  // (1.6e-4: the DEM did move)
+  double largest[3] = {0, 0, 0};  // strain, V, SL
+  for (std::size_t r = 1; r < ta.size(); ++r)
+    for (std::size_t c = 1; c < ta[r].size(); ++c) {
+      const int kind = ta[0][c].rfind("eps_", 0) == 0 ? 0 : ta[0][c].rfind("V_", 0) == 0 ? 1 : 2;
+      largest[kind] = std::max(largest[kind], std::abs(number(ta[r][c]) - number(tb[r][c])));
+    }
+  MESSAGE("two ranks against one process: strain within ", largest[0], ", V within ", largest[1], " mV, SL within ",
+          largest[2], " um");
+  CHECK(largest[0] <= 1e-12 * std::abs(peak_yy));
+  CHECK(largest[1] <= 1e-6);
+  CHECK(largest[2] <= 1e-9);
+
+  // With the DEM kept on rank 0 (multirate), the tissue's stretch is refused over ranks, naming why.
+  m["mechanics"]["multirate"] = true;
+  std::ofstream(dir / "multirate.json") << m.dump();
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "multirate.json", dir / "refused") != 0);
+  const std::string said = testing::read_file(dir / "refused.txt");
+  CHECK(said.find("mechano_electric_feedback.stretch") != std::string::npos);
+  CHECK(said.find("mechanics.multirate") != std::string::npos);
+}
+
 TEST_SUITE_END();

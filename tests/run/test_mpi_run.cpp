@@ -42,8 +42,8 @@ TEST_CASE("over ranks: every unsupported part of a scene is named") {
   m["output"]["checkpoint"] = {{"every_ms", 1}};
   m["settle"] = {{"ms", 10}};
   CHECK(unsupported_over_ranks(parse_scene(m)).empty());
-  // Contraction, mechano-electric feedback and the mechanics (the DEM on
-  // rank 0) run split too.
+  // Contraction, mechano-electric feedback and the mechanics (the DEM split
+  // too, or on rank 0) run split.
   m["cells"]["myocyte"] = {{"model", "colman"}, {"myofilament", "rice"}};
   m["effects"] = {"electrophysiology", "coupling", "contraction", "mechano_electric_feedback", "mechanics"};
   CHECK(unsupported_over_ranks(parse_scene(m)).empty());
