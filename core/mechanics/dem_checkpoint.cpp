@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
-#include <utility>
 #include <string>
 #include <vector>
 
@@ -54,46 +53,29 @@ void get_array(const CheckpointFields& fields, const std::string& name, std::vec
   fields.bytes(name, v.data(), v.size());
 }
 
-// Split over ranks, a set's order in one process (bonds as the tissue lists
-// them, contacts by pairs), in which a checkpoint holds them (any number of
-// ranks then reads it); else the set's own.
-std::vector<std::size_t> saved_order(const BondSet& set, const std::vector<int>* bond_id) {
-  std::vector<std::size_t> order(set.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  if (bond_id)
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return (*bond_id)[a] < (*bond_id)[b]; });
-  else
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return std::pair(set.p[a], set.q[a]) < std::pair(set.p[b], set.q[b]);
-    });
-  return order;
-}
-
 template <class T>
-std::vector<T> in_order(const std::vector<T>& v, const std::vector<std::size_t>* order) {
-  if (!order) return v;
+std::vector<T> in_order(const std::vector<T>& v, const std::vector<std::size_t>& order) {
   std::vector<T> out(v.size());
-  for (std::size_t k = 0; k < v.size(); ++k) out[k] = v[(*order)[k]];
+  for (std::size_t k = 0; k < v.size(); ++k) out[k] = v[order[k]];
   return out;
 }
 
 }  // namespace
 
 // Split over ranks, rank 0 writes it, once gather_on_rank0(true) gave it
-// every body's and contact's state.
+// every body's and contact's state, with the sets in one process's order
+// (any number of ranks then reads it); else the sets as they are.
 void DemSolver::save(CheckpointFields& fields) const {
   for_each_evolving_array(bodies_, [&](const std::string& name, const std::vector<double>& v) { fields.put(name, v); });
-  std::vector<std::size_t> bond_order, contact_order;
-  if (split_) {
-    bond_order = saved_order(contacts_.bonds, &contacts_.bond_id);
-    contact_order = saved_order(contacts_.contacts, nullptr);
-  }
-  for_each_bond_array(contacts_.bonds, "dem.bond.", [&](const std::string& name, const auto& v) {
-    put_array(fields, name, in_order(v, split_ ? &bond_order : nullptr));
-  });
-  for_each_bond_array(contacts_.contacts, "dem.contact.", [&](const std::string& name, const auto& v) {
-    put_array(fields, name, in_order(v, split_ ? &contact_order : nullptr));
-  });
+  const DemContacts::TissueOrder order = split_ ? contacts_.tissue_order() : DemContacts::TissueOrder{};
+  auto put_set = [&](const BondSet& set, const std::string& prefix, const std::vector<std::size_t>& set_order) {
+    for_each_bond_array(set, prefix, [&](const std::string& name, const auto& v) {
+      if (split_) put_array(fields, name, in_order(v, set_order));
+      else put_array(fields, name, v);
+    });
+  };
+  put_set(contacts_.bonds, "dem.bond.", order.bonds);
+  put_set(contacts_.contacts, "dem.contact.", order.contacts);
   if (contacts_.detects()) contacts_.detector()->save(fields);
   // Masses of motion: mass scaling sets them for the contacts listed (without
   // it they are the density's, and a checkpoint needs none).

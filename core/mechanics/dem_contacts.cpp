@@ -137,13 +137,16 @@ std::size_t DemContacts::reorder(const ContactOrder& order) {
   return fast_bonds;
 }
 
-// One process's order: bonds as the tissue lists them, contacts by (p, q).
-void DemContacts::put_in_tissue_order() {
-  std::vector<std::size_t> perm(bonds.size());
-  std::iota(perm.begin(), perm.end(), std::size_t{0});
-  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) { return bond_id[a] < bond_id[b]; });
-  permute_bonds(perm);
-  reorder(ContactOrder{});
+DemContacts::TissueOrder DemContacts::tissue_order() const {
+  TissueOrder order{std::vector<std::size_t>(bonds.size()), std::vector<std::size_t>(contacts.size())};
+  std::iota(order.bonds.begin(), order.bonds.end(), std::size_t{0});
+  std::sort(order.bonds.begin(), order.bonds.end(),
+            [&](std::size_t a, std::size_t b) { return bond_id[a] < bond_id[b]; });
+  std::iota(order.contacts.begin(), order.contacts.end(), std::size_t{0});
+  std::sort(order.contacts.begin(), order.contacts.end(), [&](std::size_t a, std::size_t b) {
+    return std::pair(contacts.p[a], contacts.q[a]) < std::pair(contacts.p[b], contacts.q[b]);
+  });
+  return order;
 }
 
 void DemContacts::permute_bonds(const std::vector<std::size_t>& perm) {

@@ -56,10 +56,14 @@ class DemContacts {
   // Both sets put in `order` (bonds: the fast ones moved first, each part in
   // its order); returns how many bonds are fast.
   std::size_t reorder(const ContactOrder& order);
-  // One process's order, whatever `order` put them in: bonds as the tissue
-  // lists them (bond_id), unbonded contacts by (p, q) (what a checkpoint
-  // holds; a DEM split over ranks writes its sets so).
-  void put_in_tissue_order();
+  // The positions of each set's contacts in one process's order, whatever
+  // `order` put them in: bonds as the tissue lists them (bond_id),
+  // unbonded contacts by (p, q). What a checkpoint of a DEM split over
+  // ranks holds, and the order in which its ranks trade contacts' states.
+  struct TissueOrder {
+    std::vector<std::size_t> bonds, contacts;
+  };
+  TissueOrder tissue_order() const;
   // The per-contact arrays and the incidences, after the contacts changed.
   void index(const DemBodies& bodies);
   // Each contact's stiffness on its bodies, summed per body (body_kt, body_kr).

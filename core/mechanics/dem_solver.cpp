@@ -246,11 +246,7 @@ void DemSolver::split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_
 void DemSolver::gather_on_rank0(bool whole_state) {
   if (!split_) return;
   split_->gather_bodies(bodies_, whole_state);
-  if (whole_state) {
-    split_->gather_contacts(contacts_, bodies_);
-    contacts_.reorder(contact_order());
-    index_contacts();
-  }
+  if (whole_state) split_->gather_contacts(contacts_, bodies_);
   out_dirty_ = true;
 }
 

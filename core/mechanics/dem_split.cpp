@@ -1,9 +1,11 @@
 #include "mechanics/dem_split.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "mechanics/dem_step_inline.hpp"
 
@@ -188,31 +190,34 @@ void DemSplit::gather_bodies(DemBodies& bodies, bool old_places) {
     }
 }
 
-// Each set in tissue order on every rank (the same order everywhere); each
-// rank sends, in that order, the state of the contacts whose particle p is
-// its own, which rank 0 takes in the same order rank by rank.
+// Each rank walks both sets in one process's order (the same on every
+// rank) and sends, in that order, the state of the contacts whose particle
+// p is its own, which rank 0 takes in the same order rank by rank.
 void DemSplit::gather_contacts(DemContacts& contacts, const DemBodies& bodies) {
-  contacts.put_in_tissue_order();
+  const DemContacts::TissueOrder order = contacts.tissue_order();
+  const std::pair<BondSet*, const std::vector<std::size_t>*> sets[] = {{&contacts.bonds, &order.bonds},
+                                                                         {&contacts.contacts, &order.contacts}};
   constexpr int kFields = 4;  // fn, fs, mb, intact
   const int me = ranks_.rank(), size = ranks_.size();
+  auto rank_of = [&](const BondSet& set, std::size_t k) { return body_rank_[bodies.pbody[set.p[k]]]; };
   std::vector<int> counts(size, 0), offsets(size, 0);
   mine_.clear();
-  for (const BondSet* set : {&contacts.bonds, &contacts.contacts})
-    for (std::size_t k = 0; k < set->size(); ++k) {
-      const int r = body_rank_[bodies.pbody[set->p[k]]];
+  for (const auto& [set, set_order] : sets)
+    for (std::size_t k : *set_order) {
+      const int r = rank_of(*set, k);
       counts[r] += kFields;
-      if (r != me) continue;
-      mine_.insert(mine_.end(), {set->fn[k], set->fs[k], set->mb[k], static_cast<double>(set->intact[k])});
+      if (r == me) mine_.insert(mine_.end(), {set->fn[k], set->fs[k], set->mb[k], static_cast<double>(set->intact[k])});
     }
   for (int r = 1; r < size; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
   if (me == 0) every_.resize(static_cast<std::size_t>(offsets[size - 1] + counts[size - 1]));
   ranks_.gather_into(mine_.data(), mine_.size(), every_.data(), counts.data(), offsets.data());
   if (me != 0) return;
   std::vector<int> next = offsets;
-  for (BondSet* set : {&contacts.bonds, &contacts.contacts})
-    for (std::size_t k = 0; k < set->size(); ++k) {
-      const double* v = every_.data() + next[body_rank_[bodies.pbody[set->p[k]]]];
-      next[body_rank_[bodies.pbody[set->p[k]]]] += kFields;
+  for (const auto& [set, set_order] : sets)
+    for (std::size_t k : *set_order) {
+      int& at = next[rank_of(*set, k)];
+      const double* v = every_.data() + at;
+      at += kFields;
       set->fn[k] = v[0];
       set->fs[k] = v[1];
       set->mb[k] = v[2];

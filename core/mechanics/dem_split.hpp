@@ -56,8 +56,7 @@ class DemSplit {
   void share_bodies(DemBodies& bodies);
   void gather_bodies(DemBodies& bodies, bool old_places);
   // Rank 0: every contact's evolving state (force, moment, bond intact) from
-  // the rank whose body its particle p is; `contacts` then in tissue order
-  // on every rank (DemContacts::put_in_tissue_order), as a checkpoint holds them.
+  // the rank whose body its particle p is (the sets stay in their order).
   void gather_contacts(DemContacts& contacts, const DemBodies& bodies);
 
   // In place over the ranks: sums (every rank's added in rank order) and maxima.
