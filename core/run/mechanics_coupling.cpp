@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -109,7 +108,12 @@ bool MechanicsCoupling::drive_unchanged(const std::vector<double>& length_ratio)
   return changed == 0;
 }
 
-void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank) {
+void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int>& cells_in_rank_order,
+                                         const std::vector<int>& counts, const std::vector<int>& offsets) {
+  std::vector<int> cell_rank(cells_in_rank_order.size());
+  for (std::size_t r = 0; r < counts.size(); ++r)
+    for (int k = offsets[r]; k < offsets[r] + counts[r]; ++k)
+      cell_rank[static_cast<std::size_t>(cells_in_rank_order[static_cast<std::size_t>(k)])] = static_cast<int>(r);
   try {
     solver_->split_over_ranks(ranks, cell_rank);
   } catch (const std::invalid_argument& e) {
@@ -117,14 +121,9 @@ void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int
   }
   ranks_ = &ranks;
   every_rank_.assign(static_cast<std::size_t>(ranks.size()), 0.0);
-  cell_counts_.assign(static_cast<std::size_t>(ranks.size()), 0);
-  for (int r : cell_rank) ++cell_counts_[static_cast<std::size_t>(r)];
-  cells_in_rank_order_.resize(cell_rank.size());
-  std::iota(cells_in_rank_order_.begin(), cells_in_rank_order_.end(), 0);
-  std::stable_sort(cells_in_rank_order_.begin(), cells_in_rank_order_.end(),
-                   [&](int a, int b) { return cell_rank[a] < cell_rank[b]; });
-  cell_offsets_.assign(cell_counts_.size(), 0);
-  for (std::size_t r = 1; r < cell_counts_.size(); ++r) cell_offsets_[r] = cell_offsets_[r - 1] + cell_counts_[r - 1];
+  cells_in_rank_order_ = &cells_in_rank_order;
+  cell_counts_ = &counts;
+  cell_offsets_ = &offsets;
 }
 
 // Split over ranks, a rank's lengths of other ranks' cells stay at rest
@@ -133,8 +132,8 @@ void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int
 void MechanicsCoupling::keep_own_lengths() {
   const auto me = static_cast<std::size_t>(ranks_->rank());
   std::vector<char> own(length_ratio_.size(), 0);
-  for (int k = cell_offsets_[me]; k < cell_offsets_[me] + cell_counts_[me]; ++k)
-    own[static_cast<std::size_t>(cells_in_rank_order_[static_cast<std::size_t>(k)])] = 1;
+  for (int k = (*cell_offsets_)[me]; k < (*cell_offsets_)[me] + (*cell_counts_)[me]; ++k)
+    own[static_cast<std::size_t>((*cells_in_rank_order_)[static_cast<std::size_t>(k)])] = 1;
   for (auto* v : {&length_ratio_from_, &length_ratio_to_, &length_ratio_})
     for (std::size_t c = 0; c < v->size(); ++c)
       if (!own[c]) (*v)[c] = 1.0;
@@ -144,13 +143,13 @@ void MechanicsCoupling::keep_own_lengths() {
 // tissue number; empty elsewhere). Collective.
 std::vector<double> MechanicsCoupling::on_rank0(const std::vector<double>& by_cell) const {
   const auto me = static_cast<std::size_t>(ranks_->rank());
+  const std::vector<int>& order = *cells_in_rank_order_;
   std::vector<double> mine;
-  for (int k = cell_offsets_[me]; k < cell_offsets_[me] + cell_counts_[me]; ++k)
-    mine.push_back(by_cell[static_cast<std::size_t>(cells_in_rank_order_[static_cast<std::size_t>(k)])]);
+  for (int k = (*cell_offsets_)[me]; k < (*cell_offsets_)[me] + (*cell_counts_)[me]; ++k)
+    mine.push_back(by_cell[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])]);
   std::vector<double> gathered(me == 0 ? by_cell.size() : 0), out(gathered.size());
-  ranks_->gather_into(mine.data(), mine.size(), gathered.data(), cell_counts_.data(), cell_offsets_.data());
-  for (std::size_t k = 0; k < gathered.size(); ++k)
-    out[static_cast<std::size_t>(cells_in_rank_order_[k])] = gathered[k];
+  ranks_->gather_into(mine.data(), mine.size(), gathered.data(), cell_counts_->data(), cell_offsets_->data());
+  for (std::size_t k = 0; k < gathered.size(); ++k) out[static_cast<std::size_t>(order[k])] = gathered[k];
   return out;
 }
 

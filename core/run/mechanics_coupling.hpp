@@ -75,8 +75,12 @@ class MechanicsCoupling {
   // every call below is collective: advance (its rest decisions are every
   // rank's), save (rank 0 gathers every body, contact and cell length and
   // writes them) and restore (every rank reads the checkpoint itself).
-  // Throws ManifestError at "mechanics" for a spec the solver cannot split.
-  void split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank);
+  // `cells_in_rank_order`, `counts`, `offsets`: every rank's cells, rank
+  // after rank, each ascending, as RankGroup::gather_into places them (the
+  // run's partition; they must outlive this). Throws ManifestError at
+  // "mechanics" for a spec the solver cannot split.
+  void split_over_ranks(RankGroup& ranks, const std::vector<int>& cells_in_rank_order, const std::vector<int>& counts,
+                        const std::vector<int>& offsets);
   bool split() const { return ranks_ != nullptr; }
 
   // From now on, each advance ends by measuring every cell's fibre stretch
@@ -111,10 +115,12 @@ class MechanicsCoupling {
   void fall_asleep_if_at_rest();
 
   std::unique_ptr<MechanicsSolver> solver_;
-  // Split over ranks: the ranks, each rank's cells rank after rank (each
-  // ascending), their counts and offsets there (RankGroup::gather_into's).
+  // Split over ranks: the ranks, and the run's layout of every rank's cells
+  // (split_over_ranks).
   RankGroup* ranks_ = nullptr;
-  std::vector<int> cells_in_rank_order_, cell_counts_, cell_offsets_;
+  const std::vector<int>* cells_in_rank_order_ = nullptr;
+  const std::vector<int>* cell_counts_ = nullptr;
+  const std::vector<int>* cell_offsets_ = nullptr;
   mutable std::vector<double> every_rank_;  // a reduction's values, one a rank (made once)
   double step_ms_ = 0, time_ms_ = 0, seconds_ = 0;
   // Cells' lengths relative to rest at the last cell step's start and end,

@@ -287,13 +287,13 @@ void Simulation::Impl::build_mechanics() {
   // the re-entry samples' would gather them at every sample.)
   const bool strain_sampled = strain_fields && scene.output.reentry.on;
   const bool dem_split = split.ranks && !scene.mechanics.multirate && !strain_sampled;
+  const std::string keeps_dem_on_rank0 =
+      scene.mechanics.multirate ? "mechanics.multirate" : "output.reentry's fibre-stretch frames";
   // (Split, a cell's fibre stretch reads its own and its neighbours' bodies,
   // which its rank steps or holds as ghosts.)
   if (tissue_stretch && split.ranks && !dem_split)
     throw ManifestError("mechano_electric_feedback.stretch",
-                        "\"tissue\" over ranks needs the DEM split over them, which " +
-                            std::string(scene.mechanics.multirate ? "mechanics.multirate"
-                                                                  : "output.reentry's fibre-stretch frames") +
+                        "\"tissue\" over ranks needs the DEM split over them, which " + keeps_dem_on_rank0 +
                             " keeps on rank 0: run it in one process, or use \"sarcomere\" over ranks");
   check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
@@ -303,20 +303,12 @@ void Simulation::Impl::build_mechanics() {
   }
   if (!split.ranks) return;
   if (dem_split) {
-    std::vector<int> cell_rank(tissue.cell_count());
-    for (std::size_t r = 0; r < split.cell_counts.size(); ++r)
-      for (int k = split.cell_offsets[r]; k < split.cell_offsets[r] + split.cell_counts[r]; ++k) {
-        const auto cell = static_cast<std::size_t>(split.cells_in_rank_order[static_cast<std::size_t>(k)]);
-        cell_rank[cell] = static_cast<int>(r);
-      }
-    mechanics->split_over_ranks(*split.ranks, cell_rank);
+    mechanics->split_over_ranks(*split.ranks, split.cells_in_rank_order, split.cell_counts, split.cell_offsets);
     plan.notes.push_back("mechanics split over the ranks: each steps its own cells' bodies");
     if (split.ranks->rank() != 0) strain_fields.reset();
     return;
   }
-  plan.notes.push_back(std::string("mechanics on rank 0 alone: ") +
-                       (scene.mechanics.multirate ? "mechanics.multirate" : "output.reentry's fibre-stretch frames") +
-                       " is not split over ranks");
+  plan.notes.push_back("mechanics on rank 0 alone: " + keeps_dem_on_rank0 + " is not split over ranks");
   mechanics_over_ranks =
       std::make_unique<MechanicsOverRanks>(*split.ranks, split.share.owned, split.cells_in_rank_order, split.cell_counts, split.cell_offsets);
   if (split.ranks->rank() != 0) mechanics.reset(), strain_fields.reset();
