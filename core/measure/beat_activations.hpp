@@ -27,11 +27,10 @@
 #include <string>
 #include <vector>
 
+#include "measure/cell_frames.hpp"
 #include "util/json_reader.hpp"
 
 namespace fibrodem {
-
-struct VoltageFrames;
 
 inline constexpr double kActivationRearm_mV = 10;
 

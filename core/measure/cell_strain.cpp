@@ -26,17 +26,6 @@ void build_csr(std::size_t count, std::vector<int>& start, std::vector<int>& val
 }
 }  // namespace
 
-void StretchFrames::reserve_more(std::size_t frames, std::size_t cell_count) {
-  t_ms.reserve(t_ms.size() + frames);
-  stretch.reserve(stretch.size() + frames * cell_count);
-}
-
-void StretchFrames::add(double t, const std::vector<double>& per_cell) {
-  cells = per_cell.size();
-  t_ms.push_back(t);
-  stretch.insert(stretch.end(), per_cell.begin(), per_cell.end());
-}
-
 CellStrain::CellStrain(const Tissue& tissue) {
   const std::size_t n = tissue.cell_count();
   build_csr(n, particle_start_, particle_, [&](auto add) {

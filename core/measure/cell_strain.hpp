@@ -39,21 +39,6 @@ struct CellStrainField {
   std::vector<double> E_xx, E_yy, E_xy, fibre_stretch, max_shear;  // per cell; NaN: unresolved
 };
 
-// One cell value (the fibre stretch) of every cell at each of a run's
-// re-entry samples, as float (frame-major), beside its V (VoltageFrames).
-struct StretchFrames {
-  std::size_t cells = 0;
-  std::vector<double> t_ms;
-  std::vector<float> stretch;
-
-  std::size_t count() const { return t_ms.size(); }
-  const float* frame(std::size_t k) const { return &stretch[k * cells]; }
-  void add(double t, const std::vector<double>& per_cell);
-  // Room for `frames` more frames of `cell_count` cells at once (as
-  // VoltageFrames::reserve_more, measure/reentry.hpp).
-  void reserve_more(std::size_t frames, std::size_t cell_count);
-};
-
 class CellStrain {
  public:
   static constexpr double kCollinear = 1e-6;

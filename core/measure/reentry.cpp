@@ -16,16 +16,6 @@
 
 namespace fibrodem {
 
-void VoltageFrames::add(double t, const std::vector<double>& V) {
-  t_ms.push_back(t);
-  V_mV.insert(V_mV.end(), V.begin(), V.end());
-}
-
-void VoltageFrames::reserve_more(std::size_t frames) {
-  t_ms.reserve(t_ms.size() + frames);
-  V_mV.reserve(V_mV.size() + frames * cells);
-}
-
 json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
   std::map<int, std::pair<int, int>> by_beat;  // beat -> (unreached, measured) myocytes
   for (const auto& b : beats) {
@@ -207,7 +197,7 @@ json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const Re
               {"tau_ms", s.tau_ms},
               {"V_star_mV", s.V_star_mV}};
   out.update(spiral_summary(tissue, frames, tracker, activations, s, dir, maps));
-  auto df = dominant_frequencies(frames.V_mV, frames.cells, frames.count(), s.every_ms,
+  auto df = dominant_frequencies(frames.values, frames.cells, frames.count(), s.every_ms,
                                  {{s.f_min_hz, s.f_max_hz}, {s.clinical_f_min_hz, s.clinical_f_max_hz}});
   out.update(dominant_frequency_summary(df[0]));
   out.update(clinical_summary(tissue, df[1], s));

@@ -27,6 +27,7 @@
 
 #include "measure/beat_activations.hpp"
 #include "measure/biomarkers.hpp"
+#include "measure/cell_frames.hpp"
 #include "measure/cell_strain.hpp"
 #include "measure/singularity_tracking.hpp"
 #include "util/json_reader.hpp"
@@ -42,22 +43,6 @@ struct ReentrySettings {
   double f_min_hz = 1.0, f_max_hz = 30.0;  // dominant frequency band
   double clinical_f_min_hz = 3.0, clinical_f_max_hz = 12.0;  // the band of clinical DF maps
   double ps_density_bin_mm = 1.0;  // PS density grid
-};
-
-// V of every cell at each sample time, as float (frame-major).
-struct VoltageFrames {
-  explicit VoltageFrames(std::size_t cell_count = 0) : cells(cell_count) {}
-  std::size_t cells;
-  std::vector<double> t_ms;
-  std::vector<float> V_mV;
-
-  std::size_t count() const { return t_ms.size(); }
-  const float* frame(std::size_t k) const { return &V_mV[k * cells]; }
-  void add(double t_ms, const std::vector<double>& V);
-  // Room for `frames` more frames at once: grown frame by frame, the array
-  // doubles its capacity, and while it moves the old and the new copies
-  // both hold every frame so far (up to twice the frames' bytes resident).
-  void reserve_more(std::size_t frames);
 };
 
 // The per-cell fields behind the summary, for maps.

@@ -172,6 +172,8 @@ void Simulation::Impl::release_run_buffers() {
   std::vector<double>().swap(split.own_V_mV);
   std::vector<double>().swap(split.own_dVdt);
   reentry.frames = VoltageFrames();
+  reentry.V_log.reset();
+  reentry.stretch_log.reset();
   strain_fields.reset();
   std::vector<double>().swap(reentry.V_previous);
   std::vector<double>().swap(reentry.own_V);

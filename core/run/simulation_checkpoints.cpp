@@ -87,6 +87,7 @@ CheckpointFields Simulation::Impl::checkpoint_fields(double t) {
   tracker->save(f);
   traces.save(f);
   if (mechanics) mechanics->save(f);
+  save_reentry(f);
   return f;
 }
 
@@ -193,6 +194,7 @@ void Simulation::Impl::restore(const CheckpointFields& f) {
   restore_beats(f);
   load_cell_states(system, f, true);
   tracker->load(f);
+  restore_reentry(f);
   // Split over ranks, traces.csv and biomarkers.csv are written whole at the
   // end (from the samples and beats held); in one process they are written
   // as the run goes, so a split run's checkpoint resumed in one process

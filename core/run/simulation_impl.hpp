@@ -5,6 +5,7 @@
 //                               myofilaments, mechanics, solver, threads
 //   simulation_checkpoints.cpp  checkpoints written and a run resumed from one
 //   simulation_outputs.cpp      output files, run.log, snapshots, progress
+//   simulation_reentry.cpp      output.reentry's samples, kept and measured
 //   simulation_settle.cpp       the coupled tissue settled at rest before t = 0
 // and, on their own, mechanics_coupling.hpp (the cells driving the DEM) and
 // state_guard.hpp (state limits and blow-up diagnosis).
@@ -29,6 +30,7 @@
 #include "io/csv_writer.hpp"
 #include "measure/reentry.hpp"
 #include "run/checkpoint_dir.hpp"
+#include "run/frame_log.hpp"
 #include "run/halo_exchange.hpp"
 #include "run/mechanics_coupling.hpp"
 #include "run/mechanics_over_ranks.hpp"
@@ -65,6 +67,14 @@ struct CheckpointState {
   long long kill_at_step = -1, kill_in_checkpoint = -1;
 };
 
+// A resumed run's re-entry sampling as its checkpoint left it: the next
+// sample's index (-1: a checkpoint of a build that kept no frames on disk)
+// and the frames of V and of the fibre stretch in the logs beside it.
+struct ReentryResume {
+  long long next_sample = -1;
+  std::size_t frames = 0, stretch_frames = 0;
+};
+
 // output.reentry: V of every cell at the sample times (interpolated between
 // the ends of the step around each), V at the last step's end, and what was
 // measured at the end (summary.json's "reentry").
@@ -78,6 +88,10 @@ struct ReentrySampling {
   // rank 0 every cell's as gathered (rank order) and the frame; sized when
   // the sampling starts.
   std::vector<double> own_V, gathered_V, frame_V;
+  // With checkpoints, on the rank holding the frames: the frames on disk
+  // beside them (run/frame_log.hpp), V's and, with mechanics, the stretch's.
+  std::optional<FrameLog> V_log, stretch_log;
+  ReentryResume resumed;  // what a resumed run's checkpoint holds of the sampling
 };
 
 // A run split over ranks (RunOptions::ranks with more than one; else
@@ -214,6 +228,16 @@ struct Simulation::Impl : StepObserver {
   void write_rank_checkpoint(const std::filesystem::path& file, const CheckpointFields& mine, bool kill);
   CheckpointFields recut_checkpoint(const std::vector<CheckpointFields>& parts) const;
 
+  // ---- output.reentry's samples (simulation_reentry.cpp) ----
+  void start_reentry_sampling(double t);
+  bool read_back_frames(std::size_t to_come);
+  void keep_frames_on_disk();
+  void save_reentry(CheckpointFields& f);
+  void restore_reentry(const CheckpointFields& f);
+  void sample_reentry_if_due(double t_old, double t_new);
+  void add_reentry_frame_over_ranks(double t, const double* w);
+  void measure_reentry();
+
   // ---- outputs and progress (simulation_outputs.cpp) ----
   void open_outputs();
   void open_biomarkers_csv();
@@ -223,10 +247,6 @@ struct Simulation::Impl : StepObserver {
   void record_beat(const BeatBiomarkers& b);
   void write_biomarker_row(const BeatBiomarkers& b);
   void snapshot_if_due(double t);
-  void start_reentry_sampling(double t);
-  void sample_reentry_if_due(double t_old, double t_new);
-  void add_reentry_frame_over_ranks(double t, const double* w);
-  void measure_reentry();
   void write_file(std::function<void()> job);
   void reclaim_writer_core();
   void report_progress(std::chrono::steady_clock::time_point now, double t_new);

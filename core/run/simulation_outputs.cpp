@@ -1,7 +1,7 @@
 // The run's outputs (docs/reference/outputs.md): the output folder's
 // files opened (or continued, after a checkpoint), run.log, trace samples,
 // biomarkers.csv, pictures and snapshots on the writer's thread, the progress
-// line, and the report.
+// line, and the report (output.reentry's samples: simulation_reentry.cpp).
 #include <omp.h>
 #include <spdlog/sinks/basic_file_sink.h>
 
@@ -14,7 +14,6 @@
 #include "run/checkpoint_dir.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
-#include "run/reentry_maps.hpp"
 #include "run/tissue_snapshots.hpp"
 
 namespace fibrodem {
@@ -157,112 +156,6 @@ void Simulation::Impl::snapshot_if_due(double t) {
                       with_strain ? &strain_fields->now(mechanics->solver()) : nullptr));
     write_file([this, frame] { write_snapshot(out, scene.output.snapshots, scene.output.vtk_format, scene.name, *frame); });
   }
-}
-
-// output.reentry: V of every cell at from_ms + k every_ms, linear between
-// the ends of the step that holds the sample time (exact on the steps of a
-// fixed-step method when every_ms is a multiple of its dt).
-void Simulation::Impl::start_reentry_sampling(double t) {
-  if (!scene.output.reentry.on) return;
-  reentry.frames = VoltageFrames(tissue.cell_count());
-  system.gather_voltage();
-  reentry.V_previous = system.V_mV;
-  const bool holds_frames = !split.ranks || split.ranks->rank() == 0;
-  if (holds_frames) reentry.frame_V.assign(tissue.cell_count(), 0.0);
-  if (split.ranks) {
-    reentry.own_V.assign(split.share.owned.size(), 0.0);
-    if (holds_frames) reentry.gathered_V.assign(tissue.cell_count(), 0.0);
-  }
-  const auto& spec = scene.output.reentry;
-  // The first sample at or after t (a resumed run measures from where it resumed).
-  reentry.next_sample = t <= spec.from_ms ? 0 : static_cast<long long>(std::ceil((t - spec.from_ms) / spec.every_ms - 1e-9));
-  // Every frame's room at once (VoltageFrames::reserve_more): the samples
-  // from next_sample to the last at or before the run's end.
-  const long long last = static_cast<long long>(std::floor((scene.duration_ms - spec.from_ms) / spec.every_ms + 1e-9));
-  const auto to_come = static_cast<std::size_t>(std::max(0LL, last - reentry.next_sample + 1));
-  if (holds_frames) reentry.frames.reserve_more(to_come);
-  if (strain_fields) strain_fields->reserve_samples(to_come, tissue.cell_count());
-  if (std::abs(t - (spec.from_ms + static_cast<double>(reentry.next_sample) * spec.every_ms)) < kTimeEpsilon_ms) {
-    if (split.ranks) add_reentry_frame_over_ranks(t, nullptr);
-    else reentry.frames.add(t, system.V_mV);
-    if (strain_fields) strain_fields->sample_now(t, mechanics->solver());
-    ++reentry.next_sample;
-  }
-}
-
-void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
-  if (!scene.output.reentry.on) return;
-  const auto& spec = scene.output.reentry;
-  for (;;) {
-    const double next = spec.from_ms + static_cast<double>(reentry.next_sample) * spec.every_ms;
-    if (next > t_new + kTimeEpsilon_ms) break;
-    ++reentry.next_sample;
-    if (next < t_old - kTimeEpsilon_ms) continue;  // before a resumed run's start
-    const double w = t_new > t_old ? std::clamp((next - t_old) / (t_new - t_old), 0.0, 1.0) : 1.0;
-    if (strain_fields) strain_fields->due(next, w, mechanics->solver());  // (the DEM is still at t_old)
-    if (split.ranks) {
-      add_reentry_frame_over_ranks(next, &w);
-      continue;
-    }
-    std::vector<double>& V = reentry.frame_V;
-    for (std::size_t c = 0; c < V.size(); ++c) V[c] = reentry.V_previous[c] + w * (system.V_mV[c] - reentry.V_previous[c]);
-    reentry.frames.add(next, V);
-  }
-  reentry.V_previous = system.V_mV;
-}
-
-// Split over ranks, each rank's cells' V at a sample (interpolated with
-// weight *w, or V at the step's end without one), gathered on rank 0 into
-// the frame one process would add (the same arithmetic on the same values:
-// the same bits). Every rank steps to the same times (a fixed step, or the
-// adaptive step control's agreed steps and stops), so every rank comes here
-// for the same samples, in the same order: the gather is collective.
-void Simulation::Impl::add_reentry_frame_over_ranks(double t, const double* w) {
-  const int* cells = split.share.owned.data();
-  const double* V = system.V_mV.data();
-  const double* V_before = reentry.V_previous.data();
-  for (std::size_t i = 0; i < reentry.own_V.size(); ++i) {
-    const auto c = static_cast<std::size_t>(cells[i]);
-    reentry.own_V[i] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
-  }
-  split.ranks->gather_into(reentry.own_V.data(), reentry.own_V.size(), reentry.gathered_V.data(), split.cell_counts.data(),
-                     split.cell_offsets.data());
-  if (split.ranks->rank() != 0) return;
-  for (std::size_t k = 0; k < split.cells_in_rank_order.size(); ++k)
-    reentry.frame_V[static_cast<std::size_t>(split.cells_in_rank_order[k])] = reentry.gathered_V[k];
-  reentry.frames.add(t, reentry.frame_V);
-}
-
-// summary.json's "reentry", phase_singularities.csv and the re-entry maps,
-// from the samples (split over ranks: on rank 0, which holds them and every
-// beat).
-void Simulation::Impl::measure_reentry() {
-  if (!scene.output.reentry.on) return;
-  if (split.ranks && split.ranks->rank() != 0) return;
-  const auto& spec = scene.output.reentry;
-  const ReentrySettings settings{.every_ms = spec.every_ms, .from_ms = spec.from_ms, .tau_ms = spec.tau_ms,
-                                 .V_star_mV = spec.V_star_mV, .link_mm = spec.link_mm, .f_min_hz = spec.f_min_hz,
-                                 .f_max_hz = spec.f_max_hz, .clinical_f_min_hz = spec.clinical_f_min_hz,
-                                 .clinical_f_max_hz = spec.clinical_f_max_hz,
-                                 .ps_density_bin_mm = spec.ps_density_bin_mm};
-  ReentryMaps maps;
-  const StretchFrames* stretch = strain_fields ? &strain_fields->stretch_frames() : nullptr;
-  reentry.measured = analyse_reentry(tissue, reentry.frames, settings, system.stimulus.onsets(t_reached_ms), beats,
-                                     out, &maps, stretch);
-  if (out.empty()) return;
-  // The tip paths over the fibre stretch (with mechanics) or V at the last sample.
-  MapField last;
-  if (stretch && stretch->count() > 0) {
-    const float* lambda = stretch->frame(stretch->count() - 1);
-    last = {std::vector<double>(lambda, lambda + stretch->cells), "fibre stretch",
-            fmt::format("fibre stretch at t = {:g} ms", stretch->t_ms.back())};
-  } else if (reentry.frames.count() > 0) {
-    const float* V = reentry.frames.frame(reentry.frames.count() - 1);
-    last = {std::vector<double>(V, V + reentry.frames.cells), "V (mV)",
-            fmt::format("V at t = {:g} ms", reentry.frames.t_ms.back())};
-  }
-  reentry.measured["beat_maps_drawn"] =
-      write_reentry_maps(out, scene.name, tissue, maps, scene.output.vtk_format, last);
 }
 
 // A picture or snapshot file, on the writer's thread while the run goes

@@ -2,9 +2,18 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include "run/frame_log.hpp"
+
 namespace fibrodem {
 
 void StrainFields::add_frame(double t_ms) { frames_.add(t_ms, strain_.field().fibre_stretch); }
+
+void StrainFields::read_back(const std::filesystem::path& file, std::size_t count, std::size_t to_come) {
+  StretchFrames read(frames_.cells);
+  read.reserve_more(count + to_come);
+  read_frame_log(file, count, read);
+  frames_ = std::move(read);
+}
 
 void StrainFields::sample_now(double t_ms, const MechanicsSolver& mechanics) {
   now(mechanics);

@@ -13,11 +13,13 @@
 #pragma once
 
 #include <cstddef>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "measure/cell_frames.hpp"
 #include "measure/cell_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
 #include "scene/scene.hpp"
@@ -27,7 +29,7 @@ namespace fibrodem {
 
 class StrainFields {
  public:
-  explicit StrainFields(const Tissue& tissue) : strain_(tissue) {}
+  explicit StrainFields(const Tissue& tissue) : strain_(tissue), frames_(tissue.cell_count()) {}
 
   // The field with the DEM's particles as they are now.
   const CellStrainField& now(const MechanicsSolver& mechanics) { return strain_.compute(mechanics.particles()); }
@@ -41,8 +43,12 @@ class StrainFields {
   void due(double t_ms, double w, const MechanicsSolver& mechanics);
   void complete(const MechanicsSolver& mechanics);
   const StretchFrames& stretch_frames() const { return frames_; }
-  // Room for this many more samples of every cell (StretchFrames::reserve_more).
-  void reserve_samples(std::size_t samples, std::size_t cells) { frames_.reserve_more(samples, cells); }
+  // Room for this many more samples (CellFrames::reserve_more).
+  void reserve_samples(std::size_t samples) { frames_.reserve_more(samples); }
+  // A resumed run: the first `count` stretch frames of the log `file`
+  // (run/frame_log.hpp) in place of those held, with room for `to_come`
+  // more. Throws CheckpointError naming the file, the frames held unchanged.
+  void read_back(const std::filesystem::path& file, std::size_t count, std::size_t to_come);
 
  private:
   void add_frame(double t_ms);

@@ -436,6 +436,6 @@ TEST_CASE("re-entry frames: room made for the samples to come holds them without
   for (int k = 1; k <= 3; ++k) frames.add(k, std::vector<double>(5, -80.0 + k));
   CHECK(frames.count() == 4);
   CHECK(frames.frame(0) == first);  // not moved
-  CHECK(frames.V_mV.capacity() == 20);
+  CHECK(frames.values.capacity() == 20);
   CHECK(frames.frame(3)[4] == doctest::Approx(-77.0));
 }

@@ -43,7 +43,7 @@ int resume(const fs::path& out) {
 
 json summary_of(const fs::path& dir) { return json::parse(testing::read_file(dir / "summary.json")); }
 
-void check_same_outputs(const fs::path& reference, const fs::path& resumed) {
+void check_same_outputs_but_reentry(const fs::path& reference, const fs::path& resumed) {
   const std::string traces = testing::read_file(reference / "traces.csv");
   REQUIRE(traces.size() > 100);
   CHECK(testing::read_file(resumed / "traces.csv") == traces);
@@ -53,6 +53,16 @@ void check_same_outputs(const fs::path& reference, const fs::path& resumed) {
   CHECK(b["steps"] == a["steps"]);
   CHECK(b["mean_biomarkers"] == a["mean_biomarkers"]);
   CHECK(b["peak_strain"] == a["peak_strain"]);
+}
+
+void check_same_outputs(const fs::path& reference, const fs::path& resumed) {
+  check_same_outputs_but_reentry(reference, resumed);
+  // output.reentry measured over the whole record: its frames before the
+  // checkpoint come back from the logs beside it (run/frame_log.hpp).
+  const json a = summary_of(reference), b = summary_of(resumed);
+  CHECK(b.value("reentry", json()).dump() == a.value("reentry", json()).dump());
+  for (const char* name : {"phase_singularities.csv", "phase_singularity_tracks.csv"})
+    if (fs::exists(reference / name)) CHECK(testing::read_file(resumed / name) == testing::read_file(reference / name));
 }
 
 // Runs m once whole (the reference), then killed at several moments (a
@@ -134,7 +144,12 @@ TEST_CASE("a checkpoint file reads back its fields, a truncated, corrupt or fore
 
 TEST_CASE("killed (SIGKILL) at any step and resumed, a run writes the same traces and biomarkers as one never stopped" * doctest::test_suite("slow threads")) {
   SUBCASE("forward Euler") { check_kill_and_resume("euler", strand({{"method", "euler"}, {"dt_ms", 0.005}})); }
-  SUBCASE("Rush-Larsen") { check_kill_and_resume("rush_larsen", strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}})); }
+  SUBCASE("Rush-Larsen with output.reentry") {
+    // The wave's activations (from 10 ms) fall before most kills' checkpoints.
+    json m = strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}});
+    m["output"]["reentry"] = {{"every_ms", 1}, {"tau_ms", 5}};
+    check_kill_and_resume("rush_larsen", m);
+  }
   SUBCASE("second-order Rush-Larsen") {
     check_kill_and_resume("rush_larsen2", strand({{"method", "rush_larsen2"}, {"dt_ms", 0.01}}));
   }
@@ -164,6 +179,9 @@ TEST_CASE("killed (SIGKILL) at any step and resumed, a run writes the same trace
     m["tissue"]["height_mm"] = 0.8;
     m["stimulus"][0]["start_ms"] = 20;
     m["output"]["checkpoint"] = {{"every_ms", 50}};
+    // The fibre stretch is sampled with V (its frames' log beside V's):
+    // frames of the one at other times than the other's fail the measure.
+    m["output"]["reentry"] = {{"every_ms", 2}, {"tau_ms", 10}};
     check_kill_and_resume("dem", m);
   }
 }
@@ -212,6 +230,24 @@ TEST_CASE("a truncated or corrupt checkpoint is named and the one before it used
   CHECK(err.find("from " + files[2].string()) != std::string::npos);
   check_same_outputs(dir / "reference", out);
   CHECK(summary_of(out)["resumed_from"]["time_ms"] == 150.0);
+}
+
+TEST_CASE("without the re-entry frames its checkpoint counts, a resumed run says so and measures from the resume") {
+  const auto dir = testing::scratch_dir("checkpoints_frames_lost");
+  json m = strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}});
+  m["output"]["reentry"] = {{"every_ms", 1}, {"tau_ms", 5}};
+  REQUIRE(run(m, dir / "reference") == 0);
+  const fs::path out = dir / "killed";
+  REQUIRE(run(m, out, "step:" + std::to_string(27000)) == 128 + 9);  // after the checkpoint at 250 ms
+  REQUIRE(fs::remove(out / "checkpoints" / "reentry_V.frames"));
+  REQUIRE(resume(out) == 0);
+  CHECK(summary_of(out)["status"] == "completed");
+  CHECK(testing::read_file(out / "run.log").find("reentry_V.frames, cannot be read; re-entry is measured from t = 250 ms") !=
+        std::string::npos);
+  // Measured from 250 ms: the first 250 samples (the wave at 10 ms among
+  // them) are not in it.
+  CHECK(summary_of(out)["reentry"]["samples"].get<int>() == summary_of(dir / "reference")["reentry"]["samples"].get<int>() - 250);
+  check_same_outputs_but_reentry(dir / "reference", out);
 }
 
 TEST_CASE("resume refuses a folder without a run, and a run that completed") {

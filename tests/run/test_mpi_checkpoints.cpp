@@ -51,6 +51,12 @@ void check_same_outputs(const fs::path& reference, const fs::path& resumed) {
   const json a = summary_of(reference), b = summary_of(resumed);
   CHECK(b["status"] == "completed");
   CHECK(b["steps"] == a["steps"]);
+  // output.reentry measured over the whole record: its frames before the
+  // checkpoint come back from the log beside it (run/frame_log.hpp).
+  CHECK(b.value("reentry", json()).dump() == a.value("reentry", json()).dump());
+  if (fs::exists(reference / "phase_singularities.csv"))
+    CHECK(testing::read_file(resumed / "phase_singularities.csv") ==
+          testing::read_file(reference / "phase_singularities.csv"));
 }
 
 }  // namespace
@@ -63,11 +69,16 @@ TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the out
   json m = testing::split_sheet_planar_wave(30);
   m["output"]["traces"][0]["every_ms"] = 0.25;
   m["output"]["checkpoint"] = {{"every_ms", 10}, {"keep", 1}};
+  m["output"]["reentry"] = {{"every_ms", 0.25}, {"tau_ms", 1}};
   std::ofstream(dir / "scene.json") << m.dump();
   const std::string two = testing::mpirun(2);
 
   REQUIRE(run(two, dir / "scene.json", dir / "reference") == 0);
   REQUIRE(summary_of(dir / "reference")["steps"] == 3000);
+  // The premise of the re-entry check: the wave's activations fall before
+  // the first checkpoint, so a resumed run that measured only from where it
+  // resumed would find none.
+  REQUIRE(summary_of(dir / "reference")["reentry"]["beats"][0]["last_activation_ms"].get<double>() < 10);
 
   // Killed at step 2500, after the checkpoint at 20 ms.
   REQUIRE(run(two, dir / "scene.json", dir / "killed", "step:2500") != 0);

@@ -61,7 +61,7 @@ TEST_CASE("the stretch at a phase singularity is its triangle's cells' mean, the
   const double x0 = 1033, y0 = 987, period = 200, omega = 2 * kPi / period, V_star = -50;
   const ReentrySettings s{.every_ms = 5, .from_ms = 0, .tau_ms = period / 4, .V_star_mV = V_star, .link_mm = 1};
   VoltageFrames frames(t.cell_count());
-  StretchFrames stretch;
+  StretchFrames stretch(t.cell_count());
   for (double time = 0; time <= 400 + 1e-9; time += 5) {
     std::vector<double> V(t.cell_count()), lambda(t.cell_count());
     for (std::size_t c = 0; c < V.size(); ++c) {
@@ -85,7 +85,7 @@ TEST_CASE("the stretch at a phase singularity is its triangle's cells' mean, the
   analyse_reentry(t, frames, s, {0}, {}, dir);
   CHECK(testing::csv_rows(dir / "phase_singularities.csv")[0].size() == 5);
   // Stretch frames at other times than V's are a programming error, named.
-  StretchFrames fewer;
+  StretchFrames fewer(t.cell_count());
   fewer.add(0, std::vector<double>(t.cell_count(), 1.0));
   CHECK_THROWS_WITH_AS(analyse_reentry(t, frames, s, {0}, {}, {}, nullptr, &fewer),
                        doctest::Contains("sampled at 1 times, V at 81"), std::invalid_argument);
