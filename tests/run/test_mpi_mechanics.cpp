@@ -257,8 +257,12 @@ TEST_CASE("mpirun -n 2: an EM run split, killed and resumed on 2 ranks or in one
   check_same_bytes(dir / "reference", dir / "killed_one", 1);
 }
 
+// (Labelled slow: the split DEM's checkpoint and resume run under the
+// sanitizers in the EM case above and in tests/mechanics/test_dem_split.cpp;
+// this one adds a DEM awake at the checkpoint and other rank counts.)
 TEST_CASE(
-    "mpirun -n 2: the DEM split over ranks, killed and resumed on 2, 3 or 1 ranks, writes the run never stopped") {
+    "mpirun -n 2: the DEM split over ranks, killed and resumed on 2, 3 or 1 ranks, writes the run never stopped" *
+    doctest::test_suite("mpi slow")) {
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_dem_split_checkpoints");
   // 80 ms of rush_larsen at 0.01 ms: the DEM, split, takes ~200 steps from
