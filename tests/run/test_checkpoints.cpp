@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <regex>
 
 #include "io/checkpoint_file.hpp"
 #include "run/checkpoint_dir.hpp"
@@ -237,6 +238,14 @@ TEST_CASE("without the re-entry frames its checkpoint counts, a resumed run says
   json m = strand({{"method", "rush_larsen"}, {"dt_ms", 0.01}});
   m["output"]["reentry"] = {{"every_ms", 1}, {"tau_ms", 5}};
   REQUIRE(run(m, dir / "reference") == 0);
+  // The log holds every sample (8 bytes of time, 4 a cell) after 16 bytes
+  // of header, as the run's estimate of its outputs says (run.log).
+  const double log_bytes = static_cast<double>(fs::file_size(dir / "reference" / "checkpoints" / "reentry_V.frames"));
+  CHECK(log_bytes == 16 + 301 * (8 + 12 * 4));
+  std::smatch said;
+  const std::string log = testing::read_file(dir / "reference" / "run.log");
+  REQUIRE(std::regex_search(log, said, std::regex(R"(re-entry samples beside the checkpoints: 301 ([0-9.]+) kB)")));
+  CHECK(std::stod(said[1]) * 1e3 == doctest::Approx(log_bytes).epsilon(0.01));
   const fs::path out = dir / "killed";
   REQUIRE(run(m, out, "step:" + std::to_string(27000)) == 128 + 9);  // after the checkpoint at 250 ms
   REQUIRE(fs::remove(out / "checkpoints" / "reentry_V.frames"));
