@@ -108,12 +108,10 @@ bool MechanicsCoupling::drive_unchanged(const std::vector<double>& length_ratio)
   return changed == 0;
 }
 
-void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int>& cells_in_rank_order,
-                                         const std::vector<int>& counts, const std::vector<int>& offsets) {
-  std::vector<int> cell_rank(cells_in_rank_order.size());
-  for (std::size_t r = 0; r < counts.size(); ++r)
-    for (int k = offsets[r]; k < offsets[r] + counts[r]; ++k)
-      cell_rank[static_cast<std::size_t>(cells_in_rank_order[static_cast<std::size_t>(k)])] = static_cast<int>(r);
+void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const RankLayout& layout) {
+  std::vector<int> cell_rank(layout.cell_count());
+  for (int r = 0; r < ranks.size(); ++r)
+    for (const int cell : layout.cells_of(r)) cell_rank[static_cast<std::size_t>(cell)] = r;
   try {
     solver_->split_over_ranks(ranks, cell_rank);
   } catch (const std::invalid_argument& e) {
@@ -121,19 +119,15 @@ void MechanicsCoupling::split_over_ranks(RankGroup& ranks, const std::vector<int
   }
   ranks_ = &ranks;
   every_rank_.assign(static_cast<std::size_t>(ranks.size()), 0.0);
-  cells_in_rank_order_ = &cells_in_rank_order;
-  cell_counts_ = &counts;
-  cell_offsets_ = &offsets;
+  layout_ = &layout;
 }
 
 // Split over ranks, a rank's lengths of other ranks' cells stay at rest
 // (1), as the cells it steps give them (CellSystem::stretch_by_cell), so
 // that only its own cells' lengths move its drive.
 void MechanicsCoupling::keep_own_lengths() {
-  const auto me = static_cast<std::size_t>(ranks_->rank());
   std::vector<char> own(length_ratio_.size(), 0);
-  for (int k = (*cell_offsets_)[me]; k < (*cell_offsets_)[me] + (*cell_counts_)[me]; ++k)
-    own[static_cast<std::size_t>((*cells_in_rank_order_)[static_cast<std::size_t>(k)])] = 1;
+  for (const int cell : layout_->cells_of(ranks_->rank())) own[static_cast<std::size_t>(cell)] = 1;
   for (auto* v : {&length_ratio_from_, &length_ratio_to_, &length_ratio_})
     for (std::size_t c = 0; c < v->size(); ++c)
       if (!own[c]) (*v)[c] = 1.0;
@@ -142,14 +136,9 @@ void MechanicsCoupling::keep_own_lengths() {
 // Split over ranks: every cell's value from its own rank, on rank 0 (by
 // tissue number; empty elsewhere). Collective.
 std::vector<double> MechanicsCoupling::on_rank0(const std::vector<double>& by_cell) const {
-  const auto me = static_cast<std::size_t>(ranks_->rank());
-  const std::vector<int>& order = *cells_in_rank_order_;
-  std::vector<double> mine;
-  for (int k = (*cell_offsets_)[me]; k < (*cell_offsets_)[me] + (*cell_counts_)[me]; ++k)
-    mine.push_back(by_cell[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])]);
-  std::vector<double> gathered(me == 0 ? by_cell.size() : 0), out(gathered.size());
-  ranks_->gather_into(mine.data(), mine.size(), gathered.data(), cell_counts_->data(), cell_offsets_->data());
-  for (std::size_t k = 0; k < gathered.size(); ++k) out[static_cast<std::size_t>(order[k])] = gathered[k];
+  std::vector<double> mine, gathered, out;
+  for (const int cell : layout_->cells_of(ranks_->rank())) mine.push_back(by_cell[static_cast<std::size_t>(cell)]);
+  gather_by_cell(*ranks_, *layout_, mine.data(), gathered, out);
   return out;
 }
 

@@ -31,6 +31,7 @@
 #include "io/checkpoint_file.hpp"
 #include "measure/cell_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
+#include "run/rank_layout.hpp"
 #include "tissue/tissue.hpp"
 #include "util/rank_group.hpp"
 
@@ -75,12 +76,10 @@ class MechanicsCoupling {
   // every call below is collective: advance (its rest decisions are every
   // rank's), save (rank 0 gathers every body, contact and cell length and
   // writes them) and restore (every rank reads the checkpoint itself).
-  // `cells_in_rank_order`, `counts`, `offsets`: every rank's cells, rank
-  // after rank, each ascending, as RankGroup::gather_into places them (the
-  // run's partition; they must outlive this). Throws ManifestError at
-  // "mechanics" for a spec the solver cannot split.
-  void split_over_ranks(RankGroup& ranks, const std::vector<int>& cells_in_rank_order, const std::vector<int>& counts,
-                        const std::vector<int>& offsets);
+  // `layout`: every rank's cells (the run's partition, run/rank_layout.hpp;
+  // it must outlive this). Throws ManifestError at "mechanics" for a spec
+  // the solver cannot split.
+  void split_over_ranks(RankGroup& ranks, const RankLayout& layout);
   bool split() const { return ranks_ != nullptr; }
 
   // From now on, each advance ends by measuring every cell's fibre stretch
@@ -118,9 +117,7 @@ class MechanicsCoupling {
   // Split over ranks: the ranks, and the run's layout of every rank's cells
   // (split_over_ranks).
   RankGroup* ranks_ = nullptr;
-  const std::vector<int>* cells_in_rank_order_ = nullptr;
-  const std::vector<int>* cell_counts_ = nullptr;
-  const std::vector<int>* cell_offsets_ = nullptr;
+  const RankLayout* layout_ = nullptr;
   mutable std::vector<double> every_rank_;  // a reduction's values, one a rank (made once)
   double step_ms_ = 0, time_ms_ = 0, seconds_ = 0;
   // Cells' lengths relative to rest at the last cell step's start and end,

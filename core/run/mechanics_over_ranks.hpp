@@ -14,18 +14,17 @@
 
 #include "integrate/cell_system.hpp"
 #include "run/mechanics_coupling.hpp"
+#include "run/rank_layout.hpp"
 #include "util/rank_group.hpp"
 
 namespace fibrodem {
 
 class MechanicsOverRanks {
  public:
-  // `owned`: this rank's cells (increasing tissue numbers);
-  // `cells_in_rank_order`, `counts`, `offsets`: every rank's cells, rank
-  // after rank, as RankGroup::gather_into places them (read on rank 0
-  // only). Every argument must outlive this. Buffers are made here, once.
-  MechanicsOverRanks(RankGroup& ranks, const std::vector<int>& owned, const std::vector<int>& cells_in_rank_order,
-                     const std::vector<int>& counts, const std::vector<int>& offsets);
+  // `owned`: this rank's cells (increasing tissue numbers); `layout`: every
+  // rank's cells (run/rank_layout.hpp). Both must outlive this. Buffers are
+  // made once.
+  MechanicsOverRanks(RankGroup& ranks, const std::vector<int>& owned, const RankLayout& layout);
 
   // Collective (every rank at the end of the same step): the cells' lengths
   // at t_ms to rank 0, whose `mechanics` then steps up to t_ms (null on the
@@ -35,9 +34,7 @@ class MechanicsOverRanks {
  private:
   RankGroup& ranks_;
   const std::vector<int>& owned_;
-  const std::vector<int>& cells_in_rank_order_;
-  const std::vector<int>& counts_;
-  const std::vector<int>& offsets_;
+  const RankLayout& layout_;
   std::vector<double> own_ratio_;      // this rank's cells, in owned_'s order
   std::vector<double> gathered_;       // rank 0: every cell, rank after rank
   std::vector<double> ratio_by_cell_;  // rank 0: every cell, by tissue number

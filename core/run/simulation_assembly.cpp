@@ -303,14 +303,14 @@ void Simulation::Impl::build_mechanics() {
   }
   if (!split.ranks) return;
   if (dem_split) {
-    mechanics->split_over_ranks(*split.ranks, split.cells_in_rank_order, split.cell_counts, split.cell_offsets);
+    mechanics->split_over_ranks(*split.ranks, split.layout);
     plan.notes.push_back("mechanics split over the ranks: each steps its own cells' bodies");
     if (split.ranks->rank() != 0) strain_fields.reset();
     return;
   }
   plan.notes.push_back("mechanics on rank 0 alone: " + keeps_dem_on_rank0 + " is not split over ranks");
   mechanics_over_ranks =
-      std::make_unique<MechanicsOverRanks>(*split.ranks, split.share.owned, split.cells_in_rank_order, split.cell_counts, split.cell_offsets);
+      std::make_unique<MechanicsOverRanks>(*split.ranks, split.share.owned, split.layout);
   if (split.ranks->rank() != 0) mechanics.reset(), strain_fields.reset();
 }
 

@@ -34,6 +34,7 @@
 #include "run/halo_exchange.hpp"
 #include "run/mechanics_coupling.hpp"
 #include "run/mechanics_over_ranks.hpp"
+#include "run/rank_layout.hpp"
 #include "run/rank_reductions.hpp"
 #include "run/resource_estimate.hpp"
 #include "run/run_clock.hpp"
@@ -106,12 +107,9 @@ struct RankSplit {
   RankCells share;
   std::vector<char> owned;
   std::unique_ptr<HaloExchange> halo;
-  // Every cell, rank after rank, each rank's in increasing global order: where
-  // rank 0 places the values it gathers (RankGroup::gather's order).
-  std::vector<int> cells_in_rank_order;
-  // Each rank's cell count, and where its cells start in cells_in_rank_order
-  // (RankGroup::gather_into's counts and offsets).
-  std::vector<int> cell_counts, cell_offsets;
+  // Every rank's cells, rank after rank: where rank 0 places the values it
+  // gathers (run/rank_layout.hpp).
+  RankLayout layout;
   // The biomarker tracker's cells: this rank's own, in share.owned's order;
   // their V (and dV/dt) copied there from the per-cell arrays at each step
   // (V's buffer sized when the run starts).

@@ -63,16 +63,17 @@ void Simulation::Impl::split_over_ranks() {
   split.share = rank_cells(tissue, partition, split.ranks->rank());
   split.owned.assign(tissue.cell_count(), 0);
   for (int cell : split.share.owned) split.owned[static_cast<std::size_t>(cell)] = 1;
-  split.cells_in_rank_order.clear();
-  split.cells_in_rank_order.reserve(tissue.cell_count());
+  RankLayout& layout = split.layout;
+  layout.cells_in_rank_order.clear();
+  layout.cells_in_rank_order.reserve(tissue.cell_count());
   for (int r = 0; r < split.ranks->size(); ++r)
-    for (int cell : partition.cells_of(r)) split.cells_in_rank_order.push_back(cell);
+    for (int cell : partition.cells_of(r)) layout.cells_in_rank_order.push_back(cell);
   const std::vector<std::size_t> sizes = partition.sizes();
-  split.cell_counts.assign(sizes.size(), 0);
-  split.cell_offsets.assign(sizes.size(), 0);
+  layout.counts.assign(sizes.size(), 0);
+  layout.offsets.assign(sizes.size(), 0);
   for (std::size_t r = 0; r < sizes.size(); ++r) {
-    split.cell_counts[r] = static_cast<int>(sizes[r]);
-    if (r > 0) split.cell_offsets[r] = split.cell_offsets[r - 1] + split.cell_counts[r - 1];
+    layout.counts[r] = static_cast<int>(sizes[r]);
+    if (r > 0) layout.offsets[r] = layout.offsets[r - 1] + layout.counts[r - 1];
   }
   plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
@@ -187,20 +188,9 @@ void Simulation::Impl::refuse_traced_outputs() const {
 // Collective: every rank calls it at the same time. (At snapshot times,
 // not every step.)
 std::vector<double> Simulation::Impl::voltage_of_every_cell() {
-  std::vector<double> mine(split.share.owned.size());
+  std::vector<double> mine(split.share.owned.size()), gathered, V;
   for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = system.V_mV[static_cast<std::size_t>(split.share.owned[i])];
-  const std::vector<std::vector<double>> by_rank = split.ranks->gather(mine);
-  if (split.ranks->rank() != 0) return {};
-  std::vector<double> V(tissue.cell_count(), 0.0);
-  std::size_t k = 0;
-  for (const auto& values : by_rank)
-    for (double v : values) {
-      if (k == split.cells_in_rank_order.size()) break;
-      V[static_cast<std::size_t>(split.cells_in_rank_order[k++])] = v;
-    }
-  if (k != split.cells_in_rank_order.size())
-    throw std::logic_error(fmt::format("split over ranks: rank 0 gathered V of {} cells, not the tissue's {}", k,
-                                       split.cells_in_rank_order.size()));
+  gather_by_cell(*split.ranks, split.layout, mine.data(), gathered, V);
   return V;
 }
 

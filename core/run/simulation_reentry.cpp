@@ -31,10 +31,7 @@ void Simulation::Impl::start_reentry_sampling(double t) {
   reentry.V_previous = system.V_mV;
   const bool holds_frames = !split.ranks || split.ranks->rank() == 0;
   if (holds_frames) reentry.frame_V.assign(tissue.cell_count(), 0.0);
-  if (split.ranks) {
-    reentry.own_V.assign(split.share.owned.size(), 0.0);
-    if (holds_frames) reentry.gathered_V.assign(tissue.cell_count(), 0.0);
-  }
+  if (split.ranks) reentry.own_V.assign(split.share.owned.size(), 0.0);
   const auto& spec = scene.output.reentry;
   const long long last = static_cast<long long>(std::floor((scene.duration_ms - spec.from_ms) / spec.every_ms + 1e-9));
   const auto samples_from = [last](long long k) { return static_cast<std::size_t>(std::max(0LL, last - k + 1)); };
@@ -158,12 +155,8 @@ void Simulation::Impl::add_reentry_frame_over_ranks(double t, const double* w) {
     const auto c = static_cast<std::size_t>(cells[i]);
     reentry.own_V[i] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
   }
-  split.ranks->gather_into(reentry.own_V.data(), reentry.own_V.size(), reentry.gathered_V.data(), split.cell_counts.data(),
-                     split.cell_offsets.data());
-  if (split.ranks->rank() != 0) return;
-  for (std::size_t k = 0; k < split.cells_in_rank_order.size(); ++k)
-    reentry.frame_V[static_cast<std::size_t>(split.cells_in_rank_order[k])] = reentry.gathered_V[k];
-  reentry.frames.add(t, reentry.frame_V);
+  gather_by_cell(*split.ranks, split.layout, reentry.own_V.data(), reentry.gathered_V, reentry.frame_V);
+  if (split.ranks->rank() == 0) reentry.frames.add(t, reentry.frame_V);
 }
 
 // summary.json's "reentry", phase_singularities.csv and the re-entry maps,

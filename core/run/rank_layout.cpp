@@ -1,0 +1,19 @@
+#include "run/rank_layout.hpp"
+
+namespace fibrodem {
+
+void gather_by_cell(RankGroup& ranks, const RankLayout& layout, const double* own, std::vector<double>& gathered,
+                    std::vector<double>& by_cell) {
+  const bool on_rank0 = ranks.rank() == 0;
+  if (on_rank0) {
+    gathered.resize(layout.cell_count());
+    by_cell.resize(layout.cell_count());
+  }
+  ranks.gather_into(own, static_cast<std::size_t>(layout.counts[static_cast<std::size_t>(ranks.rank())]),
+                    on_rank0 ? gathered.data() : nullptr, layout.counts.data(), layout.offsets.data());
+  if (!on_rank0) return;
+  for (std::size_t k = 0; k < gathered.size(); ++k)
+    by_cell[static_cast<std::size_t>(layout.cells_in_rank_order[k])] = gathered[k];
+}
+
+}  // namespace fibrodem
