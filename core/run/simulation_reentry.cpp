@@ -39,7 +39,11 @@ void Simulation::Impl::start_reentry_sampling(double t) {
   if (resumed.next_sample < 0 && checkpoints.resume_point)
     log->warn("resume: the checkpoint holds no count of re-entry frames (an earlier build of fibrodem's): "
               "re-entry is measured from t = {:g} ms", t);
-  if (resumed.next_sample >= 0 && holds_frames && !read_back_frames(samples_from(resumed.next_sample))) resumed = {};
+  bool read_back = !(resumed.next_sample >= 0 && holds_frames) || read_back_frames(samples_from(resumed.next_sample));
+  // Split over ranks, rank 0 reads the frames back and every rank follows
+  // its outcome: the ranks take the same samples (each a collective gather).
+  if (split.reductions && checkpoints.resume_point) read_back = split.reductions->largest(read_back ? 0 : 1) == 0;
+  if (!read_back) resumed = {};
   // The first sample at or after t, unless the checkpoint's frames hold the samples before it.
   reentry.next_sample = resumed.next_sample >= 0 ? resumed.next_sample
                         : t <= spec.from_ms      ? 0

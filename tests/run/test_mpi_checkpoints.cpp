@@ -103,6 +103,16 @@ TEST_CASE("mpirun -n 2: a split run killed and resumed on 2 ranks writes the out
           std::string::npos);
   }
 
+  // Without the re-entry frames' log, rank 0 measures re-entry from the
+  // resume, and rank 1 follows it (the ranks gather every sample together).
+  fs::copy(dir / "killed", dir / "killed_lost", fs::copy_options::recursive);
+  REQUIRE(fs::remove(dir / "killed_lost" / "checkpoints" / "reentry_V.frames"));
+  REQUIRE(resume(two, dir / "killed_lost") == 0);
+  CHECK(summary_of(dir / "killed_lost")["status"] == "completed");
+  CHECK(testing::read_file(dir / "killed_lost" / "run.log").find("re-entry is measured from t = 20 ms") !=
+        std::string::npos);
+  CHECK(testing::read_file(dir / "killed_lost" / "traces.csv") == testing::read_file(dir / "reference" / "traces.csv"));
+
   REQUIRE(resume(two, dir / "killed") == 0);
   check_same_outputs(dir / "reference", dir / "killed");
   CHECK(summary_of(dir / "killed")["resumed_from"]["time_ms"] == 20);
