@@ -45,7 +45,6 @@ void FrameLog::append_new(const CellFrames& frames) {
       if (std::fwrite(kMagic.data(), 1, kMagic.size(), out_.get()) != kMagic.size() ||
           std::fwrite(&cells, sizeof cells, 1, out_.get()) != 1)
         cannot_write(file_, "write failed (is the disk full?)");
-      written_ = 0;
     }
   }
   for (; written_ < frames.count(); ++written_) {

@@ -137,8 +137,7 @@ void MechanicsCoupling::keep_own_lengths() {
 // tissue number; empty elsewhere). Collective.
 std::vector<double> MechanicsCoupling::on_rank0(const std::vector<double>& by_cell) const {
   std::vector<double> mine, gathered, out;
-  for (const int cell : layout_->cells_of(ranks_->rank())) mine.push_back(by_cell[static_cast<std::size_t>(cell)]);
-  gather_by_cell(*ranks_, *layout_, mine.data(), gathered, out);
+  gather_by_cell(*ranks_, *layout_, by_cell, mine, gathered, out);
   return out;
 }
 

@@ -21,10 +21,9 @@ namespace fibrodem {
 
 class MechanicsOverRanks {
  public:
-  // `owned`: this rank's cells (increasing tissue numbers); `layout`: every
-  // rank's cells (run/rank_layout.hpp). Both must outlive this. Buffers are
-  // made once.
-  MechanicsOverRanks(RankGroup& ranks, const std::vector<int>& owned, const RankLayout& layout);
+  // `layout`: every rank's cells (run/rank_layout.hpp); it must outlive
+  // this. Buffers are made at the first advance, once.
+  MechanicsOverRanks(RankGroup& ranks, const RankLayout& layout);
 
   // Collective (every rank at the end of the same step): the cells' lengths
   // at t_ms to rank 0, whose `mechanics` then steps up to t_ms (null on the
@@ -33,9 +32,8 @@ class MechanicsOverRanks {
 
  private:
   RankGroup& ranks_;
-  const std::vector<int>& owned_;
   const RankLayout& layout_;
-  std::vector<double> own_ratio_;      // this rank's cells, in owned_'s order
+  std::vector<double> own_ratio_;      // this rank's cells, in the layout's order
   std::vector<double> gathered_;       // rank 0: every cell, rank after rank
   std::vector<double> ratio_by_cell_;  // rank 0: every cell, by tissue number
 };

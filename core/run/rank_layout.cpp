@@ -16,4 +16,12 @@ void gather_by_cell(RankGroup& ranks, const RankLayout& layout, const double* ow
     by_cell[static_cast<std::size_t>(layout.cells_in_rank_order[k])] = gathered[k];
 }
 
+void gather_by_cell(RankGroup& ranks, const RankLayout& layout, const std::vector<double>& per_cell,
+                    std::vector<double>& own, std::vector<double>& gathered, std::vector<double>& by_cell) {
+  const std::span<const int> cells = layout.cells_of(ranks.rank());
+  own.resize(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) own[i] = per_cell[static_cast<std::size_t>(cells[i])];
+  gather_by_cell(ranks, layout, own.data(), gathered, by_cell);
+}
+
 }  // namespace fibrodem

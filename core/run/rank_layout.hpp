@@ -32,5 +32,9 @@ struct RankLayout {
 // rank); both are sized here on rank 0, once, and left alone elsewhere.
 void gather_by_cell(RankGroup& ranks, const RankLayout& layout, const double* own, std::vector<double>& gathered,
                     std::vector<double>& by_cell);
+// The same, with this rank's values taken from `per_cell` (one a cell, by
+// tissue number) at its own cells, into `own` (sized here, once).
+void gather_by_cell(RankGroup& ranks, const RankLayout& layout, const std::vector<double>& per_cell,
+                    std::vector<double>& own, std::vector<double>& gathered, std::vector<double>& by_cell);
 
 }  // namespace fibrodem

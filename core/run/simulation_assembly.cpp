@@ -310,7 +310,7 @@ void Simulation::Impl::build_mechanics() {
   }
   plan.notes.push_back("mechanics on rank 0 alone: " + keeps_dem_on_rank0 + " is not split over ranks");
   mechanics_over_ranks =
-      std::make_unique<MechanicsOverRanks>(*split.ranks, split.share.owned, split.layout);
+      std::make_unique<MechanicsOverRanks>(*split.ranks, split.layout);
   if (split.ranks->rank() != 0) mechanics.reset(), strain_fields.reset();
 }
 

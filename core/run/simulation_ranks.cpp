@@ -188,9 +188,8 @@ void Simulation::Impl::refuse_traced_outputs() const {
 // Collective: every rank calls it at the same time. (At snapshot times,
 // not every step.)
 std::vector<double> Simulation::Impl::voltage_of_every_cell() {
-  std::vector<double> mine(split.share.owned.size()), gathered, V;
-  for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = system.V_mV[static_cast<std::size_t>(split.share.owned[i])];
-  gather_by_cell(*split.ranks, split.layout, mine.data(), gathered, V);
+  std::vector<double> mine, gathered, V;
+  gather_by_cell(*split.ranks, split.layout, system.V_mV, mine, gathered, V);
   return V;
 }
 
