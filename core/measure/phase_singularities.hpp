@@ -16,11 +16,19 @@
 // al. 2006). n is an integer; a triangle with
 // |n| = 1 holds a PS, of chirality n (+1: the phase increases
 // counter-clockwise around it), placed at the triangle's centroid.
+//
+// A hole of the triangulation (measure/cell_holes.hpp) has the same charge
+// along its rim, less its islands': a hole of charge n holds |n| PS of
+// chirality sign(n), placed at the centroid of the area its rim encloses
+// (a rotor anchored on a scar turns around it there). Over every triangle
+// and hole, the charges add up to the winding around the tissue's outer rims.
 #pragma once
 
 #include <array>
+#include <span>
 #include <vector>
 
+#include "measure/cell_holes.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
@@ -34,17 +42,28 @@ double wrap_phase(double d);
 struct PhaseSingularity {
   double x_mm = 0, y_mm = 0;
   int chirality = 0;  // +1 or -1
-  int triangle = 0;   // index into the triangles searched
+  int triangle = -1;  // index into the triangles searched, or -1
+  int hole = -1;      // index into the holes searched, or -1
 };
 
-// The triangle's charge, rounded to the nearest integer.
+// The charge of a closed loop of cells (counter-clockwise, the last joined to
+// the first), rounded to the nearest integer; 0 if a cell's phase is NaN.
+int loop_charge(std::span<const int> loop, const std::vector<double>& phase_rad);
 int triangle_charge(const std::array<int, 3>& triangle, const std::vector<double>& phase_rad);
+// Its rim's charge less its islands'; 0 if a cell's phase is NaN.
+int hole_charge(const CellHole& hole, const std::vector<double>& phase_rad);
 
 // Every triangle (measure/cell_triangles.hpp) with charge +1 or -1, in
-// triangle order. phase_rad per cell; a cell with a NaN phase (not yet
-// sampled long enough) makes its triangles hold no PS.
+// triangle order, then the PS of every hole with a charge, in hole order.
+// phase_rad per cell; a cell with a NaN phase (not yet sampled long enough)
+// makes its triangles and holes hold no PS.
 std::vector<PhaseSingularity> find_phase_singularities(const Tissue& tissue,
                                                        const std::vector<std::array<int, 3>>& triangles,
-                                                       const std::vector<double>& phase_rad);
+                                                       const std::vector<double>& phase_rad,
+                                                       const std::vector<CellHole>& holes = {});
+
+// The cells a PS was found on: its triangle's, or its hole's rim.
+std::span<const int> cells_around(const PhaseSingularity& ps, const std::vector<std::array<int, 3>>& triangles,
+                                  const std::vector<CellHole>& holes);
 
 }  // namespace fibrodem

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <span>
 #include <stdexcept>
 #include <string>
 
 #include "io/csv_writer.hpp"
+#include "measure/cell_holes.hpp"
 #include "measure/cell_triangles.hpp"
 #include "measure/dominant_frequency.hpp"
 #include "measure/driver_maps.hpp"
@@ -33,12 +35,13 @@ json unreached_fractions(const std::vector<BeatBiomarkers>& beats) {
 }
 
 namespace {
-// The fibre stretch at a PS of frame k: the mean of its triangle's cells' (analyse_reentry).
-double stretch_at(const StretchFrames& stretch, std::size_t k, const std::array<int, 3>& triangle) {
+// The fibre stretch at a PS of frame k: the mean of the cells' around it
+// (its triangle's or its hole's rim's; analyse_reentry).
+double stretch_at(const StretchFrames& stretch, std::size_t k, std::span<const int> cells) {
   const float* frame = stretch.frame(k);
   double sum = 0;
   int n = 0;
-  for (int c : triangle)
+  for (int c : cells)
     if (std::isfinite(frame[c])) sum += frame[c], ++n;
   return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
@@ -56,6 +59,7 @@ void check_same_times(const VoltageFrames& frames, const StretchFrames& stretch)
 SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& s,
                                        const std::filesystem::path& dir, const StretchFrames* stretch) {
   const auto triangles = cell_triangles(tissue);
+  const auto holes = cell_holes(tissue, triangles);
   const std::size_t delay = static_cast<std::size_t>(std::llround(s.tau_ms / s.every_ms));
   CsvWriter csv;
   if (!dir.empty()) {
@@ -69,13 +73,13 @@ SingularityTracker track_singularities(const Tissue& tissue, const VoltageFrames
     const float* now = frames.frame(k);
     const float* before = frames.frame(k - delay);
     for (std::size_t c = 0; c < frames.cells; ++c) phase[c] = embedding_phase(now[c], before[c], s.V_star_mV);
-    const auto found = find_phase_singularities(tissue, triangles, phase);
+    const auto found = find_phase_singularities(tissue, triangles, phase, holes);
     const auto ids = tracker.add_frame(frames.t_ms[k], found);
     if (!csv.is_open()) continue;
     for (std::size_t j = 0; j < found.size(); ++j) {
       csv.cell(frames.t_ms[k]).cell(static_cast<long long>(ids[j])).cell(found[j].x_mm).cell(found[j].y_mm)
           .cell(static_cast<long long>(found[j].chirality));
-      if (stretch) csv.cell(stretch_at(*stretch, k, triangles[static_cast<std::size_t>(found[j].triangle)]));
+      if (stretch) csv.cell(stretch_at(*stretch, k, cells_around(found[j], triangles, holes)));
       csv.end_row();
     }
   }

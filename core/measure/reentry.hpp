@@ -61,7 +61,7 @@ struct ReentryMaps {
 // (a run with mechanics), phase_singularities.csv's last column is
 // `stretch`, each PS's: the mean over its triangle's cells that have one
 // (linear interpolation at the triangle's centroid, where the PS is
-// placed), NaN if none has. Throws std::invalid_argument if the stretch
+// placed), or over its hole's rim, NaN if none has. Throws std::invalid_argument if the stretch
 // frames' times are not the V frames'.
 json analyse_reentry(const Tissue& tissue, const VoltageFrames& frames, const ReentrySettings& settings,
                      const std::vector<double>& stimulus_onsets_ms, const std::vector<BeatBiomarkers>& beats,
