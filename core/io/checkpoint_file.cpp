@@ -9,7 +9,6 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <sstream>
 
 namespace fibrodem {
 
@@ -29,7 +28,7 @@ void append(std::string& out, T value) {
 
 // Reads a T at `at` from a payload of known length, or throws.
 template <class T>
-T take(const std::string& in, std::size_t& at) {
+T take(std::string_view in, std::size_t& at) {
   if (in.size() - at < sizeof(T)) throw CheckpointError("the payload ends inside a field");
   T value;
   std::memcpy(&value, in.data() + at, sizeof value);
@@ -131,30 +130,53 @@ void CheckpointFields::bytes(const std::string& name, void* data, std::size_t si
   if (size > 0) std::memcpy(data, f.data.data(), size);  // (data may be null when size is 0)
 }
 
-std::string CheckpointFields::encode() const {
-  std::string payload;
-  append(payload, static_cast<std::uint32_t>(fields_.size()));
+std::uint64_t CheckpointFields::payload_size() const {
+  std::uint64_t size = sizeof(std::uint32_t);
+  for (const auto& [name, f] : fields_)
+    size += sizeof(std::uint16_t) + name.size() + sizeof(std::uint8_t) + sizeof f.count + f.data.size();
+  return size;
+}
+
+std::uint64_t CheckpointFields::encoded_size() const {
+  return kMagicSize + sizeof kCheckpointFormat + sizeof(std::uint64_t) + payload_size() + kDigestSize;
+}
+
+void CheckpointFields::encode_into(const std::function<void(std::string_view)>& write) const {
+  Sha256 hash;
+  auto put = [&](std::string_view piece) {
+    hash.update(piece);
+    write(piece);
+  };
+  std::string head(kMagic, kMagicSize);
+  append(head, kCheckpointFormat);
+  append(head, payload_size());
+  append(head, static_cast<std::uint32_t>(fields_.size()));
+  put(head);
   for (const auto& [name, f] : fields_) {
-    append(payload, static_cast<std::uint16_t>(name.size()));
-    payload += name;
-    append(payload, static_cast<std::uint8_t>(f.kind));
-    append(payload, f.count);
-    payload += f.data;
+    head.clear();
+    append(head, static_cast<std::uint16_t>(name.size()));
+    head += name;
+    append(head, static_cast<std::uint8_t>(f.kind));
+    append(head, f.count);
+    put(head);
+    put(f.data);
   }
-  std::string out(kMagic, kMagicSize);
-  append(out, kCheckpointFormat);
-  append(out, static_cast<std::uint64_t>(payload.size()));
-  out += payload;
-  const auto digest = sha256(out);
-  out.append(reinterpret_cast<const char*>(digest.data()), digest.size());
+  const auto digest = hash.digest();
+  write(std::string_view(reinterpret_cast<const char*>(digest.data()), digest.size()));
+}
+
+std::string CheckpointFields::encode() const {
+  std::string out;
+  encode_into([&](std::string_view piece) { out += piece; });
   return out;
 }
 
-CheckpointFields CheckpointFields::decode(const std::string& in) {
+CheckpointFields CheckpointFields::decode(std::string_view in) {
   const std::size_t header = kMagicSize + sizeof(std::uint32_t) + sizeof(std::uint64_t);
   if (in.size() < header + kDigestSize)
     throw CheckpointError("it is truncated (" + std::to_string(in.size()) + " bytes, shorter than a header)");
-  if (in.compare(0, kMagicSize, kMagic, kMagicSize) != 0) throw CheckpointError("it is not a fibrodem checkpoint");
+  if (in.compare(0, kMagicSize, std::string_view(kMagic, kMagicSize)) != 0)
+    throw CheckpointError("it is not a fibrodem checkpoint");
   std::size_t at = kMagicSize;
   const auto format = take<std::uint32_t>(in, at);
   if (format != kCheckpointFormat)
@@ -164,17 +186,17 @@ CheckpointFields CheckpointFields::decode(const std::string& in) {
   if (length != in.size() - header - kDigestSize)
     throw CheckpointError("it is truncated or has trailing bytes (payload of " + std::to_string(length) +
                           " bytes announced, " + std::to_string(in.size() - header - kDigestSize) + " present)");
-  const auto digest = sha256(std::string_view(in).substr(0, in.size() - kDigestSize));
+  const auto digest = sha256(in.substr(0, in.size() - kDigestSize));
   if (std::memcmp(digest.data(), in.data() + in.size() - kDigestSize, kDigestSize) != 0)
     throw CheckpointError("its checksum does not match its contents (the file is corrupt)");
-  const std::string payload = in.substr(header, length);
+  const std::string_view payload = in.substr(header, length);
   at = 0;
   CheckpointFields fields;
   const auto count = take<std::uint32_t>(payload, at);
   for (std::uint32_t i = 0; i < count; ++i) {
     const auto name_size = take<std::uint16_t>(payload, at);
     if (payload.size() - at < name_size) throw CheckpointError("the payload ends inside a field's name");
-    std::string name = payload.substr(at, name_size);
+    std::string name(payload.substr(at, name_size));
     at += name_size;
     const auto kind = take<std::uint8_t>(payload, at);
     if (kind > kBytes) throw CheckpointError("field '" + name + "' is of unknown kind " + std::to_string(kind));
@@ -182,7 +204,7 @@ CheckpointFields CheckpointFields::decode(const std::string& in) {
     const std::uint64_t width = kind == kBytes ? 1 : 8;
     if (n > kMaxFieldBytes / width || payload.size() - at < n * width)
       throw CheckpointError("field '" + name + "' is longer than the payload");
-    fields.fields_[name] = {static_cast<Kind>(kind), n, payload.substr(at, n * width)};
+    fields.fields_[name] = {static_cast<Kind>(kind), n, std::string(payload.substr(at, n * width))};
     at += n * width;
   }
   if (at != payload.size()) throw CheckpointError("the payload has bytes after its last field");
@@ -210,15 +232,25 @@ void write_all(int fd, const char* data, std::size_t size, const std::filesystem
 
 void write_checkpoint_file(const std::filesystem::path& file, const CheckpointFields& fields,
                            const std::function<void()>& midway) {
-  const std::string bytes = fields.encode();
   const std::filesystem::path temporary = file.string() + ".tmp";
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail_writing(temporary, "cannot create it");
   try {
-    const std::size_t half = bytes.size() / 2;
-    write_all(fd, bytes.data(), half, temporary);
-    if (midway) midway();
-    write_all(fd, bytes.data() + half, bytes.size() - half, temporary);
+    const std::uint64_t half = fields.encoded_size() / 2;
+    std::uint64_t written = 0;
+    bool called = !midway;
+    fields.encode_into([&](std::string_view piece) {
+      if (!called && written + piece.size() >= half) {
+        const auto first = static_cast<std::size_t>(half - written);
+        write_all(fd, piece.data(), first, temporary);
+        midway();
+        called = true;
+        piece.remove_prefix(first);
+        written += first;
+      }
+      write_all(fd, piece.data(), piece.size(), temporary);
+      written += piece.size();
+    });
     if (::fsync(fd) != 0) fail_writing(temporary, "fsync failed");
   } catch (...) {
     ::close(fd);
@@ -236,12 +268,16 @@ void write_checkpoint_file(const std::filesystem::path& file, const CheckpointFi
 }
 
 CheckpointFields read_checkpoint_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
   if (!in) throw CheckpointError("checkpoint " + file.string() + " cannot be read");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
+  // Read whole into one buffer of its size: the fields are then copied out
+  // of it once.
+  std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+    throw CheckpointError("checkpoint " + file.string() + " cannot be read");
   try {
-    return CheckpointFields::decode(bytes.str());
+    return CheckpointFields::decode(bytes);
   } catch (const CheckpointError& e) {
     throw CheckpointError("checkpoint " + file.string() + ": " + e.what());
   }

@@ -18,6 +18,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fibrodem {
@@ -64,10 +65,16 @@ class CheckpointFields {
     values = numbers(name, static_cast<long long>(values.size()));
   }
 
-  // The encoded file (header, payload, checksum) and its inverse; decode
-  // throws CheckpointError for a wrong magic, format, length or checksum.
+  // The encoded file (header, payload, checksum), handed to `write` in
+  // order, piece by piece: the fields' data as they are held, so that
+  // writing a checkpoint copies none of it (a copy of the payload would
+  // double a checkpoint's memory while it is written).
+  void encode_into(const std::function<void(std::string_view)>& write) const;
+  std::uint64_t encoded_size() const;  // bytes, checksum included
+  // The same in one string, and its inverse; decode throws CheckpointError
+  // for a wrong magic, format, length or checksum.
   std::string encode() const;
-  static CheckpointFields decode(const std::string& file_bytes);
+  static CheckpointFields decode(std::string_view file_bytes);
 
  private:
   enum Kind : std::uint8_t { kF64 = 0, kI64 = 1, kBytes = 2 };
@@ -77,6 +84,7 @@ class CheckpointFields {
     std::string data;
   };
   const Field& field(const std::string& name, Kind kind) const;
+  std::uint64_t payload_size() const;
   std::map<std::string, Field> fields_;
 };
 

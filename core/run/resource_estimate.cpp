@@ -258,9 +258,21 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   const double trace_samples = samples(scene.duration_ms, tr.from_ms, tr.every_ms);
   double columns = mechanics ? 3 : 0;
   for (const auto& block : tr.blocks) columns += static_cast<double>(block.cells.size() * block.variables.size());
+  // A checkpoint's bytes: the states (with inputs and outputs, ~1.5 x), the
+  // biomarker trackers (~124 bytes a cell), the traces so far (at most all),
+  // DEM bodies, particles and bonds.
+  const auto checkpoint_bytes = [&](double of_states, double of_cells, double trace_values) {
+    return 12 * of_states + 124 * of_cells + 8 * trace_values +
+           (mechanics ? 300 * particles + 110.0 * static_cast<double>(tissue.bonds.size()) : 0.0);
+  };
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
   if (mechanics) e.memory.push_back(dem_memory(tissue));
+  // A checkpoint while it is written: its fields, each array copied once
+  // (streamed to the file from there: io/checkpoint_file.hpp), this rank's part.
+  if (scene.output.checkpoint.every_ms > 0)
+    e.memory.push_back({"a checkpoint while it is written", checkpoint_bytes(states, cells, columns * trace_samples),
+                        "output.checkpoint: none, or a smaller tissue"});
   // A rank other than 0 builds the whole tissue, then frees its particles
   // before the stepping (run/simulation_ranks.cpp): its peak may be then.
   if (split && !gathers) {
@@ -281,13 +293,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         "output.snapshots: a larger every_ms, or png/vtk/strain false"});
     e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * tissue_cells + 300.0 * particles + 1e5, ""});
     if (scene.output.checkpoint.every_ms > 0) {
-      // A checkpoint: the states (with inputs and outputs, ~1.5 x), the
-      // biomarker trackers (~124 bytes a cell), the traces so far (at most
-      // all), DEM bodies, particles and bonds; `keep` of them and one being written.
-      // (Split over ranks: every rank's part, in the one folder.)
+      // `keep` checkpoints and one being written (split over ranks: every
+      // rank's part, in the one folder).
       const double all_states = split ? states * tissue_cells / std::max(1.0, cells) : states;
-      const double one = 12 * all_states + 124 * tissue_cells + 8 * columns * trace_samples +
-                         (mechanics ? 300 * particles + 110.0 * static_cast<double>(tissue.bonds.size()) : 0.0);
+      const double one = checkpoint_bytes(all_states, tissue_cells, columns * trace_samples);
       const int copies = scene.output.checkpoint.keep + 1;
       e.output.push_back({fmt::format("{} checkpoints", copies), copies * one,
                           "output.checkpoint: a smaller keep"});

@@ -11,13 +11,24 @@
 
 namespace fibrodem {
 
+Sha256::Sha256() : context_(std::make_unique<::sha256_ctx>()) { sha256_init(context_.get()); }
+
+Sha256::~Sha256() = default;
+
+void Sha256::update(std::string_view bytes) {
+  sha256_update(context_.get(), bytes.size(), reinterpret_cast<const std::uint8_t*>(bytes.data()));
+}
+
+std::array<unsigned char, 32> Sha256::digest() {
+  std::array<unsigned char, 32> out{};
+  sha256_digest(context_.get(), out.size(), out.data());  // (Nettle resets the context)
+  return out;
+}
+
 std::array<unsigned char, 32> sha256(std::string_view bytes) {
-  sha256_ctx context;
-  sha256_init(&context);
-  sha256_update(&context, bytes.size(), reinterpret_cast<const std::uint8_t*>(bytes.data()));
-  std::array<unsigned char, 32> digest{};
-  sha256_digest(&context, digest.size(), digest.data());
-  return digest;
+  Sha256 hash;
+  hash.update(bytes);
+  return hash.digest();
 }
 
 std::string sha256_hex(std::string_view bytes) {

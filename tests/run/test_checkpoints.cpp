@@ -12,6 +12,7 @@
 #include "io/checkpoint_file.hpp"
 #include "run/checkpoint_dir.hpp"
 #include "util/manifest_error.hpp"
+#include "util/sha256.hpp"
 #include "support/scenes.hpp"
 
 using namespace fibrodem;
@@ -138,6 +139,21 @@ TEST_CASE("a checkpoint file reads back its fields, a truncated, corrupt or fore
   const auto dir = testing::scratch_dir("checkpoint_file");
   write_checkpoint_file(dir / "c.ckpt", f);
   CHECK(read_checkpoint_file(dir / "c.ckpt").text("a.text") == "colman");
+  // Streamed to the file piece by piece, it is the encoding, its checksum
+  // the SHA-256 of all before it.
+  CHECK(testing::read_file(dir / "c.ckpt") == bytes);
+  CHECK(f.encoded_size() == bytes.size());
+  const auto digest = sha256(std::string_view(bytes).substr(0, bytes.size() - 32));
+  CHECK(bytes.substr(bytes.size() - 32) == std::string(digest.begin(), digest.end()));
+  // A test's hook runs once, when half the file is on disk.
+  std::uintmax_t at_midway = 0;
+  int calls = 0;
+  write_checkpoint_file(dir / "d.ckpt", f, [&] {
+    at_midway = fs::file_size(dir / "d.ckpt.tmp");
+    ++calls;
+  });
+  CHECK(calls == 1);
+  CHECK(at_midway == bytes.size() / 2);
   CHECK_FALSE(fs::exists(dir / "c.ckpt.tmp"));
   CHECK_THROWS_WITH_AS(read_checkpoint_file(dir / "none.ckpt"), doctest::Contains("none.ckpt cannot be read"),
                        CheckpointError);

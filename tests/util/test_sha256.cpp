@@ -2,7 +2,9 @@
 // of Python's hashlib for lengths around the 55/56/64-byte padding boundaries.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "util/sha256.hpp"
@@ -39,4 +41,28 @@ TEST_CASE("SHA-256 pads messages of every length around a block's end") {
     CAPTURE(c.first);
     CHECK(sha256_hex(std::string(c.first, 'x')) == c.second);
   }
+}
+
+TEST_CASE("SHA-256 fed piece by piece gives the digest of the whole") {
+  // FIPS 180-2's B.2 message cut at every place, and a million 'a' in
+  // pieces of 1,000 and 7 (not a divisor of a block): the digests above.
+  const std::string b2 = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
+  const std::array<unsigned char, 32> whole = sha256(b2);
+  for (std::size_t cut = 0; cut <= b2.size(); ++cut) {
+    Sha256 hash;
+    hash.update(std::string_view(b2).substr(0, cut));
+    hash.update(std::string_view(b2).substr(cut));
+    CHECK(hash.digest() == whole);
+  }
+  const std::string a(1000000, 'a');
+  for (std::size_t piece : {std::size_t{1000}, std::size_t{7}}) {
+    Sha256 hash;
+    for (std::size_t at = 0; at < a.size(); at += piece) hash.update(std::string_view(a).substr(at, piece));
+    CHECK(hash.digest() == sha256(a));
+  }
+  Sha256 again;  // a digest starts the hash afresh
+  again.update("x");
+  (void)again.digest();
+  again.update("abc");
+  CHECK(again.digest() == sha256("abc"));
 }
