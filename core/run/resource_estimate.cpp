@@ -303,9 +303,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
       // The re-entry samples beside them (run/frame_log.hpp): a float a
       // cell a sample, with mechanics the fibre stretch's too.
       if (const auto& re = scene.output.reentry; re.on) {
-        const double frames = samples(scene.duration_ms, re.from_ms, re.every_ms);
-        e.output.push_back({fmt::format("re-entry samples beside the checkpoints: {:.0f}", frames),
-                            frames * (mechanics ? 2 : 1) * (4 * tissue_cells + 8),
+        const double kept = samples(scene.duration_ms, re.from_ms, re.every_ms);
+        e.output.push_back({fmt::format("re-entry samples beside the checkpoints: {:.0f}", kept),
+                            kept * (mechanics ? 2 : 1) * (4 * tissue_cells + 8),
                             "output.reentry: a larger every_ms or a later from_ms"});
       }
     }
