@@ -42,8 +42,8 @@ int triangle_charge(const std::array<int, 3>& t, const std::vector<double>& phas
 }
 
 int hole_charge(const CellHole& hole, const std::vector<double>& phase) {
-  // Each loop's charge is an integer on its own: rounding each keeps the
-  // difference one too.
+  // Each loop's winding is a whole number of turns up to rounding: rounded
+  // loop by loop, their difference is one too.
   const double rim = turns_around(hole.rim, phase);
   if (!std::isfinite(rim)) return 0;
   int charge = rounded(rim);
