@@ -148,6 +148,8 @@ std::vector<CellHole> cell_holes(const Tissue& tissue, const std::vector<std::ar
     hole.rim = std::move(loop);
     hole.x_mm = p.cx_um / 1000, hole.y_mm = p.cy_um / 1000;
     hole.area_mm2 = -p.area_um2 / 1e6;
+    for (int c : hole.rim)
+      hole.reach_mm = std::max(hole.reach_mm, std::hypot(tissue.x_um[c] - p.cx_um, tissue.y_um[c] - p.cy_um) / 1000);
     holes.push_back(std::move(hole));
     hole_polygons.push_back(p);
   }

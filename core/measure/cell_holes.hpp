@@ -34,6 +34,7 @@ struct CellHole {
   std::vector<CellLoop> islands;  // outer rims directly inside it, counter-clockwise
   double x_mm = 0, y_mm = 0;      // the centroid of the area the rim encloses
   double area_mm2 = 0;            // the area the rim encloses
+  double reach_mm = 0;            // from the centroid to the farthest rim cell
 };
 
 std::vector<CellHole> cell_holes(const Tissue& tissue, const std::vector<std::array<int, 3>>& triangles);

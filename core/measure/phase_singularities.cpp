@@ -75,6 +75,7 @@ std::vector<PhaseSingularity> find_phase_singularities(const Tissue& tissue,
     const int charge = hole_charge(holes[h], phase_rad);
     PhaseSingularity ps;
     ps.x_mm = holes[h].x_mm, ps.y_mm = holes[h].y_mm;
+    ps.reach_mm = holes[h].reach_mm;
     ps.chirality = charge > 0 ? 1 : -1;
     ps.hole = static_cast<int>(h);
     for (int n = 0; n < std::abs(charge); ++n) found.push_back(ps);

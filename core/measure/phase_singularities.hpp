@@ -44,6 +44,9 @@ struct PhaseSingularity {
   int chirality = 0;  // +1 or -1
   int triangle = -1;  // index into the triangles searched, or -1
   int hole = -1;      // index into the holes searched, or -1
+  // How far from (x, y) the singularity may lie: 0 on a triangle (it is
+  // within a cell), a hole's reach (its centroid to its farthest rim cell).
+  double reach_mm = 0;
 };
 
 // The charge of a closed loop of cells (counter-clockwise, the last joined to

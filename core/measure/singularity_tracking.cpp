@@ -38,7 +38,7 @@ std::vector<int> SingularityTracker::add_frame(double t_ms, const std::vector<Ph
       tracks_.push_back(track);
     }
     SingularityTrack& track = tracks_[ids[k]];
-    track.trajectory.push_back({t_ms, found[k].x_mm, found[k].y_mm});
+    track.trajectory.push_back({t_ms, found[k].x_mm, found[k].y_mm, found[k].reach_mm});
     track.death_ms = t_ms;
     alive_.push_back(ids[k]);
   }

@@ -16,7 +16,10 @@ struct SingularityTrack {
   double birth_ms = 0;
   double death_ms = 0;  // the last frame it was seen in
   bool alive = true;    // seen in the latest frame
-  struct Point { double t_ms, x_mm, y_mm; };
+  struct Point {
+    double t_ms, x_mm, y_mm;
+    double reach_mm = 0;  // PhaseSingularity::reach_mm
+  };
   std::vector<Point> trajectory;
 };
 

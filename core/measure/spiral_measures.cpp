@@ -102,7 +102,7 @@ double rotation_period_ms(const SingularityTrack& track, const Tissue& tissue,
   double x = 0, y = 0, reach = 0;
   for (const auto& p : track.trajectory) x += p.x_mm, y += p.y_mm;
   x /= track.trajectory.size(), y /= track.trajectory.size();
-  for (const auto& p : track.trajectory) reach = std::max(reach, std::hypot(p.x_mm - x, p.y_mm - y));
+  for (const auto& p : track.trajectory) reach = std::max(reach, std::hypot(p.x_mm - x, p.y_mm - y) + p.reach_mm);
   reach += kTipNeighbourhood_mm;
   std::vector<double> per_cell, intervals;
   for (std::size_t c = 0; c < tissue.cell_count() && c < activations_ms.size(); ++c) {

@@ -48,9 +48,11 @@ struct SpiralMeasures {
 };
 
 // Cells within kTipNeighbourhood_mm of the tip's path (of its mean position,
-// plus the path's largest distance from it) are "around the tip": eight
-// myocytes along a fibre, forty columns across, near enough to follow this
-// rotor rather than another.
+// plus the path's largest distance from it, each point's reach added: a PS
+// in a hole is anywhere in it) are "around the tip": eight myocytes along a
+// fibre, forty columns across, near enough to follow this rotor rather than
+// another. Around a hole, the cells within that distance of its farthest
+// rim cell from the centroid, so every cell of its rim.
 inline constexpr double kTipNeighbourhood_mm = 1.0;
 
 // The median over the cells around the tip of each one's median interval

@@ -85,6 +85,7 @@ TEST_CASE("a block without cells is one hole, its rim through the cells around i
   CHECK(holes[0].area_mm2 == doctest::Approx(0.36));
   CHECK(holes[0].x_mm == doctest::Approx(0.6));
   CHECK(holes[0].y_mm == doctest::Approx(0.6));
+  CHECK(holes[0].reach_mm == doctest::Approx(0.3 * std::sqrt(2.0)));  // to a corner of the rim
   CHECK(holes[0].islands.empty());
   const Tissue whole = grid_without(15, [](int, int) { return false; });
   CHECK(cell_holes(whole, cell_triangles(whole)).empty());

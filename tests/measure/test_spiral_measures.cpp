@@ -132,6 +132,28 @@ TEST_CASE("the rotation period is the cycle length of the cells around the tip, 
   CHECK(std::isnan(rotation_period_ms(track, t, activations)));
 }
 
+TEST_CASE("a phase singularity in a hole takes its period from the cells around the hole") {
+  // A PS in a hole is placed at the hole's centroid, possibly far from every
+  // cell: its reach (centroid to farthest rim cell) widens "around the tip"
+  // by as much. A tip at (2, 2) mm on a 41 x 41 grid 0.1 mm apart: cells
+  // within 1 mm activate every 150 ms, those 1-1.5 mm away every 120 ms (the
+  // more of the two: a ring of 3.9 mm^2 against a disk of 3.1), the rest
+  // (8.9 mm^2) every 400 ms. With reach 0.5 mm the median is the ring's.
+  const Tissue t = grid(41, 100);
+  std::vector<std::vector<double>> activations(t.cell_count());
+  for (std::size_t c = 0; c < t.cell_count(); ++c) {
+    const double r = std::hypot(t.x_um[c] / 1000 - 2.0, t.y_um[c] / 1000 - 2.0);
+    const double every = r <= 1.0 ? 150 : r <= 1.5 ? 120 : 400;
+    for (double a = 100 + c % 7; a <= 700; a += every) activations[c].push_back(a);
+  }
+  SingularityTrack track;
+  track.birth_ms = 100, track.death_ms = 700;
+  track.trajectory = {{100, 2.0, 2.0}, {700, 2.0, 2.0}};
+  CHECK(rotation_period_ms(track, t, activations) == doctest::Approx(150));
+  track.trajectory = {{100, 2.0, 2.0, 0.5}, {700, 2.0, 2.0, 0.5}};
+  CHECK(rotation_period_ms(track, t, activations) == doctest::Approx(120));
+}
+
 TEST_CASE("the convex hull of a square with points inside it is the square") {
   const auto hull = convex_hull({{0, 0}, {2, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 0}, {0.5, 1.5}, {2, 2}});
   CHECK(hull.size() == 4);  // (1, 0) lies on an edge: left out
