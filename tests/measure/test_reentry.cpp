@@ -436,7 +436,7 @@ TEST_CASE("a wave anchored on a collagen region is one rotor, at the region's ce
   // stays at the rim's centroid: one track that is a rotor (a turn or
   // more), its mean position the region's centre within a cell (125 um
   // along the fibres, y), meander 0. (Searched on triangles of cells alone,
-  // as before holes were, this run had 2 tracks, the longest 8 ms: no rotor.)
+  // without its holes, the same run has 2 tracks, the longest 8 ms: no rotor.)
   const json m = json::parse(R"({
     "fibrodem": 1, "name": "anchored", "seed": 1, "duration_ms": 600,
     "tissue": {"builder": "fibrotic_sheet", "width_mm": 3, "length_mm": 6,
