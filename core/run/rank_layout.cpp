@@ -2,6 +2,23 @@
 
 namespace fibrodem {
 
+RankLayout rank_layout(const CellPartition& partition) {
+  RankLayout layout;
+  const std::vector<std::size_t> sizes = partition.sizes();
+  layout.counts.assign(sizes.size(), 0);
+  layout.offsets.assign(sizes.size(), 0);
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    layout.counts[r] = static_cast<int>(sizes[r]);
+    if (r > 0) layout.offsets[r] = layout.offsets[r - 1] + layout.counts[r - 1];
+  }
+  layout.cells_in_rank_order.resize(partition.part_of.size());
+  std::vector<int> next = layout.offsets;
+  for (std::size_t cell = 0; cell < partition.part_of.size(); ++cell)
+    layout.cells_in_rank_order[static_cast<std::size_t>(next[static_cast<std::size_t>(partition.part_of[cell])]++)] =
+        static_cast<int>(cell);
+  return layout;
+}
+
 void gather_by_cell(RankGroup& ranks, const RankLayout& layout, const double* own, std::vector<double>& gathered,
                     std::vector<double>& by_cell) {
   const bool on_rank0 = ranks.rank() == 0;

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "tissue/cell_partition.hpp"
 #include "util/rank_group.hpp"
 
 namespace fibrodem {
@@ -25,6 +26,10 @@ struct RankLayout {
   }
   std::size_t cell_count() const { return cells_in_rank_order.size(); }
 };
+
+// The layout of a partition's parts, one pass over its cells (each rank's
+// cells come out in increasing tissue order).
+RankLayout rank_layout(const CellPartition& partition);
 
 // Collective: each rank's values of its own cells, `own` (one a cell, in
 // cells_of(its rank)'s order), gathered on rank 0 into `by_cell` (one a

@@ -63,18 +63,8 @@ void Simulation::Impl::split_over_ranks() {
   split.share = rank_cells(tissue, partition, split.ranks->rank());
   split.owned.assign(tissue.cell_count(), 0);
   for (int cell : split.share.owned) split.owned[static_cast<std::size_t>(cell)] = 1;
-  RankLayout& layout = split.layout;
-  layout.cells_in_rank_order.clear();
-  layout.cells_in_rank_order.reserve(tissue.cell_count());
-  for (int r = 0; r < split.ranks->size(); ++r)
-    for (int cell : partition.cells_of(r)) layout.cells_in_rank_order.push_back(cell);
-  const std::vector<std::size_t> sizes = partition.sizes();
-  layout.counts.assign(sizes.size(), 0);
-  layout.offsets.assign(sizes.size(), 0);
-  for (std::size_t r = 0; r < sizes.size(); ++r) {
-    layout.counts[r] = static_cast<int>(sizes[r]);
-    if (r > 0) layout.offsets[r] = layout.offsets[r - 1] + layout.counts[r - 1];
-  }
+  split.layout = rank_layout(partition);
+  const std::vector<int>& sizes = split.layout.counts;
   plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
                                    split.ranks->size(), *std::min_element(sizes.begin(), sizes.end()),

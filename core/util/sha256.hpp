@@ -12,6 +12,7 @@ struct sha256_ctx;  // Nettle's (util/sha256.cpp)
 namespace fibrodem {
 
 std::array<unsigned char, 32> sha256(std::string_view bytes);
+std::string sha256_hex(std::string_view bytes);  // 64 lowercase hex digits
 
 // The digest of bytes given piece by piece (a checkpoint streamed to its file).
 class Sha256 {
@@ -24,6 +25,5 @@ class Sha256 {
  private:
   std::unique_ptr<::sha256_ctx> context_;
 };
-std::string sha256_hex(std::string_view bytes);  // 64 lowercase hex digits
 
 }  // namespace fibrodem
