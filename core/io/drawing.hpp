@@ -32,7 +32,7 @@ class Drawing {
 
 // The module's entry point, exported as C (bump its version with any change
 // to Drawing, so an older module is refused rather than misread).
-inline constexpr const char* kDrawingEntry = "fibrodem_drawing_v2";
+inline constexpr const char* kDrawingEntry = "fibrodem_drawing_v3";
 
 // The module's Drawing, opened on the first call (thread-safe). Throws
 // std::runtime_error if the module is missing (util/runtime_module.hpp).

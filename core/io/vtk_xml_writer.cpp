@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <bit>
@@ -14,6 +15,8 @@
 #include <string>
 #include <type_traits>
 #include <vector>
+
+#include "io/tissue_imprint.hpp"
 
 namespace fibrodem {
 
@@ -72,6 +75,29 @@ class AppendedArrays {
     arrays_.push_back(std::move(a));
     texts_.emplace_back();
   }
+  // An array packed before (pack()), copied as it is.
+  void add(const PackedVtpArray& packed) {
+    Array a;
+    a.element_head = packed.element_head;
+    a.packed = &packed.appended;
+    arrays_.push_back(std::move(a));
+    texts_.emplace_back();
+  }
+  std::size_t size() const { return arrays_.size(); }
+  // Array i, packed: its element and appended data as write() writes them.
+  PackedVtpArray pack(std::size_t i) const {
+    const Array& a = arrays_.at(i);
+    PackedVtpArray packed{a.element_head, {}};
+    std::vector<unsigned char>& out = packed.appended;
+    const std::size_t header_bytes = 8 * (3 + (a.bytes + kBlockBytes - 1) / kBlockBytes);
+    out.resize(header_bytes);  // (filled once the blocks' sizes are known)
+    const std::vector<std::uint64_t> block_header = deflate_blocks(a, [&](const unsigned char* data, std::size_t n) {
+      out.insert(out.end(), data, data + n);
+    });
+    std::memcpy(out.data(), block_header.data(), header_bytes);
+    out.shrink_to_fit();  // (kept for the run: not the room its growth left)
+    return packed;
+  }
   // Writes the whole file: the header, "_", the appended data, `tail`.
   void write(const std::filesystem::path& file, const std::string& appended_tag, const std::string& tail) {
     std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen(file.c_str(), "wb"), &std::fclose);
@@ -99,6 +125,7 @@ class AppendedArrays {
     std::string element_head, name;
     std::size_t bytes = 0;
     std::function<void(std::size_t first_byte, std::size_t bytes, unsigned char* out)> fill;
+    const std::vector<unsigned char>* packed = nullptr;  // its appended data as written, if packed before
   };
 
   // The header with these offsets, `padding` before the last text (the blanks
@@ -110,28 +137,44 @@ class AppendedArrays {
     return xml + texts_.back() + padding;
   }
 
-  // One array's appended data at `at`: the block header (number of blocks,
-  // block size, size of the last block if partial (else 0), compressed size
-  // of each block, as UInt64) and the deflated blocks. Returns its size.
-  static std::uint64_t write_blocks(FILE* f, off_t at, const Array& a, const std::filesystem::path& file) {
+  // One array's deflated blocks, each handed to put_block(data, bytes) in
+  // turn; returns the block header (number of blocks, block size, size of
+  // the last block if partial (else 0), compressed size of each block).
+  template <class PutBlock>
+  static std::vector<std::uint64_t> deflate_blocks(const Array& a, PutBlock&& put_block) {
     const std::size_t blocks = (a.bytes + kBlockBytes - 1) / kBlockBytes;
     std::vector<std::uint64_t> block_header{blocks, kBlockBytes, a.bytes % kBlockBytes};
-    block_header.resize(3 + blocks);  // compressed sizes: filled in below
-    put(f, block_header.data(), 8 * block_header.size(), file);
+    block_header.resize(3 + blocks);
     std::vector<unsigned char> raw(kBlockBytes), packed(compressBound(kBlockBytes));
-    std::uint64_t total = 8 * block_header.size();
     for (std::size_t b = 0; b < blocks; ++b) {
       const std::size_t begin = b * kBlockBytes, size = std::min(kBlockBytes, a.bytes - begin);
       a.fill(begin, size, raw.data());
       uLongf packed_size = static_cast<uLongf>(packed.size());
       if (compress2(packed.data(), &packed_size, raw.data(), static_cast<uLong>(size), kZlibLevel) != Z_OK)
         throw std::runtime_error("write_tissue_vtp: zlib failed to compress array '" + a.name + "'");
-      put(f, packed.data(), packed_size, file);
+      put_block(packed.data(), static_cast<std::size_t>(packed_size));
       block_header[3 + b] = packed_size;
-      total += packed_size;
     }
+    return block_header;
+  }
+
+  // One array's appended data at `at`: the block header (UInt64 each) and
+  // the deflated blocks. Returns its size.
+  static std::uint64_t write_blocks(FILE* f, off_t at, const Array& a, const std::filesystem::path& file) {
+    if (a.packed) {
+      put(f, a.packed->data(), a.packed->size(), file);
+      return a.packed->size();
+    }
+    const std::size_t blocks = (a.bytes + kBlockBytes - 1) / kBlockBytes;
+    const std::uint64_t header_bytes = 8 * (3 + blocks);
+    seek(f, at + static_cast<off_t>(header_bytes), file);  // the header's room, written once the sizes are known
+    std::uint64_t total = header_bytes;
+    const std::vector<std::uint64_t> block_header = deflate_blocks(a, [&](const unsigned char* data, std::size_t n) {
+      put(f, data, n, file);
+      total += n;
+    });
     seek(f, at, file);  // little-endian, the file's byte_order (checked in write_tissue_vtp)
-    put(f, block_header.data(), 8 * block_header.size(), file);
+    put(f, block_header.data(), header_bytes, file);
     seek(f, at + static_cast<off_t>(total), file);
     return total;
   }
@@ -156,71 +199,131 @@ std::string clean_name(const std::string& name) {
   return escaped;
 }
 
-void check_input(const Tissue& tissue, const CellFields& fields,
+void check_input(std::size_t particles, const Tissue& tissue, const CellFields& fields,
                  const std::vector<std::array<double, 2>>* displacement_um) {
   for (const auto& [name, values] : fields)
     if (values.size() != tissue.cell_count())
       throw std::runtime_error("write_tissue_vtp: field '" + name + "' has " + std::to_string(values.size()) +
                                " values for " + std::to_string(tissue.cell_count()) + " cells");
-  if (displacement_um && displacement_um->size() != tissue.particles.size())
+  if (displacement_um && displacement_um->size() != particles)
     throw std::runtime_error("write_tissue_vtp: one displacement per particle");
-  if (tissue.particles.size() + 1 > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) ||
+  if (particles + 1 > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) ||
       2 * tissue.bonds.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
-    throw std::runtime_error("write_tissue_vtp: " + std::to_string(tissue.particles.size()) +
-                             " particles, more than Int32 indexes");
+    throw std::runtime_error("write_tissue_vtp: " + std::to_string(particles) + " particles, more than Int32 indexes");
+}
+
+std::string point_data_head(const CellFields& fields, bool with_displacement) {
+  return "<PointData Scalars=\"" + (fields.empty() ? std::string("cell_type") : clean_name(fields.front().first)) +
+         "\"" + (with_displacement ? " Vectors=\"displacement_um\"" : "") + ">\n";
 }
 
 // (The arrays' values are taken as the file is written: the lambdas hold
 // pointers into the tissue and fields, which outlive the writing.)
-void add_point_data(AppendedArrays& arrays, const Tissue& tissue, const CellFields& fields,
-                    const std::vector<std::array<double, 2>>* displacement_um) {
+void add_particle_arrays(AppendedArrays& arrays, const Tissue& tissue) {
   const std::size_t n = tissue.particles.size();
   const Particle* particles = tissue.particles.data();
   const CellType* type = tissue.type.data();
-  arrays.text("<PointData Scalars=\"" + (fields.empty() ? std::string("cell_type") : clean_name(fields.front().first)) +
-              "\"" + (displacement_um ? " Vectors=\"displacement_um\"" : "") + ">\n");
   arrays.add<float>("radius_um", 1, n, [particles](std::size_t i) { return static_cast<float>(particles[i].r_um); });
   arrays.add<std::int32_t>("cell", 1, n,
                            [particles](std::size_t i) { return static_cast<std::int32_t>(particles[i].cell); });
   arrays.add<std::uint8_t>("cell_type", 1, n, [particles, type](std::size_t i) {
     return static_cast<std::uint8_t>(type[particles[i].cell]);
   });
-  for (const auto& field : fields) {
-    const double* values = field.second.data();
-    arrays.add<float>(clean_name(field.first), 1, n, [particles, values](std::size_t i) {
-      return static_cast<float>(values[particles[i].cell]);
-    });
-  }
-  if (displacement_um) {
-    const std::array<double, 2>* d = displacement_um->data();
-    arrays.add<float>("displacement_um", 3, 3 * n,
-                      [d](std::size_t i) { return i % 3 == 2 ? 0.0f : static_cast<float>(d[i / 3][i % 3]); });
-  }
-  arrays.text("</PointData>\n<CellData/>\n");
 }
 
-void add_geometry(AppendedArrays& arrays, const Tissue& tissue, bool with_bonds) {
-  const std::size_t n = tissue.particles.size();
+void add_points(AppendedArrays& arrays, const Tissue& tissue) {
   const Particle* particles = tissue.particles.data();
-  arrays.text("<Points>\n");
-  arrays.add<float>("Points", 3, 3 * n, [particles](std::size_t i) {
+  arrays.add<float>("Points", 3, 3 * tissue.particles.size(), [particles](std::size_t i) {
     const Particle& p = particles[i / 3];
     return i % 3 == 0 ? static_cast<float>(p.x_um) : i % 3 == 1 ? static_cast<float>(p.y_um) : 0.0f;
   });
-  arrays.text("</Points>\n<Verts>\n");
-  // One vertex per particle: connectivity i, offsets (each cell's end) i + 1.
+}
+
+// One vertex per particle: connectivity i, offsets (each cell's end) i + 1.
+void add_vertices(AppendedArrays& arrays, std::size_t n) {
   arrays.add<std::int32_t>("connectivity", 1, n, [](std::size_t i) { return static_cast<std::int32_t>(i); });
   arrays.add<std::int32_t>("offsets", 1, n, [](std::size_t i) { return static_cast<std::int32_t>(i + 1); });
-  arrays.text("</Verts>\n");
-  if (with_bonds && !tissue.bonds.empty()) {
-    const Bond* bonds = tissue.bonds.data();
-    arrays.text("<Lines>\n");
-    arrays.add<std::int32_t>("connectivity", 1, 2 * tissue.bonds.size(),
-                             [bonds](std::size_t i) { return i % 2 == 0 ? bonds[i / 2].p : bonds[i / 2].q; });
-    arrays.add<std::int32_t>("offsets", 1, tissue.bonds.size(),
-                             [](std::size_t b) { return static_cast<std::int32_t>(2 * b + 2); });
-    arrays.text("</Lines>\n");
+}
+
+// A particle's cell read from an imprint's runs: particles are asked for in
+// order (block by block), so the run is found once and then followed.
+class CellOfParticle {
+ public:
+  explicit CellOfParticle(const ParticleCellRuns& runs) : runs_(runs) {}
+  std::int32_t operator()(std::size_t p) const {
+    const auto& end = runs_.end;
+    if (k_ >= end.size() || (k_ > 0 && p < static_cast<std::size_t>(end[k_ - 1])))
+      k_ = static_cast<std::size_t>(std::upper_bound(end.begin(), end.end(), static_cast<std::int32_t>(p)) -
+                                    end.begin());
+    while (p >= static_cast<std::size_t>(end[k_])) ++k_;
+    return runs_.cell[k_];
   }
+
+ private:
+  const ParticleCellRuns& runs_;
+  mutable std::size_t k_ = 0;
+};
+
+void add_fields(AppendedArrays& arrays, const CellFields& fields, std::size_t n, const auto& cell_of) {
+  for (const auto& field : fields) {
+    const double* values = field.second.data();
+    arrays.add<float>(clean_name(field.first), 1, n,
+                      [&cell_of, values](std::size_t i) { return static_cast<float>(values[cell_of(i)]); });
+  }
+}
+
+void add_displacement(AppendedArrays& arrays, const std::vector<std::array<double, 2>>& displacement_um) {
+  const std::array<double, 2>* d = displacement_um.data();
+  arrays.add<float>("displacement_um", 3, 3 * displacement_um.size(),
+                    [d](std::size_t i) { return i % 3 == 2 ? 0.0f : static_cast<float>(d[i / 3][i % 3]); });
+}
+
+void add_bonds(AppendedArrays& arrays, const std::vector<Bond>& tissue_bonds) {
+  const Bond* bonds = tissue_bonds.data();
+  arrays.text("<Lines>\n");
+  arrays.add<std::int32_t>("connectivity", 1, 2 * tissue_bonds.size(),
+                           [bonds](std::size_t i) { return i % 2 == 0 ? bonds[i / 2].p : bonds[i / 2].q; });
+  arrays.add<std::int32_t>("offsets", 1, tissue_bonds.size(),
+                           [](std::size_t b) { return static_cast<std::int32_t>(2 * b + 2); });
+  arrays.text("</Lines>\n");
+}
+
+std::string file_head(std::size_t particles, std::size_t lines) {
+  const std::string n = std::to_string(particles);
+  return "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
+         "compressor=\"vtkZLibDataCompressor\">\n<PolyData>\n"
+         "<Piece NumberOfPoints=\"" + n + "\" NumberOfVerts=\"" + n + "\" NumberOfLines=\"" +
+         std::to_string(lines) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+}
+
+void write_arrays(AppendedArrays& arrays, const std::filesystem::path& file) {
+  arrays.text("</Piece>\n</PolyData>\n");
+  arrays.write(file, "<AppendedData encoding=\"raw\">\n_", "\n</AppendedData>\n</VTKFile>\n");
+}
+
+// A tissue whose particles were released, from its imprint: the arrays in
+// the order write_tissue_vtp writes them.
+void write_from_imprint(const Tissue& tissue, const TissueImprint& imprint, const std::filesystem::path& file,
+                        const CellFields& fields, bool with_bonds,
+                        const std::vector<std::array<double, 2>>* displacement_um) {
+  if (with_bonds || displacement_um)
+    throw std::logic_error("write_tissue_vtp: " + file.string() + ": the tissue's particles were released with an "
+                           "imprint, which holds neither bonds nor displacements");
+  const std::size_t n = imprint.cells.particles();
+  check_input(n, tissue, fields, nullptr);
+  AppendedArrays arrays;
+  arrays.text(file_head(n, 0));
+  arrays.text(point_data_head(fields, false));
+  for (const PackedVtpArray* a : {&imprint.vtp.radius, &imprint.vtp.cell, &imprint.vtp.cell_type}) arrays.add(*a);
+  const CellOfParticle cell_of(imprint.cells);
+  add_fields(arrays, fields, n, cell_of);
+  arrays.text("</PointData>\n<CellData/>\n<Points>\n");
+  arrays.add(imprint.vtp.points);
+  arrays.text("</Points>\n<Verts>\n");
+  add_vertices(arrays, n);
+  arrays.text("</Verts>\n");
+  write_arrays(arrays, file);
 }
 
 }  // namespace
@@ -228,20 +331,40 @@ void add_geometry(AppendedArrays& arrays, const Tissue& tissue, bool with_bonds)
 void write_tissue_vtp(const Tissue& tissue, const std::filesystem::path& file, const CellFields& fields,
                       bool with_bonds, const std::vector<std::array<double, 2>>* displacement_um) {
   static_assert(std::endian::native == std::endian::little, "the file says byte_order LittleEndian");
-  check_input(tissue, fields, displacement_um);
+  if (tissue.particles.empty() && tissue.imprint())
+    return write_from_imprint(tissue, *tissue.imprint(), file, fields, with_bonds, displacement_um);
   const std::size_t n = tissue.particles.size();
-  const std::size_t lines = with_bonds ? tissue.bonds.size() : 0;
+  check_input(n, tissue, fields, displacement_um);
+  const bool lines = with_bonds && !tissue.bonds.empty();
   AppendedArrays arrays;
-  arrays.text(
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
-      "compressor=\"vtkZLibDataCompressor\">\n<PolyData>\n");
-  arrays.text("<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
-              "\" NumberOfLines=\"" + std::to_string(lines) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n");
-  add_point_data(arrays, tissue, fields, displacement_um);
-  add_geometry(arrays, tissue, with_bonds);
-  arrays.text("</Piece>\n</PolyData>\n");
-  arrays.write(file, "<AppendedData encoding=\"raw\">\n_", "\n</AppendedData>\n</VTKFile>\n");
+  arrays.text(file_head(n, lines ? tissue.bonds.size() : 0));
+  arrays.text(point_data_head(fields, displacement_um != nullptr));
+  add_particle_arrays(arrays, tissue);
+  const Particle* particles = tissue.particles.data();
+  const auto cell_of = [particles](std::size_t i) { return particles[i].cell; };
+  add_fields(arrays, fields, n, cell_of);
+  if (displacement_um) add_displacement(arrays, *displacement_um);
+  arrays.text("</PointData>\n<CellData/>\n<Points>\n");
+  add_points(arrays, tissue);
+  arrays.text("</Points>\n<Verts>\n");
+  add_vertices(arrays, n);
+  arrays.text("</Verts>\n");
+  if (lines) add_bonds(arrays, tissue.bonds);
+  write_arrays(arrays, file);
+}
+
+PackedVtpGeometry pack_vtp_geometry(const Tissue& tissue) {
+  AppendedArrays arrays;
+  add_particle_arrays(arrays, tissue);
+  add_points(arrays, tissue);
+  return {arrays.pack(0), arrays.pack(1), arrays.pack(2), arrays.pack(3)};
+}
+
+std::size_t PackedVtpGeometry::bytes() const {
+  std::size_t total = 0;
+  for (const PackedVtpArray* a : {&radius, &cell, &cell_type, &points})
+    total += a->appended.size() + a->element_head.size();
+  return total;
 }
 
 }  // namespace fibrodem

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "io/vtk_writer.hpp"
@@ -22,8 +23,26 @@ namespace fibrodem {
 // hold one value per cell, or the tissue has more particles than Int32
 // indexes. Field names have spaces replaced by '_'. The first field, if any,
 // is the points' active scalars (ParaView colours by it), else cell_type.
+// A tissue whose particles were released with an imprint
+// (io/tissue_imprint.hpp) is written from it, the same bytes: without
+// bonds or displacement (std::logic_error if asked for).
 void write_tissue_vtp(const Tissue& tissue, const std::filesystem::path& file,
                       const CellFields& cell_fields = {}, bool with_bonds = true,
                       const std::vector<std::array<double, 2>>* displacement_um = nullptr);
+
+// One array of the file as written: its XML element up to its offset, and
+// its appended data (block header and deflated blocks).
+struct PackedVtpArray {
+  std::string element_head;
+  std::vector<unsigned char> appended;
+};
+// What every file of a tissue holds the same whatever its fields and that
+// only the particles give: their radius_um, cell, cell_type and points.
+// (The vertices are numbered 0, 1, ...: packed afresh.)
+struct PackedVtpGeometry {
+  PackedVtpArray radius, cell, cell_type, points;
+  std::size_t bytes() const;
+};
+PackedVtpGeometry pack_vtp_geometry(const Tissue& tissue);
 
 }  // namespace fibrodem

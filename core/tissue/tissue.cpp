@@ -58,7 +58,8 @@ void Tissue::finalise() {
   cell_edges.shrink_to_fit();
 }
 
-void Tissue::release_particles() {
+void Tissue::release_particles(std::shared_ptr<const TissueImprint> imprint) {
+  imprint_ = std::move(imprint);
   released_bounds_um_ = bounds_um();
   released_particles_ = built_particles();
   released_bonds_ = built_bonds();

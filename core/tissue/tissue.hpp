@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,9 @@
 #include "model/cell_type.hpp"
 
 namespace fibrodem {
+
+// What the outputs keep of released particles (io/tissue_imprint.hpp).
+struct TissueImprint;
 
 struct Particle {
   double x_um = 0, y_um = 0, r_um = 0;
@@ -57,8 +61,13 @@ struct Tissue {
   // Frees the particles and bonds (collagen's too), keeping the cells, their
   // graph and the bounds the particles gave (bounds_um() is unchanged): for
   // a process that neither steps the DEM nor draws the tissue, such as a
-  // rank other than 0 of a split run (docs/guide/parallel.md).
-  void release_particles();
+  // rank other than 0 of a split run (docs/guide/parallel.md). With an
+  // imprint, what the pictures and VTK files need of them is kept in it
+  // (rank 0 of a split run without mechanics).
+  void release_particles(std::shared_ptr<const TissueImprint> imprint = nullptr);
+  bool particles_released() const { return particles_released_; }
+  // The imprint the particles were released with (null: none).
+  const TissueImprint* imprint() const { return imprint_.get(); }
   // Particles and bonds as built (collagen's included), released or not.
   std::size_t built_particles() const {
     return particles_released_ ? released_particles_ : particles.size() + collagen.size();
@@ -71,6 +80,7 @@ struct Tissue {
   bool particles_released_ = false;
   std::array<double, 4> released_bounds_um_{};
   std::size_t released_particles_ = 0, released_bonds_ = 0;
+  std::shared_ptr<const TissueImprint> imprint_;
 };
 
 // Geometry of the paper's cells (seed paper, section 2.2): a myocyte is 7

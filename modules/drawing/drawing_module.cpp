@@ -29,7 +29,7 @@ class CairoDrawing final : public Drawing {
 }  // namespace
 }  // namespace fibrodem::cairo
 
-extern "C" __attribute__((visibility("default"))) const fibrodem::Drawing* fibrodem_drawing_v2() {
+extern "C" __attribute__((visibility("default"))) const fibrodem::Drawing* fibrodem_drawing_v3() {
   static const fibrodem::cairo::CairoDrawing drawing;
   return &drawing;
 }

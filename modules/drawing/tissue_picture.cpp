@@ -1,4 +1,6 @@
 #include "cairo_drawing.hpp"
+#include "io/picture_frame.hpp"
+#include "io/tissue_imprint.hpp"
 #include "png_file.hpp"
 #include "util/number_text.hpp"
 
@@ -62,14 +64,25 @@ std::uint32_t rgb24(const Rgb& col) {
 // Sets the pixels of an RGB24 image whose centres lie within radius r of (cx, cy).
 void fill_disk(unsigned char* data, int stride, int width, int height, double cx, double cy, double r,
                std::uint32_t pixel) {
-  const int y0 = std::max(0, static_cast<int>(std::ceil(cy - r - 0.5)));
-  const int y1 = std::min(height - 1, static_cast<int>(std::floor(cy + r - 0.5)));
-  for (int y = y0; y <= y1; ++y) {
-    const double dy = y + 0.5 - cy, half = std::sqrt(std::max(0.0, r * r - dy * dy));
-    const int x0 = std::max(0, static_cast<int>(std::ceil(cx - half - 0.5)));
-    const int x1 = std::min(width - 1, static_cast<int>(std::floor(cx + half - 0.5)));
+  for_each_disk_span(width, height, cx, cy, r, [&](int y, int x0, int x1) {
     auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
-    if (x1 >= x0) std::fill(row + x0, row + x1 + 1, pixel);
+    std::fill(row + x0, row + x1 + 1, pixel);
+  });
+}
+
+// A released tissue's picture, from its imprint's pixels: the frame must be
+// the one the imprint was made in (the picture may be narrower: no colour bar).
+void fill_from_raster(unsigned char* data, int stride, const PictureFrame& f, const CellRaster& raster,
+                      const auto& pixel_of_cell) {
+  const PictureFrame& r = raster.frame;
+  if (r.bounds_um != f.bounds_um || r.px_per_um != f.px_per_um || r.margin_px != f.margin_px ||
+      r.top_px != f.top_px || f.width_px > r.width_px || f.height_px > r.height_px)
+    throw std::logic_error("write_tissue_png: the tissue's particles were released; its imprint holds the picture "
+                           "with a title at the default scale only");
+  for (int y = 0; y < f.height_px; ++y) {
+    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride);
+    for (int x = 0; x < f.width_px; ++x)
+      if (const std::int32_t cell = raster.at(x, y); cell >= 0) row[x] = pixel_of_cell(cell);
   }
 }
 
@@ -97,20 +110,13 @@ void draw_paths(cairo_t* c, const std::vector<PicturePath>& paths, const auto& p
 void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_um,
                       const std::filesystem::path& file, const std::vector<double>* values,
                       const PictureOptions& options) {
-  auto b = bounds_um;
-  if (!(b[1] > b[0])) b[0] -= 1, b[1] += 1;
-  if (!(b[3] > b[2])) b[2] -= 1, b[3] += 1;
-  const double scale = options.pixels_per_um > 0 ? options.pixels_per_um
-                                                  : std::max(1, options.height_px) / (b[3] - b[2]);
-  const int margin = 20, font = 14;
-  const int top = margin + (options.title.empty() ? 0 : font + 8);
-  const int tissue_w = static_cast<int>(std::ceil((b[1] - b[0]) * scale));
-  const int tissue_h = static_cast<int>(std::ceil((b[3] - b[2]) * scale));
-  const int bar_w = values ? 110 : 0;
-  const int width = margin + tissue_w + bar_w + margin;
-  const int height = top + std::max(tissue_h, values ? 240 : 0) + margin;
-  if (width > 32767 || height > 32767)
-    throw std::runtime_error("write_tissue_png: image too large; lower height_px or pixels_per_um");
+  const PictureFrame f = picture_frame(bounds_um, options, values != nullptr);
+  const double scale = f.px_per_um;
+  const int margin = f.margin_px, font = f.font_px, top = f.top_px;
+  const int tissue_w = f.tissue_width_px, width = f.width_px, height = f.height_px;
+  const TissueImprint* imprint = tissue.particles.empty() ? tissue.imprint() : nullptr;
+  if (imprint && options.draw_bonds)
+    throw std::logic_error("write_tissue_png: the tissue's particles and bonds were released: no bonds to draw");
 
   std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
       cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height), cairo_surface_destroy);
@@ -120,8 +126,8 @@ void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_
   cairo_paint(c);
 
   // Tissue coordinates to pixels (y up).
-  auto px = [&](double x) { return margin + (x - b[0]) * scale; };
-  auto py = [&](double y) { return top + (b[3] - y) * scale; };
+  auto px = [&](double x) { return f.x_px(x); };
+  auto py = [&](double y) { return f.y_px(y); };
 
   double lo = 0, hi = 1;
   if (values) {
@@ -134,7 +140,7 @@ void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_
     if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0, hi = 1;
     if (hi <= lo) hi = lo + 1;
   }
-  if (options.antialias) {
+  if (options.antialias && !imprint) {
     // Disks of a few pixels: a coarser arc tolerance (0.25 px) is invisible.
     cairo_set_tolerance(c, 0.25);
     // Consecutive particles of one colour (a myocyte's seven) are filled as one
@@ -146,7 +152,7 @@ void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_
       for (; i < tissue.particles.size() && tissue.particles[i].cell == cell; ++i) {
         const Particle& p = tissue.particles[i];
         cairo_new_sub_path(c);
-        cairo_arc(c, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), 0, 2 * M_PI);
+        cairo_arc(c, px(p.x_um), py(p.y_um), f.radius_px(p.r_um), 0, 2 * M_PI);
       }
       cairo_fill(c);
     }
@@ -160,12 +166,13 @@ void write_tissue_png(const Tissue& tissue, const std::array<double, 4>& bounds_
     const int stride = cairo_image_surface_get_stride(surface.get());
     // The colour bar's colours only (steps of 1/200 of the range), and text
     // and lines without grey edges: the picture then fits a PNG palette.
-    for (const Particle& p : tissue.particles) {
-      const int cell = p.cell;
-      const Rgb col = values ? colour_map(colour_bar_step(((*values)[cell] - lo) / (hi - lo)))
-                             : type_colour(tissue.type[cell]);
-      fill_disk(data, stride, width, height, px(p.x_um), py(p.y_um), std::max(0.5, p.r_um * scale), rgb24(col));
-    }
+    const auto pixel_of_cell = [&](int cell) {
+      return rgb24(values ? colour_map(colour_bar_step(((*values)[cell] - lo) / (hi - lo)))
+                          : type_colour(tissue.type[cell]));
+    };
+    if (imprint) fill_from_raster(data, stride, f, imprint->picture, pixel_of_cell);
+    for (const Particle& p : tissue.particles)
+      fill_disk(data, stride, width, height, px(p.x_um), py(p.y_um), f.radius_px(p.r_um), pixel_of_cell(p.cell));
     cairo_surface_mark_dirty(surface.get());
     cairo_set_antialias(c, CAIRO_ANTIALIAS_NONE);
     std::unique_ptr<cairo_font_options_t, decltype(&cairo_font_options_destroy)> sharp(
