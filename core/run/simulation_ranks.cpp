@@ -15,42 +15,18 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "io/tissue_imprint.hpp"
 #include "model/simd.hpp"
+#include "run/beat_gather.hpp"
 #include "run/over_ranks.hpp"
 #include "run/rank_reductions.hpp"
 #include "run/run_summary.hpp"
+#include "io/tissue_imprint.hpp"
 #include "run/simulation_impl.hpp"
 #include "tissue/cell_partition.hpp"
 #include "util/json_reader.hpp"
 
 namespace fibrodem {
-
-namespace {
-
-// A beat as numbers (its integers are exact in a double).
-constexpr std::size_t kBeatFields = 9;
-
-void pack(const BeatBiomarkers& b, std::vector<double>& into) {
-  into.insert(into.end(), {static_cast<double>(b.cell), static_cast<double>(static_cast<int>(b.type)),
-                           static_cast<double>(b.beat), b.activation_ms, b.rmp_mV, b.apo_mV, b.apd50_ms, b.apd90_ms,
-                           b.dvdt_max_mV_per_ms});
-}
-
-BeatBiomarkers unpack(const double* v) {
-  BeatBiomarkers b;
-  b.cell = static_cast<int>(v[0]);
-  b.type = static_cast<CellType>(static_cast<int>(v[1]));
-  b.beat = static_cast<int>(v[2]);
-  b.activation_ms = v[3];
-  b.rmp_mV = v[4];
-  b.apo_mV = v[5];
-  b.apd50_ms = v[6];
-  b.apd90_ms = v[7];
-  b.dvdt_max_mV_per_ms = v[8];
-  return b;
-}
-
-}  // namespace
 
 // After the solver is chosen: a scene the split cannot take stops here (the
 // command line checks the same before anything is written); then this
@@ -188,17 +164,12 @@ std::vector<double> Simulation::Impl::voltage_of_every_cell() {
 void Simulation::Impl::gather_from_ranks() {
   if (!split.ranks) return;
   if (mechanics) mechanics->solver().gather_on_rank0(true);  // (split: for its report)
-  std::vector<double> mine;
-  mine.reserve(beats.size() * kBeatFields);
-  for (const auto& b : beats) pack(b, mine);
-  const std::vector<std::vector<double>> beats_by_rank = split.ranks->gather(mine);
+  gather_beats_on_rank0(*split.ranks, beats);
   const std::vector<std::string> columns_by_rank = split.ranks->gather_text(traces.packed_columns());
   const std::vector<std::vector<double>> samples_by_rank = split.ranks->gather(traces.packed_samples());
   if (split.ranks->rank() != 0) return;
-  beats.clear();
-  for (const auto& values : beats_by_rank)
-    for (std::size_t k = 0; k + kBeatFields <= values.size(); k += kBeatFields) beats.push_back(unpack(&values[k]));
-  std::stable_sort(beats.begin(), beats.end(), in_beat_order);
+  // (A beat of a cell is unique: the order is the stable sort's, without its buffer of every beat.)
+  std::sort(beats.begin(), beats.end(), in_beat_order);
   for (const auto& b : beats) write_biomarker_row(b);
   traces.merge(scene.output.traces, columns_by_rank, samples_by_rank);
   if (!out.empty()) traces.write_csv(out / "traces.csv");
