@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "integrate/adaptive.hpp"
+#include "io/tissue_imprint.hpp"
 #include "integrate/integrator.hpp"
 #include "measure/biomarkers.hpp"
 #include "util/manifest_error.hpp"
@@ -53,7 +54,7 @@ double picture_bytes(const Tissue& tissue) { return 1.25 * 4 * picture_width_px(
 // palette's index) of the picture, whose size does not grow with the tissue
 // (a 5 x 5 cm sheet's frame: 12-19 kB for 5.9 M particles).
 double png_frame_bytes(const Tissue& tissue) {
-  return std::min(8.0 * static_cast<double>(tissue.particles.size()), picture_width_px(tissue) * kPictureHeightPx);
+  return std::min(8.0 * static_cast<double>(tissue.built_particles()), picture_width_px(tissue) * kPictureHeightPx);
 }
 
 // A snapshot's VTK file: legacy text ~120 bytes a particle; XML PolyData
@@ -129,6 +130,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   for (const auto& pop : system.populations) states += static_cast<double>(pop.size() * pop.n_states());
   for (const auto& m : system.myofilaments) states += static_cast<double>(m.pop.size() * m.pop.n_states());
   const double particles = static_cast<double>(tissue.particles.size() + tissue.collagen.size());
+  const double built_particles = static_cast<double>(tissue.built_particles());  // (what the files show)
   const double bonds = static_cast<double>(tissue.bonds.size() + tissue.collagen_bonds.size());
   const double edges = static_cast<double>(tissue.cell_edges.size());
   e.memory.push_back({"program, libraries, plugins and threads", kProgramBytes, ""});
@@ -147,6 +149,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   };
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, tissue_cells),
                       tissue_bytes(particles, bonds), "a smaller tissue"});
+  const TissueImprint* imprint = tissue.imprint();
+  if (imprint)
+    e.memory.push_back({"the particles' imprint, for the pictures and VTK files", static_cast<double>(imprint->bytes()),
+                        "a smaller tissue"});
   // The biomarker tracker's per-cell state (88 bytes a cell, and its cell
   // type in a byte) and a BeatBiomarkers a cell and beat (room reserved for
   // them all at the first); scale sheet 2.5 cm: 18.8 and 13.5 MB. With one
@@ -273,11 +279,12 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   if (scene.output.checkpoint.every_ms > 0)
     e.memory.push_back({"a checkpoint while it is written", checkpoint_bytes(states, cells, columns * trace_samples),
                         "output.checkpoint: none, or a smaller tissue"});
-  // A rank other than 0 builds the whole tissue, then frees its particles
-  // before the stepping (run/simulation_ranks.cpp): its peak may be then.
-  if (split && !gathers) {
-    const double build = kProgramBytes + tissue_bytes(static_cast<double>(tissue.built_particles()),
-                                                      static_cast<double>(tissue.built_bonds()));
+  // A rank that builds the whole tissue, then frees its particles before
+  // the stepping (run/simulation_ranks.cpp), may peak then (rank 0 with
+  // the particles' imprint made).
+  if (split && tissue.particles_released()) {
+    const double build = kProgramBytes + tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds())) +
+                         (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
     const double beyond = std::max(0.0, build - e.memory_bytes());
     e.memory.push_back({"the whole tissue while it is built, beyond the stepping's", beyond, "a smaller tissue"});
   }
@@ -289,9 +296,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     e.output.push_back({fmt::format("{:.0f} snapshots", frames),
                         frames * ((snap.png ? png_frame_bytes(tissue) : 0.0) +
                                   (snap.strain && mechanics ? png_frame_bytes(tissue) : 0.0) +
-                                  (snap.vtk ? vtk_frame_bytes(scene.output.vtk_format, particles, mechanics) : 0.0)),
+                                  (snap.vtk ? vtk_frame_bytes(scene.output.vtk_format, built_particles, mechanics)
+                                            : 0.0)),
                         "output.snapshots: a larger every_ms, or png/vtk/strain false"});
-    e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * tissue_cells + 300.0 * particles + 1e5, ""});
+    e.output.push_back({"biomarkers, maps, pictures, logs", 200.0 * tissue_cells + 300.0 * built_particles + 1e5, ""});
     if (scene.output.checkpoint.every_ms > 0) {
       // `keep` checkpoints and one being written (split over ranks: every
       // rank's part, in the one folder).

@@ -46,7 +46,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   tissue = scene.tissue->build(scene.seed);
   plan = plan_processes(scene, tissue);
   choose_solver();
-  if (!plan.has("mechanics")) release_particles_on_other_ranks();  // (the partition reads the cell graph only)
+  if (!plan.has("mechanics")) release_particles_over_ranks();  // (the partition reads the cell graph only)
   split_over_ranks();
   use_threads();
   build_populations();
@@ -60,7 +60,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   build_coupling();
   connect_ranks();
   build_mechanics();
-  release_particles_on_other_ranks();
+  release_particles_over_ranks();
   system.stimulus = Stimulus(scene.stimuli, tissue);
   refuse_traced_outputs();
   traces = TraceRecorder(split.ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));

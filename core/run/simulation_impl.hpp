@@ -208,7 +208,7 @@ struct Simulation::Impl : StepObserver {
   Scene scene_of_own_traces() const;
   void refuse_traced_outputs() const;
   void connect_ranks();
-  void release_particles_on_other_ranks();
+  void release_particles_over_ranks();
   std::unique_ptr<BiomarkerTracker> make_tracker();
   std::size_t tracked_edge(std::size_t cell_edge) const;
   const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);

@@ -49,7 +49,7 @@ void Simulation::Impl::open_outputs() {
 void Simulation::Impl::log_setup() {
   log->info("scene '{}': {} cells ({} myocytes, {} fibroblasts), {} particles, {} cell-graph edges",
             scene.name, tissue.cell_count(), tissue.count(CellType::myocyte),
-            tissue.count(CellType::fibroblast), tissue.particles.size(), tissue.cell_edges.size());
+            tissue.count(CellType::fibroblast), tissue.built_particles(), tissue.cell_edges.size());
   for (const auto& p : plan.built) log->info("process built: {} ({})", p.name, p.reason);
   for (const auto& note : plan.notes) log->info("{}", note);
   system.for_each_population([&](const Population& pop) {

@@ -53,9 +53,26 @@ void Simulation::Impl::split_over_ranks() {
 // keeps the cells, their centres and graph, and frees the particles and
 // bonds (on an EP sheet of myocytes 7 particles and 7 bonds a cell, 280 bytes
 // of its ~330) once the mechanics, set up on every rank for the same
-// refusals, has been built.
-void Simulation::Impl::release_particles_on_other_ranks() {
-  if (split.ranks && split.ranks->rank() != 0) tissue.release_particles();
+// refusals, has been built. Rank 0 of a run without mechanics, whose
+// particles stay where they were built, keeps their imprint instead
+// (io/tissue_imprint.hpp), when every file it writes can be made from it.
+void Simulation::Impl::release_particles_over_ranks() {
+  if (!split.ranks || tissue.particles_released()) return;
+  if (split.ranks->rank() != 0) return tissue.release_particles();
+  if (plan.has("mechanics")) return;  // (the pictures show the tissue deformed)
+  const std::string keeps = scene.output.tissue_picture ? "output.tissue_picture's tissue.vtp shows the bonds"
+                            : scene.output.vtk_format != "xml" ? "the legacy VTK files are written from them"
+                                                               : "";
+  if (!keeps.empty()) {
+    plan.notes.push_back("rank 0 keeps the tissue's particles: " + keeps + " (docs/guide/parallel.md)");
+    return;
+  }
+  const std::size_t particles = tissue.particles.size();
+  auto imprint = imprint_tissue(tissue);
+  plan.notes.push_back(fmt::format("rank 0 keeps the imprint of the tissue's {} particles for its pictures and VTK "
+                                   "files ({:.1f} MB), not the particles and bonds",
+                                   particles, static_cast<double>(imprint->bytes()) / 1e6));
+  tissue.release_particles(std::move(imprint));
 }
 
 // The gap currents of this rank's cells read their ghosts' potentials (the

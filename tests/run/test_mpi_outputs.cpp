@@ -48,6 +48,7 @@ TEST_CASE("mpirun -n 2: output.snapshots of a split run are one process's files"
   json m = testing::split_sheet_planar_wave(5);
   m["output"]["snapshots"] = {{"every_ms", 1}, {"from_ms", 2}, {"png", true}, {"vtk", true}};
   m["output"]["vtk_format"] = "xml";
+  m["output"]["maps"] = true;
   std::ofstream(dir / "scene.json") << m.dump();
   REQUIRE(testing::run_scene("", dir / "scene.json", dir / "one") == 0);
   REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
@@ -63,6 +64,12 @@ TEST_CASE("mpirun -n 2: output.snapshots of a split run are one process's files"
     CHECK(testing::read_file(dir / "two" / name) == testing::read_file(dir / "one" / name));
   }
   CHECK(testing::read_file(dir / "two" / "snapshots.pvd") == testing::read_file(dir / "one" / "snapshots.pvd"));
+  // Rank 0 drew and wrote them from the particles' imprint (io/tissue_imprint.hpp),
+  // the maps' VTK file too; the activation map is drawn without antialiasing.
+  CHECK(testing::read_file(dir / "two" / "run.log").find("rank 0 keeps the imprint of the tissue's") !=
+        std::string::npos);
+  CHECK(testing::read_file(dir / "two" / "maps.vtp") == testing::read_file(dir / "one" / "maps.vtp"));
+  CHECK(fs::file_size(dir / "two" / "activation_map.png") > 0);
   // The premise: the frames show a moving wave, not a tissue at rest.
   CHECK(testing::read_file(dir / "one" / "snapshot_00003.000_ms.vtp") !=
         testing::read_file(dir / "one" / "snapshot_00004.000_ms.vtp"));
@@ -103,8 +110,14 @@ TEST_CASE("mpirun -n 2: output.reentry of a split run is one process's") {
   // multiple of every_ms (docs/topics/arrhythmia.md). By 8 ms the wave (stimulus at
   // 2 ms) has activated every myocyte (checked below), so the beat maps hold
   // activation times that differ from cell to cell.
+  // The maps' VTK file in both formats: legacy (rank 0 keeps the particles
+  // to write it) and XML (rank 0 writes it, and draws, from the imprint).
+  std::string format;
+  SUBCASE("legacy VTK") { format = "legacy"; }
+  SUBCASE("VTK XML") { format = "xml"; }
   json m = testing::split_sheet_planar_wave(8);
   m["output"]["reentry"] = {{"every_ms", 0.125}, {"from_ms", 0.5}, {"tau_ms", 1}};
+  m["output"]["vtk_format"] = format;
   std::ofstream(dir / "scene.json") << m.dump();
   REQUIRE(testing::run_scene("", dir / "scene.json", dir / "one") == 0);
   REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
@@ -124,7 +137,12 @@ TEST_CASE("mpirun -n 2: output.reentry of a split run is one process's") {
 
   std::set<std::string> files = file_names(dir / "one", "activation_beat_");
   CHECK(!files.empty());
-  for (const char* name : {"phase_singularities.csv", "dominant_frequency_map.png", "reentry_maps.vtk"})
+  const bool xml = format == "xml";
+  CHECK(testing::read_file(dir / "two" / "run.log")
+            .find(xml ? "rank 0 keeps the imprint" : "rank 0 keeps the tissue's particles: the legacy VTK") !=
+        std::string::npos);
+  for (const char* name : {"phase_singularities.csv", "dominant_frequency_map.png", "phase_singularity_density_map.png",
+                           xml ? "reentry_maps.vtp" : "reentry_maps.vtk"})
     files.insert(name);
   for (const auto& name : files) {
     INFO(name);

@@ -129,6 +129,20 @@ TEST_CASE("mpirun -n 2 fibrodem validate: each rank's memory, for its own cells"
   CHECK(own_1 > 0);
   CHECK(number_after("  rank 0: memory ~", "tissue: ") == 40);
   CHECK(number_after("  rank 1: memory ~", "tissue: ") == 0);
+  CHECK(log.find("imprint") == std::string::npos);
+
+  // With VTK XML files rank 0 keeps the particles' imprint instead (io/tissue_imprint.hpp).
+  m["output"]["vtk_format"] = "xml";
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(testing::run_fibrodem(testing::mpirun(2), "validate " + (dir / "scene.json").string(), dir / "log.txt") == 0);
+  const std::string xml_log = testing::read_file(dir / "log.txt");
+  const std::size_t rank_0 = xml_log.find("  rank 0: memory ~"), rank_1 = xml_log.find("  rank 1: memory ~");
+  REQUIRE(rank_0 != std::string::npos);
+  REQUIRE(rank_1 != std::string::npos);
+  const std::string line_0 = xml_log.substr(rank_0, xml_log.find('\n', rank_0) - rank_0);
+  CHECK(line_0.find("tissue: 0 particles") != std::string::npos);
+  CHECK(line_0.find("the particles' imprint") != std::string::npos);
+  CHECK(xml_log.substr(rank_1).find("imprint") == std::string::npos);
 }
 
 TEST_SUITE_END();
