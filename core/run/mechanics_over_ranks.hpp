@@ -1,6 +1,6 @@
 // The DEM of a run split over ranks where the DEM itself is not split
-// (docs/guide/parallel.md, Design 11: multirate, re-entry's fibre-stretch
-// frames; else mechanics/dem_split.hpp): rank 0 steps the whole tissue's
+// (docs/guide/parallel.md, Design 11: multirate; else
+// mechanics/dem_split.hpp): rank 0 steps the whole tissue's
 // mechanics. At the end of every cell step each rank sends
 // its own cells' lengths relative to rest (SL / SL_rest, from their
 // myofilaments) to rank 0, which places them by tissue number and advances

@@ -273,28 +273,22 @@ void Simulation::Impl::build_coupling() {
 // DEM tissue mechanics: cells' lengths from their myofilaments drive it;
 // back to the cells flows their fibre stretch if the stretch-activated
 // current reads it. Split over ranks, each rank steps its own cells' bodies
-// (docs/guide/parallel.md, "The DEM over ranks"), unless the run samples
-// the whole tissue's strain field as it goes (output.reentry's fibre-stretch
-// frames) or steps light bodies in substeps (multirate): rank 0 alone
-// then keeps it (built on every rank: a spec it refuses stops every rank
-// alike).
+// (docs/guide/parallel.md, "The DEM over ranks") and takes its own cells'
+// strain for output.reentry's fibre-stretch frames, unless it steps light
+// bodies in substeps (multirate): rank 0 alone then keeps it (built on
+// every rank: a spec it refuses stops every rank alike).
 void Simulation::Impl::build_mechanics() {
   if (!plan.has("mechanics")) return;
   const bool tissue_stretch =
       plan.has("mechano_electric_feedback") && scene.mechano_electric.stretch == StretchSource::tissue;
   strain_fields = make_strain_fields(tissue, scene.output, plan.notes);
-  // (The strain field at snapshots is drawn from the bodies gathered then;
-  // the re-entry samples' would gather them at every sample.)
-  const bool strain_sampled = strain_fields && scene.output.reentry.on;
-  const bool dem_split = split.ranks && !scene.mechanics.multirate && !strain_sampled;
-  const std::string keeps_dem_on_rank0 =
-      scene.mechanics.multirate ? "mechanics.multirate" : "output.reentry's fibre-stretch frames";
+  const bool dem_split = split.ranks && !scene.mechanics.multirate;
   // (Split, a cell's fibre stretch reads its own and its neighbours' bodies,
   // which its rank steps or holds as ghosts.)
   if (tissue_stretch && split.ranks && !dem_split)
     throw ManifestError("mechano_electric_feedback.stretch",
-                        "\"tissue\" over ranks needs the DEM split over them, which " + keeps_dem_on_rank0 +
-                            " keeps on rank 0: run it in one process, or use \"sarcomere\" over ranks");
+                        "\"tissue\" over ranks needs the DEM split over them, which mechanics.multirate keeps on "
+                        "rank 0: run it in one process, or use \"sarcomere\" over ranks");
   check_dem_memory(tissue, available_memory_bytes());  // before the DEM allocates it
   mechanics = std::make_unique<MechanicsCoupling>(tissue, scene.mechanics);
   if (tissue_stretch) {
@@ -305,10 +299,12 @@ void Simulation::Impl::build_mechanics() {
   if (dem_split) {
     mechanics->split_over_ranks(*split.ranks, split.layout);
     plan.notes.push_back("mechanics split over the ranks: each steps its own cells' bodies");
-    if (split.ranks->rank() != 0) strain_fields.reset();
+    // (The snapshots' strain is rank 0's, from every body gathered then.)
+    if (strain_fields && scene.output.reentry.on) strain_fields->split_over(*split.ranks, split.layout);
+    else if (split.ranks->rank() != 0) strain_fields.reset();
     return;
   }
-  plan.notes.push_back("mechanics on rank 0 alone: " + keeps_dem_on_rank0 + " is not split over ranks");
+  plan.notes.push_back("mechanics on rank 0 alone: mechanics.multirate is not split over ranks");
   mechanics_over_ranks =
       std::make_unique<MechanicsOverRanks>(*split.ranks, split.layout);
   if (split.ranks->rank() != 0) mechanics.reset(), strain_fields.reset();

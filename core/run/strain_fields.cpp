@@ -6,7 +6,17 @@
 
 namespace fibrodem {
 
-void StrainFields::add_frame(double t_ms) { frames_.add(t_ms, strain_.field().fibre_stretch); }
+void StrainFields::add_frame(double t_ms) {
+  const std::vector<double>& stretch = strain_.field().fibre_stretch;
+  if (!ranks_) return frames_.add(t_ms, stretch);
+  gather_by_cell(*ranks_, *layout_, stretch, own_, gathered_, by_cell_);
+  if (ranks_->rank() == 0) frames_.add(t_ms, by_cell_);
+}
+
+void StrainFields::split_over(RankGroup& ranks, const RankLayout& layout) {
+  ranks_ = &ranks;
+  layout_ = &layout;
+}
 
 void StrainFields::read_back(const std::filesystem::path& file, std::size_t count, std::size_t to_come) {
   StretchFrames read(frames_.cells);

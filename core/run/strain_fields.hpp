@@ -22,6 +22,7 @@
 #include "measure/cell_frames.hpp"
 #include "measure/cell_strain.hpp"
 #include "mechanics/mechanics_solver.hpp"
+#include "run/rank_layout.hpp"
 #include "scene/scene.hpp"
 #include "tissue/tissue.hpp"
 
@@ -43,8 +44,17 @@ class StrainFields {
   void due(double t_ms, double w, const MechanicsSolver& mechanics);
   void complete(const MechanicsSolver& mechanics);
   const StretchFrames& stretch_frames() const { return frames_; }
-  // Room for this many more samples (CellFrames::reserve_more).
-  void reserve_samples(std::size_t samples) { frames_.reserve_more(samples); }
+  // Room for this many more samples (CellFrames::reserve_more), where frames are held.
+  void reserve_samples(std::size_t samples) {
+    if (!ranks_ || ranks_->rank() == 0) frames_.reserve_more(samples);
+  }
+  // Split over ranks with the DEM (DemSolver::split_over_ranks): a rank's
+  // bodies and ghosts keep its own cells' particles and their neighbours'
+  // current, so each rank takes its own cells' stretch at a sample and rank
+  // 0 gathers the frame in tissue order (the same values as one process's,
+  // to the DEM's rounding); only rank 0 holds frames. Every rank then takes
+  // the samples at the same times (each a collective gather).
+  void split_over(RankGroup& ranks, const RankLayout& layout);
   // A resumed run: the first `count` stretch frames of the log `file`
   // (run/frame_log.hpp) in place of those held, with room for `to_come`
   // more. Throws CheckpointError naming the file, the frames held unchanged.
@@ -55,6 +65,9 @@ class StrainFields {
 
   CellStrain strain_;
   StretchFrames frames_;
+  RankGroup* ranks_ = nullptr;  // split over ranks (split_over), else null
+  const RankLayout* layout_ = nullptr;
+  std::vector<double> own_, gathered_, by_cell_;  // a split sample's own cells', rank 0's gathered and by cell
   std::vector<Particle> at_step_start_, interpolated_;  // particles (no allocation after the first sample)
   std::vector<std::pair<double, double>> pending_;      // (t, w) of the samples due in this step
 };

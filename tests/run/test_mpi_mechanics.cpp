@@ -152,6 +152,29 @@ TEST_CASE("mpirun -n 2: mechanics in series split over ranks writes one process'
         testing::read_file(dir / "one" / "snapshot_00040.000_ms.vtp"));
 }
 
+TEST_CASE("mpirun -n 2: output.reentry with mechanics, the DEM split, samples one process's fibre stretch") {
+  FIBRODEM_SKIP_WITHOUT_MPIRUN();
+  const auto dir = testing::scratch_dir("mpi_mechanics_reentry");
+  // The twitch's first 40 ms sampled every 0.5 ms: V and each cell's fibre
+  // stretch, which rank 0 gathers from every rank's own cells at each sample.
+  json m = em_sheet("in_series", 40);
+  m["output"]["reentry"] = {{"every_ms", 0.5}, {"from_ms", 0}, {"tau_ms", 1}};
+  std::ofstream(dir / "scene.json") << m.dump();
+  REQUIRE(testing::run_scene("", dir / "scene.json", dir / "one") == 0);
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scene.json", dir / "two") == 0);
+  const json one = summary_of(dir / "one"), two = summary_of(dir / "two");
+  CHECK(std::abs(one["peak_strain"]["yy"].get<double>()) > 5e-6);  // the premise: the tissue contracted
+  REQUIRE(two["notes"].dump().find("mechanics split over the ranks") != std::string::npos);
+  check_same_bytes(dir / "one", dir / "two", 2, true);
+  REQUIRE(one.contains("reentry"));
+  CHECK(two["reentry"].dump() == one["reentry"].dump());
+  // The tip paths' map is drawn over the last sample's fibre stretch (floats,
+  // in the colour bar's 200 steps): one process's picture.
+  const fs::path map = dir / "one" / "phase_singularity_paths.png";
+  REQUIRE(fs::exists(map));
+  CHECK(testing::read_file(dir / "two" / "phase_singularity_paths.png") == testing::read_file(map));
+}
+
 TEST_CASE("mpirun -n 2: interstitial mechanics with mechano-electric feedback split writes one process's files") {
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_mechanics_interstitial");
