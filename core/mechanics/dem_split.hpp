@@ -91,6 +91,7 @@ class DemSplit {
   std::vector<std::vector<double>> send_, receive_;
   std::vector<HaloMessage> messages_;
   std::vector<double> mine_, every_, reduce_;
+  void release_buffers();
 };
 
 }  // namespace fibrodem
