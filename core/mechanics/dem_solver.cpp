@@ -250,6 +250,21 @@ void DemSolver::gather_on_rank0(bool whole_state) {
   out_dirty_ = true;
 }
 
+// Each contact counted by the rank of its particle p's body, as the
+// gather of every contact's state takes it from there.
+void DemSolver::count_on_rank0() {
+  if (!split_) return;
+  double counts[2] = {0, 0};
+  const auto own = [&](const BondSet& set, std::size_t k) { return bodies_.steps(bodies_.pbody[set.p[k]]); };
+  for (std::size_t k = 0; k < contacts_.bonds.size(); ++k)
+    counts[0] += own(contacts_.bonds, k) && !contacts_.bonds.intact[k];
+  for (std::size_t k = 0; k < contacts_.contacts.size(); ++k)
+    counts[1] += own(contacts_.contacts, k) && contacts_.contacts.fn[k] > 0;
+  split_->sum(counts, 2);
+  counted_ = {static_cast<std::size_t>(counts[0]), static_cast<std::size_t>(counts[1])};
+  counted_at_step_ = steps_;
+}
+
 void DemSolver::set_cell_length_ratios(const std::vector<double>& ratio) { bodies_.set_cell_length_ratios(ratio); }
 
 const std::vector<Particle>& DemSolver::particles() const {

@@ -125,6 +125,7 @@ class DemSolver final : public MechanicsSolver {
   // not split.
   void split_over_ranks(RankGroup& ranks, const std::vector<int>& cell_rank) override;
   void gather_on_rank0(bool whole_state) override;
+  void count_on_rank0() override;
   bool split() const { return split_ != nullptr; }
 
   double step_ms() const override { return spec_.dt_ms > 0 ? spec_.dt_ms : stable_step_ms_; }
@@ -148,11 +149,11 @@ class DemSolver final : public MechanicsSolver {
   ClumpShape cell_shape_um(int cell) const { return bodies_.cell_shape_um(cell); }
 
   const BondSet& bonds() const { return contacts_.bonds; }
-  std::size_t broken_bonds() const { return contacts_.broken_bonds(); }
+  std::size_t broken_bonds() const { return counted_now() ? counted_[0] : contacts_.broken_bonds(); }
   // Unbonded contacts on the present Verlet list (empty without detection),
   // how many of them touch, and how often the list was built.
   const BondSet& contacts() const { return contacts_.contacts; }
-  std::size_t touching_contacts() const { return contacts_.touching_contacts(); }
+  std::size_t touching_contacts() const { return counted_now() ? counted_[1] : contacts_.touching_contacts(); }
   std::size_t contact_list_builds() const { return contacts_.list_builds(); }
   // Mass scaling: how many bodies it made heavier, and the fraction of the
   // tissue's mass and polar inertia it added (0 without).
@@ -205,6 +206,11 @@ class DemSolver final : public MechanicsSolver {
 
   mutable std::vector<Particle> out_;
   mutable bool out_dirty_ = true;
+  // Split: broken bonds and touching contacts summed over the ranks
+  // (count_on_rank0), valid at the step they were counted at.
+  std::array<std::size_t, 2> counted_{};
+  std::size_t counted_at_step_ = static_cast<std::size_t>(-1);
+  bool counted_now() const { return split_ && counted_at_step_ == steps_; }
 };
 
 }  // namespace fibrodem

@@ -76,6 +76,10 @@ class MechanicsSolver {
   // (and, with whole_state, everything save() writes). Collective; nothing
   // in one process.
   virtual void gather_on_rank0(bool /*whole_state*/) {}
+  // Split: the counts the solver's report gives of its contacts, summed
+  // over each rank's own onto rank 0, without gathering every contact's
+  // state (the run's last log line). Collective; nothing in one process.
+  virtual void count_on_rank0() {}
 };
 
 // The spec's solver (`dem`) for a tissue; throws std::invalid_argument if the

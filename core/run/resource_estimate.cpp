@@ -274,11 +274,11 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", columns, trace_samples),
                       8 * columns * trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
   if (mechanics) e.memory.push_back(dem_memory(tissue));
-  // The DEM split over ranks: every contact's state gathered on rank 0 at
-  // checkpoints and at the end, sent from each rank's buffers (30 MB a
-  // rank on the sheet above: ~30 bytes a particle and a bond).
+  // The DEM split over ranks: its halo, the bodies shared at each list
+  // rebuild and, at a checkpoint, every contact's state gathered on rank 0
+  // (the sheet above: ~30 bytes a particle and a bond).
   if (mechanics && split && !scene.mechanics.multirate)
-    e.memory.push_back({"the DEM's contacts gathered for rank 0",
+    e.memory.push_back({"the DEM's exchanges over ranks",
                         30.0 * (static_cast<double>(tissue.built_particles()) +
                                 static_cast<double>(tissue.built_bonds())),
                         "a smaller tissue"});

@@ -180,7 +180,7 @@ std::vector<double> Simulation::Impl::voltage_of_every_cell() {
 // cell) and traces, and writes biomarkers.csv and traces.csv.
 void Simulation::Impl::gather_from_ranks() {
   if (!split.ranks) return;
-  if (mechanics) mechanics->solver().gather_on_rank0(true);  // (split: for its report)
+  if (mechanics) mechanics->solver().count_on_rank0();  // (split: for its report)
   gather_beats_on_rank0(*split.ranks, beats);
   const std::vector<std::string> columns_by_rank = split.ranks->gather_text(traces.packed_columns());
   const std::vector<std::vector<double>> samples_by_rank = split.ranks->gather(traces.packed_samples());

@@ -38,6 +38,7 @@ struct Outcome {
   std::vector<double> x, y, theta;  // every body's, on rank 0
   std::array<double, 3> strain{};
   std::size_t list_builds = 0, broken_bonds = 0, touching = 0;
+  std::size_t counted_broken = 0, counted_touching = 0;  // split: summed over the ranks (count_on_rank0)
 };
 
 Outcome outcome_of(DemSolver& dem) {
@@ -72,8 +73,13 @@ Outcome split(const Tissue& t, const DemSpec& spec, int ranks, double until_ms) 
     dem.split_over_ranks(group, partition.part_of);
     std::vector<double> ratio(t.cell_count(), 1.0);
     while (dem.time_ms() < until_ms) twitch_step(t, dem, ratio);
+    dem.count_on_rank0();
+    const std::size_t counted_broken = dem.broken_bonds(), counted_touching = dem.touching_contacts();
     dem.gather_on_rank0(true);
-    if (group.rank() == 0) out = outcome_of(dem);
+    if (group.rank() != 0) return;
+    out = outcome_of(dem);
+    out.counted_broken = counted_broken;
+    out.counted_touching = counted_touching;
   });
   CHECK(all.layouts_agree);
   return out;
@@ -127,6 +133,9 @@ void check_moves_as_one_process(const std::vector<int>& rank_counts, int repeat_
         CHECK(std::abs(s.strain[k] - reference.strain[k]) <= 1e-9 * std::abs(reference.strain[1]));
       CHECK(s.broken_bonds == reference.broken_bonds);
       CHECK(s.touching == reference.touching);
+      // The counts summed over the ranks, without gathering the contacts: one process's.
+      CHECK(s.counted_broken == reference.broken_bonds);
+      CHECK(s.counted_touching == reference.touching);
       if (ranks != repeat_on) continue;
       // The same bits on the same number of ranks.
       const Outcome repeated = split(t, spec, ranks, until_ms);
