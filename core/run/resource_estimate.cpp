@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 
 #include "integrate/adaptive.hpp"
-#include "io/tissue_imprint.hpp"
 #include "integrate/integrator.hpp"
+#include "io/tissue_imprint.hpp"
 #include "measure/biomarkers.hpp"
 #include "util/manifest_error.hpp"
 

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "io/tissue_imprint.hpp"
 #include "report/run_report.hpp"
 #include "run/checkpoint_dir.hpp"
 #include "run/run_summary.hpp"
@@ -47,9 +48,11 @@ void Simulation::Impl::open_outputs() {
 }
 
 void Simulation::Impl::log_setup() {
+  // (Rank 0 of a split run may hold the particles' imprint instead: io/tissue_imprint.hpp.)
+  const std::size_t particles = tissue.imprint() ? tissue.imprint()->cells.particles() : tissue.particles.size();
   log->info("scene '{}': {} cells ({} myocytes, {} fibroblasts), {} particles, {} cell-graph edges",
             scene.name, tissue.cell_count(), tissue.count(CellType::myocyte),
-            tissue.count(CellType::fibroblast), tissue.built_particles(), tissue.cell_edges.size());
+            tissue.count(CellType::fibroblast), particles, tissue.cell_edges.size());
   for (const auto& p : plan.built) log->info("process built: {} ({})", p.name, p.reason);
   for (const auto& note : plan.notes) log->info("{}", note);
   system.for_each_population([&](const Population& pop) {

@@ -21,7 +21,6 @@
 #include "run/over_ranks.hpp"
 #include "run/rank_reductions.hpp"
 #include "run/run_summary.hpp"
-#include "io/tissue_imprint.hpp"
 #include "run/simulation_impl.hpp"
 #include "tissue/cell_partition.hpp"
 #include "util/json_reader.hpp"
