@@ -102,10 +102,12 @@ CheckpointFields read_checkpoint_part(const std::filesystem::path& file, const C
   return part;
 }
 
-std::vector<CheckpointFields> read_checkpoint_parts(const std::filesystem::path& file, const CheckpointFields& checkpoint) {
-  std::vector<CheckpointFields> parts{checkpoint};
+std::vector<CheckpointFields> read_checkpoint_parts(const std::filesystem::path& file, CheckpointFields checkpoint) {
   const long long ranks = ranks_of_checkpoint(checkpoint);
-  for (int rank = 1; rank < ranks; ++rank) parts.push_back(read_checkpoint_part(file, checkpoint, rank));
+  std::vector<CheckpointFields> parts;
+  parts.reserve(static_cast<std::size_t>(ranks));
+  parts.push_back(std::move(checkpoint));
+  for (int rank = 1; rank < ranks; ++rank) parts.push_back(read_checkpoint_part(file, parts.front(), rank));
   return parts;
 }
 

@@ -48,8 +48,8 @@ long long ranks_of_checkpoint(const CheckpointFields& checkpoint);
 // (rank r > 0: the file beside it, run/checkpoint_dir.hpp), checked to be
 // that rank's part of the same time. Throws CheckpointError naming the part.
 CheckpointFields read_checkpoint_part(const std::filesystem::path& file, const CheckpointFields& checkpoint, int rank);
-// Every part, rank 0's (a copy of `checkpoint`) first.
-std::vector<CheckpointFields> read_checkpoint_parts(const std::filesystem::path& file, const CheckpointFields& checkpoint);
+// Every part, rank 0's (`checkpoint`, moved in) first.
+std::vector<CheckpointFields> read_checkpoint_parts(const std::filesystem::path& file, CheckpointFields checkpoint);
 
 // Each part's own cells in increasing order (its biomarker tracker's): the
 // cells of its ionic populations ("ionic.*.cells").

@@ -337,19 +337,20 @@ void Simulation::Impl::start_from_initial_state() {
   if (scene.initial_state.from.empty()) return;
   const std::string path = "initial_state.from";
   try {
-    const FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
+    FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
+    const double time_there_ms = found.fields.number("run.time_ms");
     try {
       // Split over ranks, or from a split run's checkpoint (every rank's part
       // beside it), the cells' states are taken cell by cell from its parts.
       if (split.ranks || ranks_of_checkpoint(found.fields) > 1)
-        load_own_cell_states(system, read_checkpoint_parts(found.file, found.fields));
+        load_own_cell_states(system, read_checkpoint_parts(found.file, std::move(found.fields)));
       else
         load_cell_states(system, found.fields, false);
     } catch (const CheckpointError& e) {
       throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());
     }
     plan.notes.push_back(fmt::format("initial_state: the cells' states of {} (t = {:g} ms there)",
-                                     found.file.string(), found.fields.number("run.time_ms")));
+                                     found.file.string(), time_there_ms));
   } catch (const CheckpointError& e) {
     throw ManifestError(path, e.what());
   }

@@ -135,16 +135,27 @@ void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const Checkpo
 // counting as one), every rank reads every part and takes its own cells'
 // fields out of them (run/checkpoint_recut.hpp); over the same number, each
 // rank reads its own part.
+//
+// The checkpoint's fields are taken out of the one found (nothing reads
+// them after this), so the run does not hold them while it goes on; cut
+// again, its fields are copied once, for this rank's cells.
 void Simulation::Impl::resume() {
-  const FoundCheckpoint& found = *checkpoints.resume_point;
+  FoundCheckpoint& found = *checkpoints.resume_point;
   const long long written = ranks_of_checkpoint(found.fields), here = split.ranks ? split.ranks->size() : 1;
   try {
-    if (written != here) restore(recut_checkpoint(read_checkpoint_parts(found.file, found.fields)));
-    else if (split.ranks && split.ranks->rank() != 0) restore(read_checkpoint_part(found.file, found.fields, split.ranks->rank()));
-    else restore(found.fields);
+    CheckpointFields checkpoint = std::move(found.fields);
+    if (written != here) {
+      std::vector<CheckpointFields> parts = read_checkpoint_parts(found.file, std::move(checkpoint));
+      restore(recut_checkpoint(parts));
+      checkpoint = std::move(parts.front());
+    } else if (split.ranks && split.ranks->rank() != 0) {
+      restore(read_checkpoint_part(found.file, checkpoint, split.ranks->rank()));
+    } else {
+      restore(checkpoint);
+    }
     // The DEM split over ranks: every rank takes the whole tissue's from the
     // checkpoint itself (rank 0's, written as one process writes it).
-    if (mechanics && mechanics->split()) mechanics->restore(found.fields, start_ms);
+    if (mechanics && mechanics->split()) mechanics->restore(checkpoint, start_ms);
   } catch (const CheckpointError& e) {
     throw CheckpointError("checkpoint " + found.file.string() + " does not fit this run: " + e.what());
   }
@@ -163,7 +174,7 @@ void Simulation::Impl::resume() {
 // rank reads its own), the beats of its cells; the rest (time, steps, rank
 // 0's outputs and mechanics) as the checkpoint has it.
 CheckpointFields Simulation::Impl::recut_checkpoint(const std::vector<CheckpointFields>& parts) const {
-  CheckpointFields f = parts.at(0);
+  CheckpointFields f;
   recut_cell_states(parts, system, f);
   std::vector<int> own;  // the tracker's cells: this rank's, in increasing order
   for (const auto& pop : system.populations) own.insert(own.end(), pop.cells.begin(), pop.cells.end());
@@ -176,6 +187,10 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const std::vector<Checkpoint
     for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
   const std::vector<BeatBiomarkers> own_beats = beats_of_cells(parts, own, tissue.cell_count());
   f.put_bytes("run.beats", own_beats.data(), own_beats.size() * sizeof(BeatBiomarkers));
+  // The rest as the checkpoint has it (not a copy of the whole and then
+  // these over it: every cell's fields twice more in memory).
+  for (const auto& name : parts.at(0).names_starting(""))
+    if (!f.has(name)) f.copy_from(parts[0], name);
   return f;
 }
 
