@@ -17,6 +17,7 @@ namespace {
 constexpr char kMagic[] = "FIBRODEM-CHECKPOINT\n";  // 20 characters
 constexpr std::size_t kMagicSize = sizeof kMagic - 1;
 constexpr std::size_t kDigestSize = 32;
+constexpr std::size_t kHeaderSize = kMagicSize + sizeof(std::uint32_t) + sizeof(std::uint64_t);
 // Fields are read from a checked payload, but a corrupt one with a valid
 // checksum can only come from a bug or a forgery: lengths are still bounded.
 constexpr std::uint64_t kMaxFieldBytes = std::uint64_t{1} << 40;
@@ -171,44 +172,84 @@ std::string CheckpointFields::encode() const {
   return out;
 }
 
-CheckpointFields CheckpointFields::decode(std::string_view in) {
-  const std::size_t header = kMagicSize + sizeof(std::uint32_t) + sizeof(std::uint64_t);
-  if (in.size() < header + kDigestSize)
-    throw CheckpointError("it is truncated (" + std::to_string(in.size()) + " bytes, shorter than a header)");
-  if (in.compare(0, kMagicSize, std::string_view(kMagic, kMagicSize)) != 0)
+namespace {
+
+// A payload in memory.
+class PayloadView {
+ public:
+  explicit PayloadView(std::string_view payload) : payload_(payload) {}
+  std::size_t left() const { return payload_.size() - at_; }
+  void read(void* to, std::size_t n) {
+    std::memcpy(to, payload_.data() + at_, n);
+    at_ += n;
+  }
+
+ private:
+  std::string_view payload_;
+  std::size_t at_ = 0;
+};
+
+// A value of T from the payload.
+template <class T, class Source>
+T take_from(Source& source) {
+  if (source.left() < sizeof(T)) throw CheckpointError("the payload ends inside a field");
+  T value;
+  source.read(&value, sizeof value);
+  return value;
+}
+
+// The header (magic, format, payload length) of a file of file_size bytes,
+// checked; returns the payload's length.
+std::uint64_t check_header(std::string_view header, std::size_t file_size) {
+  if (file_size < kHeaderSize + kDigestSize)
+    throw CheckpointError("it is truncated (" + std::to_string(file_size) + " bytes, shorter than a header)");
+  if (header.compare(0, kMagicSize, std::string_view(kMagic, kMagicSize)) != 0)
     throw CheckpointError("it is not a fibrodem checkpoint");
   std::size_t at = kMagicSize;
-  const auto format = take<std::uint32_t>(in, at);
+  const auto format = take<std::uint32_t>(header, at);
   if (format != kCheckpointFormat)
     throw CheckpointError("its format is " + std::to_string(format) + ", this fibrodem reads format " +
                           std::to_string(kCheckpointFormat));
-  const auto length = take<std::uint64_t>(in, at);
-  if (length != in.size() - header - kDigestSize)
+  const auto length = take<std::uint64_t>(header, at);
+  if (length != file_size - kHeaderSize - kDigestSize)
     throw CheckpointError("it is truncated or has trailing bytes (payload of " + std::to_string(length) +
-                          " bytes announced, " + std::to_string(in.size() - header - kDigestSize) + " present)");
-  const auto digest = sha256(in.substr(0, in.size() - kDigestSize));
-  if (std::memcmp(digest.data(), in.data() + in.size() - kDigestSize, kDigestSize) != 0)
-    throw CheckpointError("its checksum does not match its contents (the file is corrupt)");
-  const std::string_view payload = in.substr(header, length);
-  at = 0;
+                          " bytes announced, " + std::to_string(file_size - kHeaderSize - kDigestSize) + " present)");
+  return length;
+}
+
+const CheckpointError kChecksumMismatch("its checksum does not match its contents (the file is corrupt)");
+
+}  // namespace
+
+template <class Source>
+CheckpointFields CheckpointFields::parse_payload(Source& source) {
   CheckpointFields fields;
-  const auto count = take<std::uint32_t>(payload, at);
+  const auto count = take_from<std::uint32_t>(source);
   for (std::uint32_t i = 0; i < count; ++i) {
-    const auto name_size = take<std::uint16_t>(payload, at);
-    if (payload.size() - at < name_size) throw CheckpointError("the payload ends inside a field's name");
-    std::string name(payload.substr(at, name_size));
-    at += name_size;
-    const auto kind = take<std::uint8_t>(payload, at);
+    const auto name_size = take_from<std::uint16_t>(source);
+    if (source.left() < name_size) throw CheckpointError("the payload ends inside a field's name");
+    std::string name(name_size, '\0');
+    source.read(name.data(), name_size);
+    const auto kind = take_from<std::uint8_t>(source);
     if (kind > kBytes) throw CheckpointError("field '" + name + "' is of unknown kind " + std::to_string(kind));
-    const auto n = take<std::uint64_t>(payload, at);
+    const auto n = take_from<std::uint64_t>(source);
     const std::uint64_t width = kind == kBytes ? 1 : 8;
-    if (n > kMaxFieldBytes / width || payload.size() - at < n * width)
+    if (n > kMaxFieldBytes / width || source.left() < n * width)
       throw CheckpointError("field '" + name + "' is longer than the payload");
-    fields.fields_[name] = {static_cast<Kind>(kind), n, std::string(payload.substr(at, n * width))};
-    at += n * width;
+    std::string data(n * width, '\0');
+    source.read(data.data(), data.size());
+    fields.fields_[name] = {static_cast<Kind>(kind), n, std::move(data)};
   }
-  if (at != payload.size()) throw CheckpointError("the payload has bytes after its last field");
+  if (source.left() != 0) throw CheckpointError("the payload has bytes after its last field");
   return fields;
+}
+
+CheckpointFields CheckpointFields::decode(std::string_view in) {
+  const std::uint64_t length = check_header(in.substr(0, std::min(in.size(), kHeaderSize)), in.size());
+  const auto digest = sha256(in.substr(0, in.size() - kDigestSize));
+  if (std::memcmp(digest.data(), in.data() + in.size() - kDigestSize, kDigestSize) != 0) throw kChecksumMismatch;
+  PayloadView payload(in.substr(kHeaderSize, length));
+  return parse_payload(payload);
 }
 
 namespace {
@@ -267,17 +308,75 @@ void write_checkpoint_file(const std::filesystem::path& file, const CheckpointFi
   }
 }
 
+namespace {
+
+// A payload read from the file as it is parsed, each piece added to the
+// file's checksum: each field's data goes straight into its own storage,
+// so reading a checkpoint holds it once (read whole first, then copied
+// out, it was held twice).
+class PayloadFile {
+ public:
+  PayloadFile(std::ifstream& in, std::uint64_t length, Sha256& hash) : in_(in), left_(length), hash_(hash) {}
+  std::size_t left() const { return static_cast<std::size_t>(left_); }
+  void read(void* to, std::size_t n) {
+    if (!in_.read(static_cast<char*>(to), static_cast<std::streamsize>(n)))
+      throw CheckpointError("it cannot be read to its end");
+    hash_.update(std::string_view(static_cast<const char*>(to), n));
+    left_ -= n;
+  }
+  // The rest of the payload, into the checksum only.
+  void skip_rest() {
+    std::string chunk;
+    while (left_ > 0) {
+      chunk.resize(static_cast<std::size_t>(std::min<std::uint64_t>(left_, 1 << 20)));
+      read(chunk.data(), chunk.size());
+    }
+  }
+
+ private:
+  std::ifstream& in_;
+  std::uint64_t left_;
+  Sha256& hash_;
+};
+
+// As decode() of the file's bytes, the same errors in the same order: a
+// payload that does not parse is reported as corrupt when its checksum
+// does not match either.
+CheckpointFields read_checkpoint_stream(std::ifstream& in, std::size_t file_size) {
+  std::string header(static_cast<std::size_t>(std::min<std::size_t>(file_size, kHeaderSize)), '\0');
+  if (!in.read(header.data(), static_cast<std::streamsize>(header.size())))
+    throw CheckpointError("it cannot be read");
+  const std::uint64_t length = check_header(header, file_size);
+  Sha256 hash;
+  hash.update(header);
+  PayloadFile payload(in, length, hash);
+  const auto checksum_matches = [&] {
+    std::array<char, kDigestSize> stored{};
+    if (!in.read(stored.data(), kDigestSize)) throw CheckpointError("it cannot be read to its end");
+    const auto digest = hash.digest();
+    return std::memcmp(digest.data(), stored.data(), kDigestSize) == 0;
+  };
+  CheckpointFields fields;
+  try {
+    fields = CheckpointFields::parse_payload(payload);
+  } catch (const CheckpointError&) {
+    payload.skip_rest();
+    if (!checksum_matches()) throw kChecksumMismatch;
+    throw;
+  }
+  if (!checksum_matches()) throw kChecksumMismatch;
+  return fields;
+}
+
+}  // namespace
+
 CheckpointFields read_checkpoint_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary | std::ios::ate);
   if (!in) throw CheckpointError("checkpoint " + file.string() + " cannot be read");
-  // Read whole into one buffer of its size: the fields are then copied out
-  // of it once.
-  std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
+  const auto file_size = static_cast<std::size_t>(in.tellg());
   in.seekg(0);
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
-    throw CheckpointError("checkpoint " + file.string() + " cannot be read");
   try {
-    return CheckpointFields::decode(bytes);
+    return read_checkpoint_stream(in, file_size);
   } catch (const CheckpointError& e) {
     throw CheckpointError("checkpoint " + file.string() + ": " + e.what());
   }

@@ -75,6 +75,10 @@ class CheckpointFields {
   // for a wrong magic, format, length or checksum.
   std::string encode() const;
   static CheckpointFields decode(std::string_view file_bytes);
+  // The fields of a payload taken from `source` (checkpoint_file.cpp: from
+  // a string in memory, or from the file as it is read).
+  template <class Source>
+  static CheckpointFields parse_payload(Source& source);
 
  private:
   enum Kind : std::uint8_t { kF64 = 0, kI64 = 1, kBytes = 2 };

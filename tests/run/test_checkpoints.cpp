@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <regex>
 
 #include "io/checkpoint_file.hpp"
@@ -145,6 +146,41 @@ TEST_CASE("a checkpoint file reads back its fields, a truncated, corrupt or fore
   CHECK(f.encoded_size() == bytes.size());
   const auto digest = sha256(std::string_view(bytes).substr(0, bytes.size() - 32));
   CHECK(bytes.substr(bytes.size() - 32) == std::string(digest.begin(), digest.end()));
+  // Read from the file as it is parsed, a damaged file gives decode()'s
+  // error: every byte flipped in turn (the header, each field's name,
+  // kind, length and data, the checksum), the file cut at every length, and
+  // a payload that does not parse under a checksum that matches it.
+  const auto error_of = [](const std::function<void()>& read) {
+    try {
+      read();
+    } catch (const CheckpointError& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  const auto file_error = [&](const std::string& content) {
+    std::ofstream(dir / "d.ckpt", std::ios::binary) << content;
+    const std::string e = error_of([&] { read_checkpoint_file(dir / "d.ckpt"); });
+    const std::string prefix = "checkpoint " + (dir / "d.ckpt").string() + ": ";
+    return e.rfind(prefix, 0) == 0 ? e.substr(prefix.size()) : e;
+  };
+  for (std::size_t k = 0; k < bytes.size(); ++k) {
+    CAPTURE(k);
+    std::string damaged = bytes;
+    damaged[k] ^= 0x40;
+    const std::string expected = error_of([&] { CheckpointFields::decode(damaged); });
+    CHECK(expected != "read");
+    CHECK(file_error(damaged) == expected);
+    CHECK(file_error(bytes.substr(0, k)) == error_of([&] { CheckpointFields::decode(bytes.substr(0, k)); }));
+  }
+  std::string unparsed = bytes;
+  unparsed[32] ^= 0x01;  // the payload's field count (after the 32-byte header)
+  const auto resealed = sha256(std::string_view(unparsed).substr(0, unparsed.size() - 32));
+  unparsed.replace(unparsed.size() - 32, 32, std::string(resealed.begin(), resealed.end()));
+  const std::string unparsed_error = error_of([&] { CheckpointFields::decode(unparsed); });
+  CHECK(unparsed_error.find("checksum") == std::string::npos);
+  CHECK(unparsed_error != "read");
+  CHECK(file_error(unparsed) == unparsed_error);
   // A test's hook runs once, when half the file is on disk.
   std::uintmax_t at_midway = 0;
   int calls = 0;
