@@ -313,7 +313,7 @@ namespace {
 // A payload read from the file as it is parsed, each piece added to the
 // file's checksum: each field's data goes straight into its own storage,
 // so reading a checkpoint holds it once (read whole first, then copied
-// out, it was held twice).
+// out, it would be held twice).
 class PayloadFile {
  public:
   PayloadFile(std::ifstream& in, std::uint64_t length, Sha256& hash) : in_(in), left_(length), hash_(hash) {}

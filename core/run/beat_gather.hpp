@@ -1,7 +1,7 @@
 // Every rank's beats (BeatBiomarkers) to rank 0 at the end of a split run,
 // in rounds of a bounded number of beats a rank: rank 0 then holds every
 // beat once and one round's numbers besides. (Gathered at once, every
-// cell's beat was held three times over on rank 0 at the end of an
+// cell's beat would be held three times over on rank 0 at the end of an
 // 846,279-cell run: 137 MB on top of the beats, its peak of memory.)
 #pragma once
 
