@@ -27,15 +27,6 @@ void append(std::string& out, T value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof value);
 }
 
-// Reads a T at `at` from a payload of known length, or throws.
-template <class T>
-T take(std::string_view in, std::size_t& at) {
-  if (in.size() - at < sizeof(T)) throw CheckpointError("the payload ends inside a field");
-  T value;
-  std::memcpy(&value, in.data() + at, sizeof value);
-  at += sizeof value;
-  return value;
-}
 
 std::string describe_kind(int kind) {
   switch (kind) {
@@ -174,18 +165,18 @@ std::string CheckpointFields::encode() const {
 
 namespace {
 
-// A payload in memory.
-class PayloadView {
+// Bytes in memory, taken in order (a header, a payload).
+class BytesView {
  public:
-  explicit PayloadView(std::string_view payload) : payload_(payload) {}
-  std::size_t left() const { return payload_.size() - at_; }
+  explicit BytesView(std::string_view bytes) : bytes_(bytes) {}
+  std::size_t left() const { return bytes_.size() - at_; }
   void read(void* to, std::size_t n) {
-    std::memcpy(to, payload_.data() + at_, n);
+    std::memcpy(to, bytes_.data() + at_, n);
     at_ += n;
   }
 
  private:
-  std::string_view payload_;
+  std::string_view bytes_;
   std::size_t at_ = 0;
 };
 
@@ -205,12 +196,12 @@ std::uint64_t check_header(std::string_view header, std::size_t file_size) {
     throw CheckpointError("it is truncated (" + std::to_string(file_size) + " bytes, shorter than a header)");
   if (header.compare(0, kMagicSize, std::string_view(kMagic, kMagicSize)) != 0)
     throw CheckpointError("it is not a fibrodem checkpoint");
-  std::size_t at = kMagicSize;
-  const auto format = take<std::uint32_t>(header, at);
+  BytesView rest(header.substr(kMagicSize));
+  const auto format = take_from<std::uint32_t>(rest);
   if (format != kCheckpointFormat)
     throw CheckpointError("its format is " + std::to_string(format) + ", this fibrodem reads format " +
                           std::to_string(kCheckpointFormat));
-  const auto length = take<std::uint64_t>(header, at);
+  const auto length = take_from<std::uint64_t>(rest);
   if (length != file_size - kHeaderSize - kDigestSize)
     throw CheckpointError("it is truncated or has trailing bytes (payload of " + std::to_string(length) +
                           " bytes announced, " + std::to_string(file_size - kHeaderSize - kDigestSize) + " present)");
@@ -248,7 +239,7 @@ CheckpointFields CheckpointFields::decode(std::string_view in) {
   const std::uint64_t length = check_header(in.substr(0, std::min(in.size(), kHeaderSize)), in.size());
   const auto digest = sha256(in.substr(0, in.size() - kDigestSize));
   if (std::memcmp(digest.data(), in.data() + in.size() - kDigestSize, kDigestSize) != 0) throw kChecksumMismatch;
-  PayloadView payload(in.substr(kHeaderSize, length));
+  BytesView payload(in.substr(kHeaderSize, length));
   return parse_payload(payload);
 }
 

@@ -83,13 +83,12 @@ class AppendedArrays {
     arrays_.push_back(std::move(a));
     texts_.emplace_back();
   }
-  std::size_t size() const { return arrays_.size(); }
   // Array i, packed: its element and appended data as write() writes them.
   PackedVtpArray pack(std::size_t i) const {
     const Array& a = arrays_.at(i);
     PackedVtpArray packed{a.element_head, {}};
     std::vector<unsigned char>& out = packed.appended;
-    const std::size_t header_bytes = 8 * (3 + (a.bytes + kBlockBytes - 1) / kBlockBytes);
+    const std::size_t header_bytes = 8 * (3 + block_count(a));
     out.resize(header_bytes);  // (filled once the blocks' sizes are known)
     const std::vector<std::uint64_t> block_header = deflate_blocks(a, [&](const unsigned char* data, std::size_t n) {
       out.insert(out.end(), data, data + n);
@@ -140,9 +139,11 @@ class AppendedArrays {
   // One array's deflated blocks, each handed to put_block(data, bytes) in
   // turn; returns the block header (number of blocks, block size, size of
   // the last block if partial (else 0), compressed size of each block).
+  static std::size_t block_count(const Array& a) { return (a.bytes + kBlockBytes - 1) / kBlockBytes; }
+
   template <class PutBlock>
   static std::vector<std::uint64_t> deflate_blocks(const Array& a, PutBlock&& put_block) {
-    const std::size_t blocks = (a.bytes + kBlockBytes - 1) / kBlockBytes;
+    const std::size_t blocks = block_count(a);
     std::vector<std::uint64_t> block_header{blocks, kBlockBytes, a.bytes % kBlockBytes};
     block_header.resize(3 + blocks);
     std::vector<unsigned char> raw(kBlockBytes), packed(compressBound(kBlockBytes));
@@ -165,8 +166,7 @@ class AppendedArrays {
       put(f, a.packed->data(), a.packed->size(), file);
       return a.packed->size();
     }
-    const std::size_t blocks = (a.bytes + kBlockBytes - 1) / kBlockBytes;
-    const std::uint64_t header_bytes = 8 * (3 + blocks);
+    const std::uint64_t header_bytes = 8 * (3 + block_count(a));
     seek(f, at + static_cast<off_t>(header_bytes), file);  // the header's room, written once the sizes are known
     std::uint64_t total = header_bytes;
     const std::vector<std::uint64_t> block_header = deflate_blocks(a, [&](const unsigned char* data, std::size_t n) {

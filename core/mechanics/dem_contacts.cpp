@@ -172,13 +172,21 @@ void DemContacts::index(const DemBodies& bodies) {
   body_contacts.build(bodies.size(), bonds, contacts, bodies.pbody.data());
 }
 
-std::size_t DemContacts::broken_bonds() const {
-  return static_cast<std::size_t>(std::count(bonds.intact.begin(), bonds.intact.end(), 0));
+namespace {
+bool counted(const DemBodies* own_of, const BondSet& set, std::size_t k) {
+  return !own_of || own_of->steps(static_cast<std::size_t>(own_of->pbody[set.p[k]]));
+}
+}  // namespace
+
+std::size_t DemContacts::broken_bonds(const DemBodies* own_of) const {
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < bonds.size(); ++k) n += counted(own_of, bonds, k) && !bonds.intact[k];
+  return n;
 }
 
-std::size_t DemContacts::touching_contacts() const {
+std::size_t DemContacts::touching_contacts(const DemBodies* own_of) const {
   std::size_t n = 0;
-  for (std::size_t k = 0; k < contacts.size(); ++k) n += contacts.fn[k] > 0;
+  for (std::size_t k = 0; k < contacts.size(); ++k) n += counted(own_of, contacts, k) && contacts.fn[k] > 0;
   return n;
 }
 

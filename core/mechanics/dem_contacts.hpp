@@ -83,8 +83,10 @@ class DemContacts {
   void sum_body(const DemBodies& bodies, std::size_t b, double gx, double gy, Counted counted,
                 double (&f)[3]) const;
 
-  std::size_t broken_bonds() const;
-  std::size_t touching_contacts() const;
+  // Counted over every contact, or (given `own_of`) over those whose
+  // particle p's body that rank steps (DemBodies::steps: a split DEM's own).
+  std::size_t broken_bonds(const DemBodies* own_of = nullptr) const;
+  std::size_t touching_contacts(const DemBodies* own_of = nullptr) const;
   std::size_t list_builds() const { return detector_ ? detector_->builds() : 0; }
   double elastic_energy_J() const;
   // The contact list's detector (contact_detector.hpp: its fit, rebuild

@@ -254,12 +254,8 @@ void DemSolver::gather_on_rank0(bool whole_state) {
 // gather of every contact's state takes it from there.
 void DemSolver::count_on_rank0() {
   if (!split_) return;
-  double counts[2] = {0, 0};
-  const auto own = [&](const BondSet& set, std::size_t k) { return bodies_.steps(bodies_.pbody[set.p[k]]); };
-  for (std::size_t k = 0; k < contacts_.bonds.size(); ++k)
-    counts[0] += own(contacts_.bonds, k) && !contacts_.bonds.intact[k];
-  for (std::size_t k = 0; k < contacts_.contacts.size(); ++k)
-    counts[1] += own(contacts_.contacts, k) && contacts_.contacts.fn[k] > 0;
+  double counts[2] = {static_cast<double>(contacts_.broken_bonds(&bodies_)),
+                       static_cast<double>(contacts_.touching_contacts(&bodies_))};
   split_->sum(counts, 2);
   counted_ = {static_cast<std::size_t>(counts[0]), static_cast<std::size_t>(counts[1])};
   counted_at_step_ = steps_;

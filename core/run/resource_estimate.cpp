@@ -279,8 +279,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // (the sheet above: ~30 bytes a particle and a bond).
   if (mechanics && split && !scene.mechanics.multirate)
     e.memory.push_back({"the DEM's exchanges over ranks",
-                        30.0 * (static_cast<double>(tissue.built_particles()) +
-                                static_cast<double>(tissue.built_bonds())),
+                        30.0 * (built_particles + static_cast<double>(tissue.built_bonds())),
                         "a smaller tissue"});
   // A checkpoint while it is written: its fields, each array copied once
   // (streamed to the file from there: io/checkpoint_file.hpp), this rank's part.
