@@ -11,19 +11,24 @@ std::size_t Tissue::count(CellType t) const {
   return static_cast<std::size_t>(std::count(type.begin(), type.end(), t));
 }
 
+std::array<double, 4> empty_bounds_um() {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  return {inf, -inf, inf, -inf};
+}
+
+void extend_bounds_um(std::array<double, 4>& b, const Particle& p) {
+  b[0] = std::min(b[0], p.x_um - p.r_um);
+  b[1] = std::max(b[1], p.x_um + p.r_um);
+  b[2] = std::min(b[2], p.y_um - p.r_um);
+  b[3] = std::max(b[3], p.y_um + p.r_um);
+}
+
 std::array<double, 4> Tissue::bounds_um() const {
   if (particles_released_) return released_bounds_um_;
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  std::array<double, 4> b = {inf, -inf, inf, -inf};
-  auto extend = [&b](double x, double y, double r) {
-    b[0] = std::min(b[0], x - r);
-    b[1] = std::max(b[1], x + r);
-    b[2] = std::min(b[2], y - r);
-    b[3] = std::max(b[3], y + r);
-  };
+  std::array<double, 4> b = empty_bounds_um();
   if (particles.empty())
-    for (std::size_t c = 0; c < type.size(); ++c) extend(x_um[c], y_um[c], 0.0);
-  for (const auto& p : particles) extend(p.x_um, p.y_um, p.r_um);
+    for (std::size_t c = 0; c < type.size(); ++c) extend_bounds_um(b, {x_um[c], y_um[c], 0.0});
+  for (const auto& p : particles) extend_bounds_um(b, p);
   return b;
 }
 
@@ -66,6 +71,14 @@ void Tissue::release_particles(std::shared_ptr<const TissueImprint> imprint) {
   particles_released_ = true;
   for (auto* v : {&particles, &collagen}) std::vector<Particle>().swap(*v);
   for (auto* v : {&bonds, &collagen_bonds}) std::vector<Bond>().swap(*v);
+}
+
+void Tissue::release_unbuilt_particles(std::size_t particle_count, std::size_t bond_count,
+                                       const std::array<double, 4>& bounds_um) {
+  release_particles();
+  released_particles_ = particle_count;
+  released_bonds_ = bond_count;
+  released_bounds_um_ = bounds_um;
 }
 
 int add_myocyte(Tissue& tissue, double x, double y, double angle) {

@@ -65,6 +65,11 @@ struct Tissue {
   // imprint, what the pictures and VTK files need of them is kept in it
   // (rank 0 of a split run without mechanics).
   void release_particles(std::shared_ptr<const TissueImprint> imprint = nullptr);
+  // A tissue whose builder made its cells without their particles and
+  // bonds (TissueBuilder::build_cells): released as if it had held
+  // `particle_count` particles and `bond_count` bonds (collagen's included)
+  // within `bounds_um`.
+  void release_unbuilt_particles(std::size_t particle_count, std::size_t bond_count, const std::array<double, 4>& bounds_um);
   bool particles_released() const { return particles_released_; }
   // The imprint the particles were released with (null: none).
   const TissueImprint* imprint() const { return imprint_.get(); }
@@ -82,6 +87,11 @@ struct Tissue {
   std::size_t released_particles_ = 0, released_bonds_ = 0;
   std::shared_ptr<const TissueImprint> imprint_;
 };
+
+// A bounding box (x_min, x_max, y_min, y_max) that holds nothing yet, and
+// one widened to hold particle p.
+std::array<double, 4> empty_bounds_um();
+void extend_bounds_um(std::array<double, 4>& bounds, const Particle& p);
 
 // Geometry of the paper's cells (seed paper, section 2.2): a myocyte is 7
 // particles of radius 12.5 um at spacing 16.67 um along its axis (125 x 25 um);

@@ -4,6 +4,16 @@
 
 namespace fibrodem {
 
+Tissue TissueBuilder::build_cells(std::uint64_t seed) const {
+  Tissue tissue = build(seed);
+  tissue.release_particles();
+  return tissue;
+}
+
+void TissueBuilder::for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const {
+  for (const Particle& p : build(seed).particles) visit(p);
+}
+
 const std::map<std::string, TissueBuilderFactory>& tissue_builders() {
   static const std::map<std::string, TissueBuilderFactory> builders = {
       {"single_cell", make_single_cell_builder},

@@ -17,6 +17,18 @@ class TissueBuilder {
  public:
   virtual ~TissueBuilder() = default;
   virtual Tissue build(std::uint64_t seed) const = 0;
+
+  // For a process that never needs the particles and bonds together (a rank
+  // of a split run without mechanics: docs/guide/parallel.md): the tissue's
+  // cells, their centres and graph, as build() makes them, its particles
+  // and bonds released (Tissue::release_particles: their counts and bounds
+  // kept); and each cell's particle in build()'s order, one at a time.
+  // By default both build the whole tissue; a builder that makes them
+  // without it says so (builds_cells_alone), and build_cells then takes
+  // about the cells' own memory.
+  virtual Tissue build_cells(std::uint64_t seed) const;
+  virtual void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const;
+  virtual bool builds_cells_alone() const { return false; }
 };
 
 // Reads a builder's own parameters from the `tissue` object (its `builder` key

@@ -2,8 +2,9 @@
 // its fibrosis patterns (core/tissue/fibrosis_pattern.cpp): the brick layout,
 // the density each pattern achieves, the patchy pattern's correlation length,
 // interstitial lines along the fibres, collagen that carries no coupling,
-// determinism for a seed, errors that name the JSON path; mechanics builds
-// on it (tests/mechanics/test_dem_sheets.cpp tests the DEM body).
+// determinism for a seed, errors that name the JSON path, its cells built
+// alone for a split run (TissueBuilder::build_cells); mechanics builds on it
+// (tests/mechanics/test_dem_sheets.cpp tests the DEM body).
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -14,6 +15,8 @@
 #include "scene/scene.hpp"
 #include "support/scenes.hpp"
 #include "tissue/builders/column_tissue.hpp"
+#include "tissue/tissue_builder.hpp"
+#include "util/json_reader.hpp"
 
 using namespace fibrodem;
 
@@ -332,4 +335,76 @@ TEST_CASE("fibrotic_sheet: mechanics builds on it") {
   CHECK(sim.processes().has("mechanics"));
   sim.run();
   CHECK(sim.summary().contains("peak_strain"));
+}
+
+namespace {
+
+// What build_cells and for_each_particle give against build(): the same
+// cells and graph, the particles' and bonds' counts and bounds, and the
+// particles themselves in their order, to the bit.
+void check_cells_alone(const TissueBuilder& builder, std::uint64_t seed) {
+  const Tissue whole = builder.build(seed);
+  const Tissue cells = builder.build_cells(seed);
+  CHECK(same_tissue(cells, whole));
+  CHECK(cells.particles_released());
+  CHECK(cells.particles.empty());
+  CHECK(cells.bonds.empty());
+  CHECK(cells.collagen.empty());
+  CHECK(cells.collagen_bonds.empty());
+  CHECK(cells.built_particles() == whole.built_particles());
+  CHECK(cells.built_bonds() == whole.built_bonds());
+  CHECK(cells.bounds_um() == whole.bounds_um());
+  std::vector<Particle> streamed;
+  builder.for_each_particle(seed, [&streamed](const Particle& p) { streamed.push_back(p); });
+  REQUIRE(streamed.size() == whole.particles.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < streamed.size(); ++i) {
+    const Particle &a = streamed[i], &b = whole.particles[i];
+    differ += a.x_um != b.x_um || a.y_um != b.y_um || a.r_um != b.r_um || a.cell != b.cell;
+  }
+  CHECK(differ == 0);
+}
+
+std::unique_ptr<TissueBuilder> builder_of(const json& spec) {
+  JsonReader reader(spec, "tissue");
+  return make_tissue_builder(reader);
+}
+
+}  // namespace
+
+TEST_CASE("fibrotic_sheet: its cells alone, and its particles one by one, are those of the whole tissue") {
+  // Every kind of slot (myocyte, fibroblast, collagen disks, void) and of
+  // junction (through collagen, across a septum), on an odd and even
+  // column count and on one column. (Premise: each variant gives the
+  // kinds it is here for.)
+  const std::vector<json> variants = {
+      sheet(1.0, 1.5),
+      sheet(1.0, 1.5, {{"density", 0.2}, {"pattern", "diffuse"}, {"as", "fibroblasts"}}),
+      sheet(1.0, 1.5, {{"density", 0.2}, {"pattern", "diffuse"}}),
+      sheet(0.99, 1.5, {{"density", 0.3}, {"pattern", "patchy"}, {"collagen", "particles"}}),
+      sheet(1.0, 1.5, {{"density", 0.2}, {"pattern", "interstitial"}, {"collagen", "particles"}}),
+      sheet(1.0, 1.5, {{"density", 0.1}, {"pattern", "compact"}, {"as", "fibroblasts"}}),
+      sheet(0.025, 1.5),
+  };
+  for (const json& spec : variants) {
+    INFO(spec.dump());
+    const auto builder = builder_of(spec);
+    CHECK(builder->builds_cells_alone());
+    check_cells_alone(*builder, 3);
+  }
+  const Tissue with_fibroblasts = testing::build_tissue(variants[1], 3);
+  CHECK(with_fibroblasts.count(CellType::fibroblast) > 0);
+  const Tissue with_voids = testing::build_tissue(variants[2], 3);
+  CHECK(with_voids.cell_count() < with_fibroblasts.cell_count());
+  const Tissue with_collagen = testing::build_tissue(variants[3], 3);
+  CHECK(!with_collagen.collagen.empty());
+  const Tissue with_septa = testing::build_tissue(variants[4], 3);
+  CHECK(!with_septa.collagen_bonds.empty());
+  CHECK(with_septa.collagen.empty());
+}
+
+TEST_CASE("a builder without its own build_cells: the whole tissue's, released") {
+  const auto builder = builder_of({{"builder", "in_series"}, {"width_mm", 0.3}, {"height_mm", 0.6}, {"fm_ratio", 0.3}});
+  CHECK(!builder->builds_cells_alone());
+  check_cells_alone(*builder, 5);
 }

@@ -38,6 +38,13 @@
 // (0.6 x 1.0 mm in 2.32 x 6.27 mm: 0.0413), aspect = 1.0 / 0.6, centred; that
 // builder stays for the paper's particle geometry (one-particle fibroblasts
 // 25 um tall, so ~930 of them, against ~40 brick slots here).
+//
+// A rank of a run split over MPI ranks without mechanics takes the cells
+// alone (build_cells: the same cells and graph, without the particles and
+// bonds, ~40 of the ~330 bytes a cell), and rank 0 the particles one by one
+// for their imprint (for_each_particle): no rank holds the whole tissue's
+// particles (docs/guide/parallel.md).
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -51,6 +58,126 @@ namespace {
 enum class FibrosisAs { fibroblasts, collagen };
 enum class CollagenAs { voids, particles };
 
+// What a slot holds: a myocyte, a fibroblast or collagen disks, or nothing
+// (a collagen void).
+enum class SlotKind : char { myocyte, fibroblast, collagen, empty };
+
+using SlotDisks = std::array<Particle, kMyocyteParticles>;
+
+// A myocyte's disks along its axis from its centre (add_myocyte's).
+constexpr std::array<double, kMyocyteParticles> kMyocyteDiskOffset_um = [] {
+  std::array<double, kMyocyteParticles> a{};
+  for (int k = 0; k < kMyocyteParticles; ++k) a[k] = -kMyocyteEndOffset_um + k * kParticleSpacing_um;
+  return a;
+}();
+
+// The sheet's slots for a seed: what each holds, its disks, and the
+// junctions between neighbouring slots. build() and build_cells() both read
+// it, so that they make the same cells, in the same order, and one graph.
+class SheetSlots {
+ public:
+  SheetSlots(const SheetGrid& grid, const FibrosisSpec& fibrosis, FibrosisAs as, CollagenAs collagen,
+             std::uint64_t seed)
+      : grid_(grid) {
+    BuilderRandom rng(seed);
+    fibrotic_ = fibrotic_slots(grid, fibrosis, rng);
+    septa_ = as == FibrosisAs::collagen && fibrosis.pattern == FibrosisPattern::interstitial;
+    holes_ = as == FibrosisAs::collagen && !septa_;
+    collagen_particles_ = collagen == CollagenAs::particles;
+  }
+
+  SlotKind kind(std::size_t s) const {
+    if (!fibrotic_[s] || septa_) return SlotKind::myocyte;
+    if (!holes_) return SlotKind::fibroblast;
+    return collagen_particles_ ? SlotKind::collagen : SlotKind::empty;
+  }
+
+  // Each slot (c, r), column by column, with what it holds.
+  template <class Visit>
+  void for_each_slot(Visit&& visit) const {
+    for (int c = 0; c < grid_.columns; ++c)
+      for (int r = 0; r < grid_.rows; ++r) {
+        const std::size_t s = grid_.slot(c, r);
+        visit(c, r, s, kind(s));
+      }
+  }
+
+  // The centre of the cell in slot (c, r), and its 7 disks bottom to top, of
+  // cell `cell` (-1 for collagen). A myocyte's are add_vertical_myocyte's (its
+  // arithmetic, so the same bits); a fibrotic slot's are a myocyte's spacing
+  // along the slot's centre line.
+  std::array<double, 2> centre_um(int c, int r, SlotKind kind) const {
+    const double x = grid_.x_um(c), y = grid_.y_um(c, r);
+    return {x, kind == SlotKind::myocyte ? y - kMyocyteLength_um / 2 + kMyocyteLength_um / 2 : y};
+  }
+  // (Rounded one way whatever the compiler contracts, so that every build
+  // of fibrodem makes the same tissue: a myocyte's offsets from its centre
+  // are constants, a fibrotic slot's disks one fused multiply-add each.)
+  SlotDisks disks(int c, int r, SlotKind kind, int cell) const {
+    const auto [x, y] = centre_um(c, r, kind);
+    SlotDisks d;
+    for (int k = 0; k < kMyocyteParticles; ++k)
+      d[k] = {x,
+              kind == SlotKind::myocyte ? y + kMyocyteDiskOffset_um[k]
+                                        : std::fma(k, kParticleSpacing_um, y - kMyocyteEndOffset_um),
+              kParticleRadius_um, cell};
+    return d;
+  }
+
+  // Each junction between two slots that hold disks, in the order the
+  // bonds are made: a slot's next up its column, then the two beside it in
+  // the next column (beside cell r of an even column: rows r - 1 and r of
+  // the shifted odd column; of an odd column: rows r and r + 1 of the even
+  // one). visit(a, b, septum): slots a and b, with an interstitial septum
+  // between them or not.
+  template <class Visit>
+  void for_each_junction(Visit&& visit) const {
+    auto join = [&](std::size_t a, std::size_t b, bool septum) {
+      if (kind(a) != SlotKind::empty && kind(b) != SlotKind::empty) visit(a, b, septum);
+    };
+    for (int c = 0; c < grid_.columns; ++c)
+      for (int r = 0; r < grid_.rows; ++r) {
+        const std::size_t s = grid_.slot(c, r);
+        if (r + 1 < grid_.rows) join(s, grid_.slot(c, r + 1), false);
+        if (c + 1 == grid_.columns) continue;
+        const int first = c % 2 == 0 ? r - 1 : r;
+        for (int rn = first; rn <= first + 1; ++rn) {
+          if (rn < 0 || rn >= grid_.rows) continue;
+          const std::size_t n = grid_.slot(c + 1, rn);
+          join(s, n, septa_ && (fibrotic_[s] || fibrotic_[n]));
+        }
+      }
+  }
+
+  // The touching pairs (i, j) of slot a's and slot b's disks, each handed
+  // to bond(i, j); returns how many. Neighbouring slots always touch.
+  template <class Bond>
+  int touching_pairs(std::size_t a, std::size_t b, Bond&& bond) const {
+    const SlotDisks da = disks_of(a), db = disks_of(b);
+    int made = 0;
+    for (int i = 0; i < kMyocyteParticles; ++i)
+      for (int j = 0; j < kMyocyteParticles; ++j)
+        if (touching(da[i], db[j])) {
+          bond(i, j);
+          ++made;
+        }
+    if (made == 0) throw std::logic_error("fibrotic_sheet: neighbouring slots whose particles do not touch");
+    return made;
+  }
+
+ private:
+  SlotDisks disks_of(std::size_t s) const {
+    const int c = static_cast<int>(s / static_cast<std::size_t>(grid_.rows));
+    return disks(c, static_cast<int>(s % static_cast<std::size_t>(grid_.rows)), kind(s), -1);
+  }
+
+  SheetGrid grid_;
+  std::vector<char> fibrotic_;
+  bool septa_ = false, holes_ = false, collagen_particles_ = false;
+};
+
+CellType cell_type_of(SlotKind kind) { return kind == SlotKind::myocyte ? CellType::myocyte : CellType::fibroblast; }
+
 // The particles of one slot: [first, first + count) of the tissue's
 // particles, or of its collagen particles.
 struct SlotParticles {
@@ -58,98 +185,96 @@ struct SlotParticles {
   bool collagen = false;
 };
 
-// The 7 disks of a myocyte's geometry along a fibrotic slot centred at (x, y),
-// as a fibroblast cell's particles or as collagen particles.
-SlotParticles add_slot_disks(Tissue& tissue, double x, double y, bool collagen) {
-  SlotParticles s;
-  s.collagen = collagen;
-  const int cell = collagen ? -1 : tissue.add_cell(CellType::fibroblast, x, y);
-  for (int k = 0; k < kMyocyteParticles; ++k) {
-    const double py = y - kMyocyteEndOffset_um + k * kParticleSpacing_um;
-    const int id = collagen ? tissue.add_collagen_particle(x, py, kParticleRadius_um)
-                            : tissue.add_particle(cell, x, py, kParticleRadius_um);
-    if (k == 0) s.first = id;
-  }
-  s.count = kMyocyteParticles;
-  return s;
-}
-
 class FibroticSheetBuilder final : public TissueBuilder {
  public:
   FibroticSheetBuilder(SheetGrid grid, FibrosisSpec fibrosis, FibrosisAs as, CollagenAs collagen)
       : grid_(grid), fibrosis_(fibrosis), as_(as), collagen_(collagen) {}
 
   Tissue build(std::uint64_t seed) const override {
-    BuilderRandom rng(seed);
-    const std::vector<char> fibrotic = fibrotic_slots(grid_, fibrosis_, rng);
-    const bool septa = as_ == FibrosisAs::collagen && fibrosis_.pattern == FibrosisPattern::interstitial;
-    const bool holes = as_ == FibrosisAs::collagen && !septa;
-    const bool particles = collagen_ == CollagenAs::particles;
+    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
     Tissue tissue;
     std::vector<SlotParticles> slot(grid_.slots());
     tissue.type.reserve(grid_.slots());
     tissue.x_um.reserve(grid_.slots());
     tissue.y_um.reserve(grid_.slots());
     tissue.particles.reserve(kMyocyteParticles * grid_.slots());
-    for (int c = 0; c < grid_.columns; ++c)
-      for (int r = 0; r < grid_.rows; ++r) {
-        const std::size_t s = grid_.slot(c, r);
-        const double x = grid_.x_um(c), y = grid_.y_um(c, r);
-        if (holes && fibrotic[s]) {
-          if (particles) slot[s] = add_slot_disks(tissue, x, y, true);
-        } else if (fibrotic[s] && !septa) {
-          slot[s] = add_slot_disks(tissue, x, y, false);
-        } else {
-          slot[s] = {static_cast<int>(tissue.particles.size()), kMyocyteParticles, false};
-          add_vertical_myocyte(tissue, x, y - kMyocyteLength_um / 2);
-        }
-      }
+    sheet.for_each_slot([&](int c, int r, std::size_t s, SlotKind kind) {
+      if (kind == SlotKind::empty) return;
+      const bool collagen = kind == SlotKind::collagen;
+      const auto [x, y] = sheet.centre_um(c, r, kind);
+      const int cell = collagen ? -1 : tissue.add_cell(cell_type_of(kind), x, y);
+      slot[s] = {static_cast<int>(collagen ? tissue.collagen.size() : tissue.particles.size()), kMyocyteParticles,
+                 collagen};
+      for (const Particle& p : sheet.disks(c, r, kind, cell))
+        if (collagen) tissue.add_collagen_particle(p.x_um, p.y_um, p.r_um);
+        else tissue.add_particle(cell, p.x_um, p.y_um, p.r_um);
+    });
     const int cell_particles = static_cast<int>(tissue.particles.size());
     tissue.bonds.reserve(7 * grid_.slots());  // a slot: 1 to the next up, 3 to each of 2 in the next column
     auto index = [&](const SlotParticles& s, int k) { return (s.collagen ? cell_particles : 0) + s.first + k; };
-    auto at = [&](const SlotParticles& s, int k) -> const Particle& {
-      return s.collagen ? tissue.collagen[s.first + k] : tissue.particles[s.first + k];
-    };
     // Bonds inside a slot of disks: each to the next (16.67 um apart).
-    for (const SlotParticles& s : slot)
-      if (s.count > 0 && (s.collagen || tissue.type[tissue.particles[s.first].cell] == CellType::fibroblast))
-        for (int k = 0; k + 1 < s.count; ++k) {
-          if (s.collagen) tissue.add_collagen_bond(index(s, k), index(s, k + 1));
-          else tissue.add_bond(index(s, k), index(s, k + 1));
+    for (std::size_t s = 0; s < slot.size(); ++s)
+      if (sheet.kind(s) == SlotKind::fibroblast || sheet.kind(s) == SlotKind::collagen)
+        for (int k = 0; k + 1 < kMyocyteParticles; ++k) {
+          if (slot[s].collagen) tissue.add_collagen_bond(index(slot[s], k), index(slot[s], k + 1));
+          else tissue.add_bond(index(slot[s], k), index(slot[s], k + 1));
         }
     // Between neighbouring slots: every touching pair; through collagen where
     // either slot is collagen or a septum lies between them (no coupling).
-    auto bond = [&](std::size_t a, std::size_t b, bool septum) {
+    sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
       const SlotParticles &sa = slot[a], &sb = slot[b];
-      if (sa.count == 0 || sb.count == 0) return;
       const bool through_collagen = septum || sa.collagen || sb.collagen;
-      int made = 0;
-      for (int i = 0; i < sa.count; ++i)
-        for (int j = 0; j < sb.count; ++j) {
-          if (!touching(at(sa, i), at(sb, j))) continue;
-          if (through_collagen) tissue.add_collagen_bond(index(sa, i), index(sb, j));
-          else tissue.add_bond(index(sa, i), index(sb, j));
-          ++made;
-        }
-      if (made == 0) throw std::logic_error("fibrotic_sheet: neighbouring slots whose particles do not touch");
-    };
-    for (int c = 0; c < grid_.columns; ++c)
-      for (int r = 0; r < grid_.rows; ++r) {
-        const std::size_t s = grid_.slot(c, r);
-        if (r + 1 < grid_.rows) bond(s, grid_.slot(c, r + 1), false);
-        if (c + 1 == grid_.columns) continue;
-        // Beside cell r of an even column: rows r - 1 and r of the (shifted)
-        // odd column; of an odd column: rows r and r + 1 of the even one.
-        const int first = c % 2 == 0 ? r - 1 : r;
-        for (int rn = first; rn <= first + 1; ++rn) {
-          if (rn < 0 || rn >= grid_.rows) continue;
-          const std::size_t n = grid_.slot(c + 1, rn);
-          bond(s, n, septa && (fibrotic[s] || fibrotic[n]));
-        }
-      }
+      sheet.touching_pairs(a, b, [&](int i, int j) {
+        if (through_collagen) tissue.add_collagen_bond(index(sa, i), index(sb, j));
+        else tissue.add_bond(index(sa, i), index(sb, j));
+      });
+    });
     tissue.finalise();
     return tissue;
   }
+
+  // build()'s cells and graph, counting its particles and bonds: the cell
+  // graph's edges are the junctions that bond two cells' disks not through
+  // collagen (each once, where build() adds one a bond).
+  Tissue build_cells(std::uint64_t seed) const override {
+    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
+    Tissue tissue;
+    tissue.type.reserve(grid_.slots());
+    tissue.x_um.reserve(grid_.slots());
+    tissue.y_um.reserve(grid_.slots());
+    std::vector<int> cell_of(grid_.slots(), -1);
+    std::size_t particles = 0, bonds = 0;
+    std::array<double, 4> bounds = empty_bounds_um();
+    sheet.for_each_slot([&](int c, int r, std::size_t s, SlotKind kind) {
+      if (kind == SlotKind::empty) return;
+      particles += kMyocyteParticles;
+      if (kind != SlotKind::myocyte) bonds += kMyocyteParticles - 1;
+      if (kind == SlotKind::collagen) return;
+      const auto [x, y] = sheet.centre_um(c, r, kind);
+      cell_of[s] = tissue.add_cell(cell_type_of(kind), x, y);
+      for (const Particle& p : sheet.disks(c, r, kind, cell_of[s])) extend_bounds_um(bounds, p);
+    });
+    tissue.cell_edges.reserve(3 * grid_.slots());
+    sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
+      bonds += static_cast<std::size_t>(sheet.touching_pairs(a, b, [](int, int) {}));
+      if (!septum && cell_of[a] >= 0 && cell_of[b] >= 0) tissue.cell_edges.emplace_back(cell_of[a], cell_of[b]);
+    });
+    tissue.finalise();
+    tissue.release_unbuilt_particles(particles, bonds, bounds);
+    return tissue;
+  }
+
+  void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const override {
+    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
+    int cell = 0;
+    sheet.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
+      if (kind == SlotKind::empty || kind == SlotKind::collagen) return;
+      for (const Particle& p : sheet.disks(c, r, kind, cell)) visit(p);
+      ++cell;
+    });
+  }
+
+  bool builds_cells_alone() const override { return true; }
 
  private:
   SheetGrid grid_;
