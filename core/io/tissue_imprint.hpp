@@ -47,6 +47,22 @@ struct TissueImprint {
 // default scale (PictureOptions::height_px), with a colour bar.
 PictureFrame imprint_frame(const std::array<double, 4>& bounds_um);
 
+// An imprint made from the particles one at a time, in the tissue's order
+// (TissueBuilder::for_each_particle), so that they need never be held
+// together: the bounds and cell types of the tissue they make.
+class TissueImprinter {
+ public:
+  TissueImprinter(const std::array<double, 4>& bounds_um, const std::vector<CellType>& type);
+  void add(const Particle& p);
+  std::shared_ptr<const TissueImprint> finish();
+
+ private:
+  const std::vector<CellType>& type_;
+  std::shared_ptr<TissueImprint> imprint_;
+  VtpGeometryPacker vtp_;
+  std::size_t particles_ = 0;
+};
+
 // The imprint of a tissue's particles (collagen's are in no output).
 std::shared_ptr<const TissueImprint> imprint_tissue(const Tissue& tissue);
 

@@ -38,6 +38,23 @@ constexpr const char* vtk_type_name() {
   else static_assert(sizeof(T) == 0, "no VTK type for T");
 }
 
+// An array's XML element up to its offset.
+template <class T>
+std::string element_head(const std::string& name, int components) {
+  return std::string("<DataArray type=\"") + vtk_type_name<T>() + "\" Name=\"" + name +
+         "\" NumberOfComponents=\"" + std::to_string(components) + "\" format=\"appended\" offset=\"";
+}
+
+// Deflates one block of an array into `packed` (room for compressBound of
+// a block); returns its compressed size.
+std::size_t deflate_block(const unsigned char* raw, std::size_t bytes, std::vector<unsigned char>& packed,
+                          const std::string& name) {
+  uLongf packed_size = static_cast<uLongf>(packed.size());
+  if (compress2(packed.data(), &packed_size, raw, static_cast<uLong>(bytes), kZlibLevel) != Z_OK)
+    throw std::runtime_error("write_tissue_vtp: zlib failed to compress array '" + name + "'");
+  return static_cast<std::size_t>(packed_size);
+}
+
 // Writes to the file, or throws naming it.
 void put(FILE* f, const void* data, std::size_t bytes, const std::filesystem::path& file) {
   if (bytes > 0 && std::fwrite(data, 1, bytes, f) != bytes)
@@ -63,8 +80,7 @@ class AppendedArrays {
   template <class T, class ValueAt>
   void add(const std::string& name, int components, std::size_t count, ValueAt value_at) {
     Array a;
-    a.element_head = std::string("<DataArray type=\"") + vtk_type_name<T>() + "\" Name=\"" + name +
-                     "\" NumberOfComponents=\"" + std::to_string(components) + "\" format=\"appended\" offset=\"";
+    a.element_head = element_head<T>(name, components);
     a.name = name;
     a.bytes = count * sizeof(T);
     a.fill = [value_at](std::size_t first_byte, std::size_t bytes, unsigned char* out) {
@@ -75,27 +91,13 @@ class AppendedArrays {
     arrays_.push_back(std::move(a));
     texts_.emplace_back();
   }
-  // An array packed before (pack()), copied as it is.
+  // An array packed before (VtpGeometryPacker), copied as it is.
   void add(const PackedVtpArray& packed) {
     Array a;
     a.element_head = packed.element_head;
     a.packed = &packed.appended;
     arrays_.push_back(std::move(a));
     texts_.emplace_back();
-  }
-  // Array i, packed: its element and appended data as write() writes them.
-  PackedVtpArray pack(std::size_t i) const {
-    const Array& a = arrays_.at(i);
-    PackedVtpArray packed{a.element_head, {}};
-    std::vector<unsigned char>& out = packed.appended;
-    const std::size_t header_bytes = 8 * (3 + block_count(a));
-    out.resize(header_bytes);  // (filled once the blocks' sizes are known)
-    const std::vector<std::uint64_t> block_header = deflate_blocks(a, [&](const unsigned char* data, std::size_t n) {
-      out.insert(out.end(), data, data + n);
-    });
-    std::memcpy(out.data(), block_header.data(), header_bytes);
-    out.shrink_to_fit();  // (kept for the run: not the room its growth left)
-    return packed;
   }
   // Writes the whole file: the header, "_", the appended data, `tail`.
   void write(const std::filesystem::path& file, const std::string& appended_tag, const std::string& tail) {
@@ -150,10 +152,8 @@ class AppendedArrays {
     for (std::size_t b = 0; b < blocks; ++b) {
       const std::size_t begin = b * kBlockBytes, size = std::min(kBlockBytes, a.bytes - begin);
       a.fill(begin, size, raw.data());
-      uLongf packed_size = static_cast<uLongf>(packed.size());
-      if (compress2(packed.data(), &packed_size, raw.data(), static_cast<uLong>(size), kZlibLevel) != Z_OK)
-        throw std::runtime_error("write_tissue_vtp: zlib failed to compress array '" + a.name + "'");
-      put_block(packed.data(), static_cast<std::size_t>(packed_size));
+      const std::size_t packed_size = deflate_block(raw.data(), size, packed, a.name);
+      put_block(packed.data(), packed_size);
       block_header[3 + b] = packed_size;
     }
     return block_header;
@@ -353,11 +353,69 @@ void write_tissue_vtp(const Tissue& tissue, const std::filesystem::path& file, c
   write_arrays(arrays, file);
 }
 
-PackedVtpGeometry pack_vtp_geometry(const Tissue& tissue) {
-  AppendedArrays arrays;
-  add_particle_arrays(arrays, tissue);
-  add_points(arrays, tissue);
-  return {arrays.pack(0), arrays.pack(1), arrays.pack(2), arrays.pack(3)};
+// One array packed as its values come: each full block deflated at once,
+// the appended data (block header, blocks) made at the end, as
+// AppendedArrays writes an array.
+class VtpGeometryPacker::ArrayPacker {
+ public:
+  ArrayPacker(std::string name, std::string element_head)
+      : name_(std::move(name)), packed_{std::move(element_head), {}} {
+    raw_.reserve(kBlockBytes);
+  }
+  template <class T>
+  void add(T value) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(&value);
+    raw_.insert(raw_.end(), bytes, bytes + sizeof(T));  // (a block holds whole values: 2^16 bytes)
+    if (raw_.size() == kBlockBytes) deflate_raw();
+  }
+  PackedVtpArray finish() {
+    const std::size_t last = raw_.size();
+    if (last > 0) deflate_raw();
+    std::vector<std::uint64_t> header{block_sizes_.size(), kBlockBytes, last};
+    header.insert(header.end(), block_sizes_.begin(), block_sizes_.end());
+    std::vector<unsigned char>& out = packed_.appended;
+    out.reserve(8 * header.size() + blocks_.size());
+    out.resize(8 * header.size());
+    std::memcpy(out.data(), header.data(), out.size());  // little-endian, the file's byte_order
+    out.insert(out.end(), blocks_.begin(), blocks_.end());
+    std::vector<unsigned char>().swap(blocks_);
+    return std::move(packed_);
+  }
+
+ private:
+  void deflate_raw() {
+    const std::size_t n = deflate_block(raw_.data(), raw_.size(), deflated_, name_);
+    blocks_.insert(blocks_.end(), deflated_.begin(), deflated_.begin() + static_cast<std::ptrdiff_t>(n));
+    block_sizes_.push_back(n);
+    raw_.clear();
+  }
+
+  std::string name_;
+  PackedVtpArray packed_;
+  std::vector<unsigned char> raw_, blocks_, deflated_ = std::vector<unsigned char>(compressBound(kBlockBytes));
+  std::vector<std::uint64_t> block_sizes_;
+};
+
+// The arrays add_particle_arrays and add_points write.
+VtpGeometryPacker::VtpGeometryPacker()
+    : radius_(std::make_unique<ArrayPacker>("radius_um", element_head<float>("radius_um", 1))),
+      cell_(std::make_unique<ArrayPacker>("cell", element_head<std::int32_t>("cell", 1))),
+      cell_type_(std::make_unique<ArrayPacker>("cell_type", element_head<std::uint8_t>("cell_type", 1))),
+      points_(std::make_unique<ArrayPacker>("Points", element_head<float>("Points", 3))) {}
+
+VtpGeometryPacker::~VtpGeometryPacker() = default;
+
+void VtpGeometryPacker::add(const Particle& p, CellType type) {
+  radius_->add(static_cast<float>(p.r_um));
+  cell_->add(static_cast<std::int32_t>(p.cell));
+  cell_type_->add(static_cast<std::uint8_t>(type));
+  points_->add(static_cast<float>(p.x_um));
+  points_->add(static_cast<float>(p.y_um));
+  points_->add(0.0f);
+}
+
+PackedVtpGeometry VtpGeometryPacker::finish() {
+  return {radius_->finish(), cell_->finish(), cell_type_->finish(), points_->finish()};
 }
 
 std::size_t PackedVtpGeometry::bytes() const {

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,19 @@ struct PackedVtpGeometry {
   PackedVtpArray radius, cell, cell_type, points;
   std::size_t bytes() const;
 };
-PackedVtpGeometry pack_vtp_geometry(const Tissue& tissue);
+// The geometry packed as the particles come, one at a time in the tissue's
+// order, so that they need never be held together (an imprint made while
+// the tissue is built: io/tissue_imprint.hpp).
+class VtpGeometryPacker {
+ public:
+  VtpGeometryPacker();
+  ~VtpGeometryPacker();
+  void add(const Particle& p, CellType type);
+  PackedVtpGeometry finish();
+
+ private:
+  class ArrayPacker;
+  std::unique_ptr<ArrayPacker> radius_, cell_, cell_type_, points_;
+};
 
 }  // namespace fibrodem
