@@ -1,6 +1,7 @@
 #include "run/over_ranks.hpp"
 
 #include "integrate/method_choice.hpp"
+#include "tissue/tissue_builder.hpp"
 
 namespace fibrodem {
 
@@ -17,8 +18,8 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const std::s
 
 std::vector<std::string> unsupported_over_ranks(const Scene& scene) {
   if (scene.solver.method != "auto") return unsupported_over_ranks(scene, scene.solver.method);
-  const Tissue tissue = scene.tissue->build(scene.seed);
-  return unsupported_over_ranks(scene, choose_method(scene.solver, tissue.cell_count()).solver.method);
+  const std::size_t cells = scene.tissue->build_cells(scene.seed).cell_count();  // (not the particles)
+  return unsupported_over_ranks(scene, choose_method(scene.solver, cells).solver.method);
 }
 
 std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported) {

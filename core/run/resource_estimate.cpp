@@ -12,6 +12,7 @@
 #include "integrate/adaptive.hpp"
 #include "integrate/integrator.hpp"
 #include "io/tissue_imprint.hpp"
+#include "tissue/tissue_builder.hpp"
 #include "measure/biomarkers.hpp"
 #include "util/manifest_error.hpp"
 
@@ -288,8 +289,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         "output.checkpoint: none, or a smaller tissue"});
   // A rank that builds the whole tissue, then frees its particles before
   // the stepping (run/simulation_ranks.cpp), may peak then (rank 0 with
-  // the particles' imprint made).
-  if (split && tissue.particles_released()) {
+  // the particles' imprint made); not where the builder made the cells
+  // alone (a run without mechanics on fibrotic_sheet).
+  const bool built_whole = mechanics || !scene.tissue || !scene.tissue->builds_cells_alone();
+  if (split && tissue.particles_released() && built_whole) {
     const double build = kProgramBytes + tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds())) +
                          (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
     const double beyond = std::max(0.0, build - e.memory_bytes());

@@ -43,7 +43,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
     warnings.push_back("plugin_path ignored: this run was given its own plugin registry");
   }
   make_logger();
-  tissue = scene.tissue->build(scene.seed);
+  build_tissue();
   plan = plan_processes(scene, tissue);
   choose_solver();
   if (!plan.has("mechanics")) release_particles_over_ranks();  // (the partition reads the cell graph only)
@@ -60,7 +60,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   build_coupling();
   connect_ranks();
   build_mechanics();
-  release_particles_over_ranks();
+  if (plan.has("mechanics")) release_particles_over_ranks();
   system.stimulus = Stimulus(scene.stimuli, tissue);
   refuse_traced_outputs();
   traces = TraceRecorder(split.ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));

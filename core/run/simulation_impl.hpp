@@ -208,6 +208,8 @@ struct Simulation::Impl : StepObserver {
   Scene scene_of_own_traces() const;
   void refuse_traced_outputs() const;
   void connect_ranks();
+  void build_tissue();
+  std::string particles_kept_on_rank0_for() const;
   void release_particles_over_ranks();
   std::unique_ptr<BiomarkerTracker> make_tracker();
   std::size_t tracked_edge(std::size_t cell_edge) const;

@@ -22,7 +22,9 @@
 #include "run/rank_reductions.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
+#include "scene/effects.hpp"
 #include "tissue/cell_partition.hpp"
+#include "tissue/tissue_builder.hpp"
 #include "util/json_reader.hpp"
 
 namespace fibrodem {
@@ -48,30 +50,61 @@ void Simulation::Impl::split_over_ranks() {
                                    split.share.neighbours.size()));
 }
 
+// What rank 0 of a split run without mechanics keeps the particles for:
+// a file their imprint cannot give ("" if none).
+std::string Simulation::Impl::particles_kept_on_rank0_for() const {
+  if (scene.output.tissue_picture) return "output.tissue_picture's tissue.vtp shows the bonds";
+  if (scene.output.vtk_format != "xml") return "the legacy VTK files are written from them";
+  return "";
+}
+
 // A rank other than 0 neither steps the DEM nor draws the tissue: of it, it
-// keeps the cells, their centres and graph, and frees the particles and
-// bonds (on an EP sheet of myocytes 7 particles and 7 bonds a cell, 280 bytes
-// of its ~330) once the mechanics, set up on every rank for the same
-// refusals, has been built. Rank 0 of a run without mechanics, whose
-// particles stay where they were built, keeps their imprint instead
-// (io/tissue_imprint.hpp), when every file it writes can be made from it.
+// keeps the cells, their centres and graph. Rank 0 of a run without
+// mechanics, whose particles stay where they were built, keeps their
+// imprint too (io/tissue_imprint.hpp), when every file it writes can be
+// made from it. Without mechanics, a builder that makes the cells alone
+// (TissueBuilder::build_cells) spares every rank the whole tissue's
+// particles and bonds, rank 0 imprinting them one by one as the builder
+// hands them over; otherwise a rank builds the whole tissue and frees it.
+void Simulation::Impl::build_tissue() {
+  const TissueBuilder& builder = *scene.tissue;
+  const bool mechanics = plan_processes(scene, Tissue{}).has("mechanics");  // (a property of the scene alone)
+  if (!split.ranks || mechanics || (split.ranks->rank() == 0 && !particles_kept_on_rank0_for().empty())) {
+    tissue = builder.build(scene.seed);
+  } else if (split.ranks->rank() != 0) {
+    tissue = builder.build_cells(scene.seed);
+  } else if (!builder.builds_cells_alone()) {
+    tissue = builder.build(scene.seed);
+    tissue.release_particles(imprint_tissue(tissue));
+  } else {
+    tissue = builder.build_cells(scene.seed);
+    TissueImprinter imprinter(tissue.bounds_um(), tissue.type);
+    builder.for_each_particle(scene.seed, [&imprinter](const Particle& p) { imprinter.add(p); });
+    tissue.release_particles(imprinter.finish());
+  }
+}
+
+// With mechanics, once the DEM, set up on every rank for the same refusals,
+// has been built, a rank other than 0 frees the particles and bonds (on a
+// sheet of myocytes 7 particles and 7 bonds a cell, 280 bytes of its ~330).
+// Rank 0's choice goes to run.log.
 void Simulation::Impl::release_particles_over_ranks() {
-  if (!split.ranks || tissue.particles_released()) return;
-  if (split.ranks->rank() != 0) return tissue.release_particles();
+  if (!split.ranks) return;
+  if (split.ranks->rank() != 0) {
+    if (!tissue.particles_released()) tissue.release_particles();
+    return;
+  }
   if (plan.has("mechanics")) return;  // (the pictures show the tissue deformed)
-  const std::string keeps = scene.output.tissue_picture ? "output.tissue_picture's tissue.vtp shows the bonds"
-                            : scene.output.vtk_format != "xml" ? "the legacy VTK files are written from them"
-                                                               : "";
+  const std::string keeps = particles_kept_on_rank0_for();
   if (!keeps.empty()) {
     plan.notes.push_back("rank 0 keeps the tissue's particles: " + keeps + " (docs/guide/parallel.md)");
     return;
   }
-  const std::size_t particles = tissue.particles.size();
-  auto imprint = imprint_tissue(tissue);
-  plan.notes.push_back(fmt::format("rank 0 keeps the imprint of the tissue's {} particles for its pictures and VTK "
-                                   "files ({:.1f} MB), not the particles and bonds",
-                                   particles, static_cast<double>(imprint->bytes()) / 1e6));
-  tissue.release_particles(std::move(imprint));
+  plan.notes.push_back(fmt::format(
+      "rank 0 keeps the imprint of the tissue's {} particles for its pictures and VTK files ({:.1f} MB), not the "
+      "particles and bonds{}",
+      tissue.built_particles(), static_cast<double>(tissue.imprint()->bytes()) / 1e6,
+      scene.tissue->builds_cells_alone() ? "; every rank built the cells without them" : ""));
 }
 
 // The gap currents of this rank's cells read their ghosts' potentials (the
