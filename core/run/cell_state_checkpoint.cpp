@@ -78,39 +78,56 @@ void check_checkpoint_fits(const CellSystem& system, const CheckpointFields& fie
   });
 }
 
-// Where each cell of population `p` ("ionic.myocyte.") is in a checkpoint's parts.
-CellPlaces population_places(const std::vector<CheckpointFields>& parts, const std::string& p, std::size_t tissue_cells) {
-  std::vector<std::vector<int>> cells_of_part;
-  for (const auto& part : parts) cells_of_part.push_back(part.ints(p + "cells"));
-  return CellPlaces(cells_of_part, tissue_cells);
-}
-
 }  // namespace
 
 void check_same_cells(const CellSystem& system, const CheckpointFields& fields) {
   check_checkpoint_fits(system, fields, true);
 }
 
-void load_own_cell_states(CellSystem& system, const std::vector<CheckpointFields>& parts) {
-  check_checkpoint_fits(system, parts.at(0), false);
-  auto pick = [&](Population& pop, const std::string& p) {
-    pop.y = population_places(parts, p, system.cell_count()).rows(parts, p + "y", pop.cells);
-    if (pop.y.size() != pop.n_states() * pop.size()) throw CheckpointError(other_cells(p));
-  };
-  for (auto& pop : system.populations) pick(pop, prefix_of(pop, false));
-  for (auto& m : system.myofilaments) pick(m.pop, prefix_of(m.pop, true));
-  system.voltage_fresh = false;
-  system.gather_voltage();
+// One population's: its prefix ("ionic.myocyte."), cells, fields and pick.
+struct CellStatesRecut::Picked {
+  std::string prefix;
+  std::vector<int> cells;
+  std::vector<std::string> fields;
+  CellPick pick;
+};
+
+CellStatesRecut::CellStatesRecut(const CellSystem& system, const CheckpointFields& checkpoint, bool states_only) {
+  check_checkpoint_fits(system, checkpoint, false);
+  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament* m) {
+    std::vector<std::string> fields = {p + "y"};
+    if (!states_only) {
+      fields.insert(fields.end(), {p + "inputs", p + "outputs"});
+      if (m) fields.push_back(p + "rest_sarcomere_length");
+    }
+    populations_.push_back({p, pop.cells, std::move(fields), CellPick(pop.cells, system.cell_count())});
+  });
 }
 
-void recut_cell_states(const std::vector<CheckpointFields>& parts, const CellSystem& system, CheckpointFields& out) {
-  check_checkpoint_fits(system, parts.at(0), false);
-  for_each_population(system, [&](const Population& pop, const std::string& p, const Myofilament* m) {
-    const CellPlaces places = population_places(parts, p, system.cell_count());
-    out.put(p + "cells", pop.cells);
-    for (const char* field : {"y", "inputs", "outputs"}) out.put(p + field, places.rows(parts, p + field, pop.cells));
-    if (m) out.put(p + "rest_sarcomere_length", places.rows(parts, p + "rest_sarcomere_length", pop.cells));
-  });
+CellStatesRecut::~CellStatesRecut() = default;
+
+void CellStatesRecut::take(const CheckpointFields& part, int r) {
+  for (Picked& pop : populations_) pop.pick.take(part, r, part.ints(pop.prefix + "cells"), pop.fields);
+}
+
+void CellStatesRecut::put_into(CheckpointFields& out) const {
+  for (const Picked& pop : populations_) {
+    out.put(pop.prefix + "cells", pop.cells);
+    pop.pick.put_into(out);
+  }
+}
+
+void CellStatesRecut::load_states(CellSystem& system) {
+  std::size_t k = 0;
+  auto load = [&](Population& pop) {
+    Picked& picked = populations_.at(k++);
+    pop.y = picked.pick.release_rows(picked.prefix + "y");
+    if (pop.y.size() != pop.n_states() * pop.size()) throw CheckpointError(other_cells(picked.prefix));
+  };
+  for (auto& pop : system.populations) load(pop);
+  for (auto& m : system.myofilaments) load(m.pop);
+  system.voltage_fresh = false;
+  system.gather_voltage();
 }
 
 void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything) {

@@ -4,6 +4,7 @@
 // loaded only into the same tissue and models.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "integrate/cell_system.hpp"
@@ -22,18 +23,28 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields);
 // a new run started from them).
 void load_cell_states(CellSystem& system, const CheckpointFields& fields, bool everything);
 
-// The states alone (a new run started from them) of a system that holds
-// some of the tissue's cells (a rank's share of a run split over ranks, or
-// the whole tissue) from a checkpoint's parts (one for a run in one process,
-// one a rank for a split run, rank 0's first): each population's cells'
-// states picked out by cell number. Throws CheckpointError as
-// check_same_cells does, and when a population's cell is in no part.
-void load_own_cell_states(CellSystem& system, const std::vector<CheckpointFields>& parts);
+// The cells' fields a system holding some of the tissue's cells (a rank's
+// share of a run split over ranks, or the whole tissue) would have written
+// (save_cell_states), put together from a checkpoint's parts taken one at
+// a time (one for a run in one process, one a rank for a split run, rank
+// 0's first: run/checkpoint_recut.hpp): each population's cells' states,
+// inputs, outputs and rest lengths, picked out by cell number.
+class CellStatesRecut {
+ public:
+  // Throws CheckpointError as check_same_cells does, but for the cells
+  // (`checkpoint`: rank 0's part). With states_only, the states alone are
+  // taken (a new run started from them).
+  CellStatesRecut(const CellSystem& system, const CheckpointFields& checkpoint, bool states_only);
+  ~CellStatesRecut();
+  void take(const CheckpointFields& part, int r);
+  // Once every part is taken (CheckpointError when a population's cell is
+  // in no part): the fields, into `out`; or the states into the system.
+  void put_into(CheckpointFields& out) const;
+  void load_states(CellSystem& system);
 
-// The cells' fields a system holding some of the tissue's cells would have
-// written (save_cell_states), put into `out` from a checkpoint's parts
-// (run/checkpoint_recut.hpp): each population's cells, states, inputs,
-// outputs and rest lengths, for its own cells.
-void recut_cell_states(const std::vector<CheckpointFields>& parts, const CellSystem& system, CheckpointFields& out);
+ private:
+  struct Picked;
+  std::vector<Picked> populations_;
+};
 
 }  // namespace fibrodem

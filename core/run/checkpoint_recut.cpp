@@ -9,77 +9,85 @@
 
 namespace fibrodem {
 
-CellPlaces::CellPlaces(const std::vector<std::vector<int>>& cells_of_part, std::size_t tissue_cells)
-    : part_(tissue_cells, -1), index_(tissue_cells, -1) {
-  for (std::size_t r = 0; r < cells_of_part.size(); ++r) {
-    part_cells_.push_back(cells_of_part[r].size());
-    for (std::size_t i = 0; i < cells_of_part[r].size(); ++i) {
-      const int cell = cells_of_part[r][i];
-      if (cell < 0 || static_cast<std::size_t>(cell) >= tissue_cells || part_[static_cast<std::size_t>(cell)] >= 0)
-        throw CheckpointError("its parts list cell " + std::to_string(cell) +
-                              (cell >= 0 && static_cast<std::size_t>(cell) < tissue_cells ? " twice" : ", which this tissue lacks"));
-      part_[static_cast<std::size_t>(cell)] = static_cast<int>(r);
-      index_[static_cast<std::size_t>(cell)] = static_cast<int>(i);
+CellPick::CellPick(const std::vector<int>& cells, std::size_t tissue_cells)
+    : cells_(cells), place_(tissue_cells, -1), listed_(tissue_cells, 0), found_(cells.size(), 0) {
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (cells[i] < 0 || static_cast<std::size_t>(cells[i]) >= tissue_cells)
+      throw std::invalid_argument("CellPick: cell " + std::to_string(cells[i]) + " picked from a tissue of " +
+                                  std::to_string(tissue_cells));
+    place_[static_cast<std::size_t>(cells[i])] = static_cast<int>(i);
+  }
+}
+
+void CellPick::take(const CheckpointFields& part, int r, const std::vector<int>& part_cells,
+                    const std::vector<std::string>& rows, const std::vector<std::string>& bytes) {
+  // (j, i): the part's cell j is the i-th picked.
+  std::vector<std::pair<std::size_t, std::size_t>> at;
+  for (std::size_t j = 0; j < part_cells.size(); ++j) {
+    const int cell = part_cells[j];
+    if (cell < 0 || static_cast<std::size_t>(cell) >= place_.size())
+      throw CheckpointError("its parts list cell " + std::to_string(cell) + ", which this tissue lacks");
+    if (listed_[static_cast<std::size_t>(cell)]) throw CheckpointError("its parts list cell " + std::to_string(cell) + " twice");
+    listed_[static_cast<std::size_t>(cell)] = 1;
+    if (const int i = place_[static_cast<std::size_t>(cell)]; i >= 0) {
+      at.emplace_back(j, static_cast<std::size_t>(i));
+      found_[static_cast<std::size_t>(i)] = 1;
     }
   }
+  const std::size_t n = part_cells.size();
+  if (n == 0) return;  // (its fields, if it has them, are empty)
+  const auto uneven = [&](const std::string& name, std::size_t size, const char* unit) {
+    return CheckpointError("its field '" + name + "' has " + std::to_string(size) + " " + unit + " for " +
+                           std::to_string(n) + " cells in part " + std::to_string(r));
+  };
+  for (const std::string& name : rows) {
+    const std::vector<double> values = part.numbers(name);
+    Rows& field = rows_[name];
+    if (values.size() % n != 0 || (field.started && values.size() / n != field.rows))
+      throw uneven(name, values.size(), "values");
+    if (!field.started) field = {std::vector<double>(values.size() / n * picked()), values.size() / n, true};
+    for (const auto& [j, i] : at)
+      for (std::size_t k = 0; k < field.rows; ++k) field.values[k * picked() + i] = values[k * n + j];
+  }
+  for (const std::string& name : bytes) {
+    const std::string values = part.text(name);
+    auto& [out, width] = bytes_[name];
+    if (values.size() % n != 0 || (width > 0 && values.size() / n != width)) throw uneven(name, values.size(), "bytes");
+    if (width == 0) {
+      width = values.size() / n;
+      out.assign(width * picked(), '\0');
+    }
+    for (const auto& [j, i] : at) out.replace(i * width, width, values, j * width, width);
+  }
 }
 
-std::size_t CellPlaces::where(int cell, const std::string& name) const {
-  if (cell < 0 || static_cast<std::size_t>(cell) >= part_.size() || part_[static_cast<std::size_t>(cell)] < 0)
-    throw CheckpointError("no part of it holds cell " + std::to_string(cell) + " in '" + name + "'");
-  return static_cast<std::size_t>(part_[static_cast<std::size_t>(cell)]);
+void CellPick::check_complete(const std::string& name) const {
+  for (std::size_t i = 0; i < found_.size(); ++i)
+    if (!found_[i])
+      throw CheckpointError("no part of it holds cell " + std::to_string(cells_[i]) + " in '" + name + "'");
 }
 
-void CellPlaces::check_parts(const std::vector<CheckpointFields>& parts) const {
-  if (parts.size() != part_cells_.size())
-    throw std::invalid_argument("CellPlaces: " + std::to_string(parts.size()) + " parts given for " +
-                                std::to_string(part_cells_.size()) + " lists of cells");
+void CellPick::put_into(CheckpointFields& out) const {
+  for (const auto& [name, field] : rows_) {
+    check_complete(name);
+    out.put(name, field.values);
+  }
+  for (const auto& [name, field] : bytes_) {
+    check_complete(name);
+    out.put_text(name, field.first);
+  }
 }
 
-std::vector<double> CellPlaces::rows(const std::vector<CheckpointFields>& parts, const std::string& name,
-                                     const std::vector<int>& cells) const {
-  check_parts(parts);
-  std::vector<std::vector<double>> values;
-  std::size_t row_count = 0;
-  bool row_count_known = false;
-  for (std::size_t r = 0; r < parts.size(); ++r) {
-    values.push_back(part_cells_[r] > 0 || parts[r].has(name) ? parts[r].numbers(name) : std::vector<double>());
-    if (part_cells_[r] == 0) continue;
-    if (values[r].size() % part_cells_[r] != 0 || (row_count_known && values[r].size() / part_cells_[r] != row_count))
-      throw CheckpointError("its field '" + name + "' has " + std::to_string(values[r].size()) + " values for " +
-                            std::to_string(part_cells_[r]) + " cells in part " + std::to_string(r));
-    row_count = values[r].size() / part_cells_[r];
-    row_count_known = true;
-  }
-  const std::size_t n = cells.size();
-  std::vector<double> out(row_count * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t r = where(cells[i], name), j = static_cast<std::size_t>(index_[static_cast<std::size_t>(cells[i])]);
-    for (std::size_t k = 0; k < row_count; ++k) out[k * n + i] = values[r][k * part_cells_[r] + j];
-  }
-  return out;
+std::vector<double> CellPick::release_rows(const std::string& name) {
+  check_complete(name);
+  return std::move(rows_[name].values);
 }
 
-std::string CellPlaces::bytes(const std::vector<CheckpointFields>& parts, const std::string& name,
-                              const std::vector<int>& cells) const {
-  check_parts(parts);
-  std::vector<std::string> values;
-  std::size_t width = 0;
-  for (std::size_t r = 0; r < parts.size(); ++r) {
-    values.push_back(part_cells_[r] > 0 || parts[r].has(name) ? parts[r].text(name) : std::string());
-    if (part_cells_[r] == 0) continue;
-    if (values[r].size() % part_cells_[r] != 0 || (width > 0 && values[r].size() / part_cells_[r] != width))
-      throw CheckpointError("its field '" + name + "' has " + std::to_string(values[r].size()) + " bytes for " +
-                            std::to_string(part_cells_[r]) + " cells in part " + std::to_string(r));
-    width = values[r].size() / part_cells_[r];
-  }
-  std::string out;
-  out.reserve(width * cells.size());
-  for (const int cell : cells) {
-    const std::size_t r = where(cell, name), j = static_cast<std::size_t>(index_[static_cast<std::size_t>(cell)]);
-    out.append(values[r], j * width, width);
-  }
-  return out;
+void for_each_checkpoint_part(const std::filesystem::path& file, const CheckpointFields& checkpoint,
+                              const std::function<void(const CheckpointFields& part, int r)>& visit) {
+  visit(checkpoint, 0);
+  const long long ranks = ranks_of_checkpoint(checkpoint);
+  for (int r = 1; r < ranks; ++r) visit(read_checkpoint_part(file, checkpoint, r), r);
 }
 
 long long ranks_of_checkpoint(const CheckpointFields& checkpoint) {
@@ -102,28 +110,15 @@ CheckpointFields read_checkpoint_part(const std::filesystem::path& file, const C
   return part;
 }
 
-std::vector<CheckpointFields> read_checkpoint_parts(const std::filesystem::path& file, CheckpointFields checkpoint) {
-  const long long ranks = ranks_of_checkpoint(checkpoint);
-  std::vector<CheckpointFields> parts;
-  parts.reserve(static_cast<std::size_t>(ranks));
-  parts.push_back(std::move(checkpoint));
-  for (int rank = 1; rank < ranks; ++rank) parts.push_back(read_checkpoint_part(file, parts.front(), rank));
-  return parts;
-}
-
-std::vector<std::vector<int>> own_cells_of_parts(const std::vector<CheckpointFields>& parts) {
-  std::vector<std::vector<int>> own;
-  for (const auto& part : parts) {
-    std::vector<int> cells;
-    for (const auto& name : part.names_starting("ionic."))
-      if (name.size() > 6 && name.compare(name.size() - 6, 6, ".cells") == 0) {
-        const std::vector<int> more = part.ints(name);
-        cells.insert(cells.end(), more.begin(), more.end());
-      }
-    std::sort(cells.begin(), cells.end());
-    own.push_back(std::move(cells));
-  }
-  return own;
+std::vector<int> own_cells_of_part(const CheckpointFields& part) {
+  std::vector<int> cells;
+  for (const auto& name : part.names_starting("ionic."))
+    if (name.size() > 6 && name.compare(name.size() - 6, 6, ".cells") == 0) {
+      const std::vector<int> more = part.ints(name);
+      cells.insert(cells.end(), more.begin(), more.end());
+    }
+  std::sort(cells.begin(), cells.end());
+  return cells;
 }
 
 }  // namespace fibrodem

@@ -342,9 +342,12 @@ void Simulation::Impl::start_from_initial_state() {
     try {
       // Split over ranks, or from a split run's checkpoint (every rank's part
       // beside it), the cells' states are taken cell by cell from its parts.
-      if (split.ranks || ranks_of_checkpoint(found.fields) > 1)
-        load_own_cell_states(system, read_checkpoint_parts(found.file, std::move(found.fields)));
-      else
+      if (split.ranks || ranks_of_checkpoint(found.fields) > 1) {
+        CellStatesRecut states(system, found.fields, true);
+        for_each_checkpoint_part(found.file, found.fields,
+                                 [&states](const CheckpointFields& part, int r) { states.take(part, r); });
+        states.load_states(system);
+      } else
         load_cell_states(system, found.fields, false);
     } catch (const CheckpointError& e) {
       throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());

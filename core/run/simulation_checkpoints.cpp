@@ -25,25 +25,16 @@ std::string over_ranks_text(long long ranks) {
   return ranks == 1 ? std::string("in one process") : "split over " + std::to_string(ranks) + " MPI ranks";
 }
 
-// The beats of `cells` (in increasing order) in the parts, in one process's
-// order: by beat, then cell.
-std::vector<BeatBiomarkers> beats_of_cells(const std::vector<CheckpointFields>& parts, const std::vector<int>& cells,
-                                           std::size_t tissue_cells) {
-  std::vector<char> wanted(tissue_cells, 0);
-  for (const int cell : cells) wanted[static_cast<std::size_t>(cell)] = 1;
-  std::vector<BeatBiomarkers> beats;
-  for (const auto& part : parts) {
-    const std::string raw = part.text("run.beats");
-    for (std::size_t at = 0; at + sizeof(BeatBiomarkers) <= raw.size(); at += sizeof(BeatBiomarkers)) {
-      int cell = -1;
-      std::memcpy(&cell, raw.data() + at + offsetof(BeatBiomarkers, cell), sizeof cell);
-      if (cell < 0 || static_cast<std::size_t>(cell) >= tissue_cells || !wanted[static_cast<std::size_t>(cell)]) continue;
-      beats.emplace_back();
-      std::memcpy(static_cast<void*>(&beats.back()), raw.data() + at, sizeof(BeatBiomarkers));
-    }
+// The beats in a part of `cells` (wanted[cell] set), added to `beats`.
+void take_beats(const CheckpointFields& part, const std::vector<char>& wanted, std::vector<BeatBiomarkers>& beats) {
+  const std::string raw = part.text("run.beats");
+  for (std::size_t at = 0; at + sizeof(BeatBiomarkers) <= raw.size(); at += sizeof(BeatBiomarkers)) {
+    int cell = -1;
+    std::memcpy(&cell, raw.data() + at + offsetof(BeatBiomarkers, cell), sizeof cell);
+    if (cell < 0 || static_cast<std::size_t>(cell) >= wanted.size() || !wanted[static_cast<std::size_t>(cell)]) continue;
+    beats.emplace_back();
+    std::memcpy(static_cast<void*>(&beats.back()), raw.data() + at, sizeof(BeatBiomarkers));
   }
-  std::stable_sort(beats.begin(), beats.end(), in_beat_order);
-  return beats;
 }
 
 }  // namespace
@@ -132,9 +123,9 @@ void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const Checkpo
 }
 
 // Split over another number of ranks than the checkpoint's (one process
-// counting as one), every rank reads every part and takes its own cells'
-// fields out of them (run/checkpoint_recut.hpp); over the same number, each
-// rank reads its own part.
+// counting as one), every rank reads the parts one at a time and takes its
+// own cells' fields out of each (run/checkpoint_recut.hpp); over the same
+// number, each rank reads its own part.
 //
 // The checkpoint's fields are taken out of the one found (nothing reads
 // them after this), so the run does not hold them while it goes on; cut
@@ -145,9 +136,7 @@ void Simulation::Impl::resume() {
   try {
     CheckpointFields checkpoint = std::move(found.fields);
     if (written != here) {
-      std::vector<CheckpointFields> parts = read_checkpoint_parts(found.file, std::move(checkpoint));
-      restore(recut_checkpoint(parts));
-      checkpoint = std::move(parts.front());
+      restore(recut_checkpoint(found.file, checkpoint));
     } else if (split.ranks && split.ranks->rank() != 0) {
       restore(read_checkpoint_part(found.file, checkpoint, split.ranks->rank()));
     } else {
@@ -169,28 +158,39 @@ void Simulation::Impl::resume() {
 }
 
 // What this rank would have written at the checkpoint's time had the run
-// been split as it is now, from every part: its populations' and its
+// been split as it is now, from the parts of the checkpoint `file` (rank
+// 0's: `checkpoint`) taken one at a time: its populations' and its
 // biomarker tracker's cells cell by cell, every part's trace columns (each
-// rank reads its own), the beats of its cells; the rest (time, steps, rank
-// 0's outputs and mechanics) as the checkpoint has it.
-CheckpointFields Simulation::Impl::recut_checkpoint(const std::vector<CheckpointFields>& parts) const {
-  CheckpointFields f;
-  recut_cell_states(parts, system, f);
+// rank reads its own), the beats of its cells in one process's order (by
+// beat, then cell); the rest (time, steps, rank 0's outputs and mechanics)
+// as the checkpoint has it.
+CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const CheckpointFields& checkpoint) const {
+  CellStatesRecut cell_states(system, checkpoint, false);
   std::vector<int> own;  // the tracker's cells: this rank's, in increasing order
   for (const auto& pop : system.populations) own.insert(own.end(), pop.cells.begin(), pop.cells.end());
   std::sort(own.begin(), own.end());
-  const CellPlaces places(own_cells_of_parts(parts), tissue.cell_count());
-  f.put_text(BiomarkerTracker::kPerCellBytesField, places.bytes(parts, BiomarkerTracker::kPerCellBytesField, own));
+  CellPick tracker_cells(own, tissue.cell_count());
+  std::vector<std::string> tracker_rows;
   for (const auto& name : BiomarkerTracker::per_cell_number_fields())
-    if (parts[0].has(name)) f.put(name, places.rows(parts, name, own));
-  for (const auto& part : parts)
+    if (checkpoint.has(name)) tracker_rows.push_back(name);
+  std::vector<char> wanted(tissue.cell_count(), 0);
+  for (const int cell : own) wanted[static_cast<std::size_t>(cell)] = 1;
+  std::vector<BeatBiomarkers> own_beats;
+  CheckpointFields f;
+  for_each_checkpoint_part(file, checkpoint, [&](const CheckpointFields& part, int r) {
+    cell_states.take(part, r);
+    tracker_cells.take(part, r, own_cells_of_part(part), tracker_rows, {BiomarkerTracker::kPerCellBytesField});
+    take_beats(part, wanted, own_beats);
     for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
-  const std::vector<BeatBiomarkers> own_beats = beats_of_cells(parts, own, tissue.cell_count());
+  });
+  cell_states.put_into(f);
+  tracker_cells.put_into(f);
+  std::stable_sort(own_beats.begin(), own_beats.end(), in_beat_order);
   f.put_bytes("run.beats", own_beats.data(), own_beats.size() * sizeof(BeatBiomarkers));
   // The rest as the checkpoint has it (not a copy of the whole and then
   // these over it: every cell's fields twice more in memory).
-  for (const auto& name : parts.at(0).names_starting(""))
-    if (!f.has(name)) f.copy_from(parts[0], name);
+  for (const auto& name : checkpoint.names_starting(""))
+    if (!f.has(name)) f.copy_from(checkpoint, name);
   return f;
 }
 

@@ -226,7 +226,7 @@ struct Simulation::Impl : StepObserver {
   void restore(const CheckpointFields& f);
   void restore_beats(const CheckpointFields& f);
   void write_rank_checkpoint(const std::filesystem::path& file, const CheckpointFields& mine, bool kill);
-  CheckpointFields recut_checkpoint(const std::vector<CheckpointFields>& parts) const;
+  CheckpointFields recut_checkpoint(const std::filesystem::path& file, const CheckpointFields& checkpoint) const;
 
   // ---- output.reentry's samples (simulation_reentry.cpp) ----
   void start_reentry_sampling(double t);

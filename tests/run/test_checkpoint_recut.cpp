@@ -1,7 +1,8 @@
 // A checkpoint's parts put together cell by cell for another split
-// (run/checkpoint_recut.hpp): values land where their cells are, whatever
-// part held them; a part that does not add up, a cell in two parts or in
-// none is named. (tests/run/test_mpi_checkpoints.cpp resumes whole runs on
+// (run/checkpoint_recut.hpp): the parts taken one at a time, values land
+// where their cells are, whatever part held them and in whatever order the
+// parts come; a part that does not add up, a cell in two parts or in none
+// is named. (tests/run/test_mpi_checkpoints.cpp resumes whole runs on
 // another number of ranks.)
 #include <doctest/doctest.h>
 
@@ -34,24 +35,53 @@ std::vector<CheckpointFields> two_parts() {
 
 }  // namespace
 
-TEST_CASE("checkpoint re-cut: each cell's values come from the part that held it") {
+// The fields `pick` puts together from the parts, taken in the order given.
+CheckpointFields picked(CellPick pick, const std::vector<CheckpointFields>& parts, const std::vector<int>& order,
+                        const std::vector<std::string>& rows, const std::vector<std::string>& bytes) {
+  for (const int r : order) pick.take(parts[r], r, parts[r].ints("ionic.myocyte.cells"), rows, bytes);
+  CheckpointFields out;
+  pick.put_into(out);
+  return out;
+}
+
+TEST_CASE("checkpoint re-cut: each cell's values come from the part that held it, one part at a time") {
   const auto parts = two_parts();
-  const auto own = own_cells_of_parts(parts);
-  REQUIRE(own == std::vector<std::vector<int>>{{0, 3}, {1, 2, 4}});
-  const CellPlaces places({{3, 0}, {1, 4, 2}}, 5);
-  CHECK(places.rows(parts, "x", {4, 0, 2}) == std::vector<double>{4, 0, 2, 104, 100, 102});
-  CHECK(places.bytes(parts, "b", {2, 3}) == "cCdD");
-  CHECK(places.rows(parts, "x", {}).empty());
+  CHECK(own_cells_of_part(parts[0]) == std::vector<int>{0, 3});
+  CHECK(own_cells_of_part(parts[1]) == std::vector<int>{1, 2, 4});
+  for (const std::vector<int>& order : {std::vector<int>{0, 1}, std::vector<int>{1, 0}}) {
+    const CheckpointFields x = picked(CellPick({4, 0, 2}, 5), parts, order, {"x"}, {});
+    CHECK(x.numbers("x") == std::vector<double>{4, 0, 2, 104, 100, 102});
+    CHECK(!x.has("b"));
+    CHECK(picked(CellPick({2, 3}, 5), parts, order, {}, {"b"}).text("b") == "cCdD");
+  }
+  CHECK(picked(CellPick({}, 5), parts, {0, 1}, {"x"}, {}).numbers("x").empty());
+  CellPick pick({3, 1}, 5);
+  pick.take(parts[0], 0, {3, 0}, {"x"});
+  pick.take(parts[1], 1, {1, 4, 2}, {"x"});
+  CHECK(pick.release_rows("x") == std::vector<double>{3, 1, 103, 101});
 }
 
 TEST_CASE("checkpoint re-cut: a part that does not add up, a cell twice or in no part is named") {
   auto parts = two_parts();
-  CHECK_THROWS_WITH_AS(CellPlaces({{3, 0}, {1, 0}}, 5), "its parts list cell 0 twice", CheckpointError);
-  CHECK_THROWS_WITH_AS(CellPlaces({{3, 7}}, 5), "its parts list cell 7, which this tissue lacks", CheckpointError);
-  const CellPlaces places({{3, 0}, {1, 4, 2}}, 5);
+  CellPick twice({0}, 5);
+  twice.take(parts[0], 0, {3, 0}, {"x"});
+  CHECK_THROWS_WITH_AS(twice.take(parts[1], 1, {1, 0, 2}, {"x"}), "its parts list cell 0 twice", CheckpointError);
+  CHECK_THROWS_WITH_AS(CellPick({0}, 5).take(parts[0], 0, {3, 7}, {"x"}),
+                       "its parts list cell 7, which this tissue lacks", CheckpointError);
+  CHECK_THROWS_AS(CellPick({5}, 5), std::invalid_argument);  // (a pick of the tissue's cells)
+  CellPick uneven({0}, 5);
+  uneven.take(parts[0], 0, {3, 0}, {"x"});
   parts[1].put("x", std::vector<double>{1, 2, 3, 4});  // 4 values for 3 cells
-  CHECK_THROWS_WITH_AS(places.rows(parts, "x", {0}), "its field 'x' has 4 values for 3 cells in part 1", CheckpointError);
-  const CellPlaces partial({{3, 0}}, 5);
-  CHECK_THROWS_WITH_AS(partial.bytes({parts[0]}, "b", {1}), "no part of it holds cell 1 in 'b'", CheckpointError);
-  CHECK_THROWS_AS(partial.bytes(parts, "b", {0}), std::invalid_argument);  // a part for each list
+  CHECK_THROWS_WITH_AS(uneven.take(parts[1], 1, {1, 4, 2}, {"x"}), "its field 'x' has 4 values for 3 cells in part 1",
+                       CheckpointError);
+  CellPick more_rows({0}, 5);
+  more_rows.take(parts[0], 0, {3, 0}, {"x"});
+  parts[1].put("x", std::vector<double>(9, 1.0));  // 3 rows where part 0 has 2
+  CHECK_THROWS_WITH_AS(more_rows.take(parts[1], 1, {1, 4, 2}, {"x"}), "its field 'x' has 9 values for 3 cells in part 1",
+                       CheckpointError);
+  CellPick partial({1}, 5);
+  partial.take(parts[0], 0, {3, 0}, {}, {"b"});
+  CheckpointFields out;
+  CHECK_THROWS_WITH_AS(partial.put_into(out), "no part of it holds cell 1 in 'b'", CheckpointError);
+  CHECK_THROWS_WITH_AS(partial.release_rows("x"), "no part of it holds cell 1 in 'x'", CheckpointError);
 }
