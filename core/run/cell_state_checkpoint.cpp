@@ -1,5 +1,7 @@
 #include "run/cell_state_checkpoint.hpp"
 
+#include <algorithm>
+
 #include "run/checkpoint_recut.hpp"
 
 namespace fibrodem {
@@ -108,6 +110,10 @@ CellStatesRecut::~CellStatesRecut() = default;
 
 void CellStatesRecut::take(const CheckpointFields& part, int r) {
   for (Picked& pop : populations_) pop.pick.take(part, r, part.ints(pop.prefix + "cells"), pop.fields);
+}
+
+bool CellStatesRecut::complete() const {
+  return std::all_of(populations_.begin(), populations_.end(), [](const Picked& pop) { return pop.pick.complete(); });
 }
 
 void CellStatesRecut::put_into(CheckpointFields& out) const {

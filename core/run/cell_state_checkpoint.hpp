@@ -37,6 +37,7 @@ class CellStatesRecut {
   CellStatesRecut(const CellSystem& system, const CheckpointFields& checkpoint, bool states_only);
   ~CellStatesRecut();
   void take(const CheckpointFields& part, int r);
+  bool complete() const;  // every population's cells found
   // Once every part is taken (CheckpointError when a population's cell is
   // in no part): the fields, into `out`; or the states into the system.
   void put_into(CheckpointFields& out) const;

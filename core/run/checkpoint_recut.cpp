@@ -83,11 +83,25 @@ std::vector<double> CellPick::release_rows(const std::string& name) {
   return std::move(rows_[name].values);
 }
 
-void for_each_checkpoint_part(const std::filesystem::path& file, const CheckpointFields& checkpoint,
-                              const std::function<void(const CheckpointFields& part, int r)>& visit) {
-  visit(checkpoint, 0);
+bool CellPick::complete() const { return std::all_of(found_.begin(), found_.end(), [](char f) { return f != 0; }); }
+
+int take_checkpoint_parts(const std::filesystem::path& file, const CheckpointFields& checkpoint,
+                          const std::vector<int>& likely, const std::function<bool()>& complete,
+                          const std::function<void(const CheckpointFields& part, int r)>& visit) {
   const long long ranks = ranks_of_checkpoint(checkpoint);
-  for (int r = 1; r < ranks; ++r) visit(read_checkpoint_part(file, checkpoint, r), r);
+  std::vector<char> taken(static_cast<std::size_t>(ranks), 0);
+  int read = 0;
+  auto take = [&](int r) {
+    if (r < 0 || r >= ranks || taken[static_cast<std::size_t>(r)]) return;
+    taken[static_cast<std::size_t>(r)] = 1;
+    ++read;
+    if (r == 0) visit(checkpoint, 0);
+    else visit(read_checkpoint_part(file, checkpoint, r), r);
+  };
+  take(0);
+  for (const int r : likely) take(r);
+  for (int r = 1; r < ranks && !complete(); ++r) take(r);
+  return read;
 }
 
 long long ranks_of_checkpoint(const CheckpointFields& checkpoint) {

@@ -37,6 +37,8 @@ class CellPick {
   // Once every part is taken: the fields, into `out`. Throws
   // CheckpointError naming a picked cell that no part held.
   void put_into(CheckpointFields& out) const;
+  // Whether every picked cell has been found in a part taken.
+  bool complete() const;
   // The same for one field of rows, moved out.
   std::vector<double> release_rows(const std::string& name);
 
@@ -59,9 +61,13 @@ class CellPick {
 
 // The parts of the checkpoint `file` whose own fields are `checkpoint`
 // (rank 0's), each read and handed to visit(part, r) in turn, then dropped:
-// rank 0's first, as it is.
-void for_each_checkpoint_part(const std::filesystem::path& file, const CheckpointFields& checkpoint,
-                              const std::function<void(const CheckpointFields& part, int r)>& visit);
+// rank 0's first, as it is, then those in `likely`, then, while
+// complete() says a cell is still missing, the others. Returns how many
+// parts were read. (A run split as the checkpoint's was finds a rank's
+// cells in the parts its partition says: run/simulation_checkpoints.cpp.)
+int take_checkpoint_parts(const std::filesystem::path& file, const CheckpointFields& checkpoint,
+                          const std::vector<int>& likely, const std::function<bool()>& complete,
+                          const std::function<void(const CheckpointFields& part, int r)>& visit);
 
 // The number of ranks a checkpoint (rank 0's part: the checkpoint itself)
 // was written over: 1 for a run in one process, whose checkpoints carry none.

@@ -344,8 +344,10 @@ void Simulation::Impl::start_from_initial_state() {
       // beside it), the cells' states are taken cell by cell from its parts.
       if (split.ranks || ranks_of_checkpoint(found.fields) > 1) {
         CellStatesRecut states(system, found.fields, true);
-        for_each_checkpoint_part(found.file, found.fields,
-                                 [&states](const CheckpointFields& part, int r) { states.take(part, r); });
+        take_checkpoint_parts(
+            found.file, found.fields, checkpoint_parts_of_own_cells(ranks_of_checkpoint(found.fields)),
+            [&states] { return states.complete(); },
+            [&states](const CheckpointFields& part, int r) { states.take(part, r); });
         states.load_states(system);
       } else
         load_cell_states(system, found.fields, false);

@@ -13,6 +13,7 @@
 
 #include "run/cell_state_checkpoint.hpp"
 #include "run/checkpoint_recut.hpp"
+#include "tissue/cell_partition.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
 
@@ -123,9 +124,10 @@ void Simulation::Impl::write_rank_checkpoint(const fs::path& file, const Checkpo
 }
 
 // Split over another number of ranks than the checkpoint's (one process
-// counting as one), every rank reads the parts one at a time and takes its
-// own cells' fields out of each (run/checkpoint_recut.hpp); over the same
-// number, each rank reads its own part.
+// counting as one), every rank reads the parts that hold its cells one at
+// a time and takes its own cells' fields out of each
+// (run/checkpoint_recut.hpp); over the same number, each rank reads its own
+// part.
 //
 // The checkpoint's fields are taken out of the one found (nothing reads
 // them after this), so the run does not hold them while it goes on; cut
@@ -177,12 +179,17 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
   for (const int cell : own) wanted[static_cast<std::size_t>(cell)] = 1;
   std::vector<BeatBiomarkers> own_beats;
   CheckpointFields f;
-  for_each_checkpoint_part(file, checkpoint, [&](const CheckpointFields& part, int r) {
-    cell_states.take(part, r);
-    tracker_cells.take(part, r, own_cells_of_part(part), tracker_rows, {BiomarkerTracker::kPerCellBytesField});
-    take_beats(part, wanted, own_beats);
-    for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
-  });
+  const long long written = ranks_of_checkpoint(checkpoint);
+  const int read = take_checkpoint_parts(
+      file, checkpoint, checkpoint_parts_of_own_cells(written),
+      [&] { return cell_states.complete() && tracker_cells.complete(); },
+      [&](const CheckpointFields& part, int r) {
+        cell_states.take(part, r);
+        tracker_cells.take(part, r, own_cells_of_part(part), tracker_rows, {BiomarkerTracker::kPerCellBytesField});
+        take_beats(part, wanted, own_beats);
+        for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
+      });
+  log->info("resume: {} of the checkpoint's {} parts read for this rank's cells", read, written);
   cell_states.put_into(f);
   tracker_cells.put_into(f);
   std::stable_sort(own_beats.begin(), own_beats.end(), in_beat_order);
@@ -192,6 +199,24 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
   for (const auto& name : checkpoint.names_starting(""))
     if (!f.has(name)) f.copy_from(checkpoint, name);
   return f;
+}
+
+// The parts of a checkpoint written over `written` ranks that hold this
+// rank's cells, if that run was split as this tissue's partition over
+// `written` ranks cuts it, as it was unless the two runs' Scotch differ
+// (take_checkpoint_parts then reads the others too): every part in one
+// process.
+std::vector<int> Simulation::Impl::checkpoint_parts_of_own_cells(long long written) const {
+  std::vector<char> holds(static_cast<std::size_t>(written), split.ranks ? 0 : 1);
+  if (split.ranks && written > 1) {
+    const CellPartition then = partition_cells(tissue, static_cast<int>(written));
+    for (const auto& pop : system.populations)
+      for (const int cell : pop.cells) holds[static_cast<std::size_t>(then.part_of[static_cast<std::size_t>(cell)])] = 1;
+  }
+  std::vector<int> parts;
+  for (std::size_t r = 0; r < holds.size(); ++r)
+    if (holds[r]) parts.push_back(static_cast<int>(r));
+  return parts;
 }
 
 // The run as a checkpoint left it (the scene must be the one it was written for).

@@ -6,9 +6,13 @@
 // another number of ranks.)
 #include <doctest/doctest.h>
 
+#include <filesystem>
 #include <stdexcept>
+#include <utility>
 
+#include "run/checkpoint_dir.hpp"
 #include "run/checkpoint_recut.hpp"
+#include "support/scenes.hpp"
 
 using namespace fibrodem;
 
@@ -84,4 +88,41 @@ TEST_CASE("checkpoint re-cut: a part that does not add up, a cell twice or in no
   CheckpointFields out;
   CHECK_THROWS_WITH_AS(partial.put_into(out), "no part of it holds cell 1 in 'b'", CheckpointError);
   CHECK_THROWS_WITH_AS(partial.release_rows("x"), "no part of it holds cell 1 in 'x'", CheckpointError);
+}
+
+TEST_CASE("checkpoint re-cut: the likely parts are read first, the others only while a cell is missing") {
+  // Three parts of a 6-cell tissue on disk: part r holds cells 2r and 2r + 1,
+  // field "x" one value a cell (10 * cell).
+  const auto dir = testing::scratch_dir("checkpoint_recut_parts");
+  const std::filesystem::path file = dir / "t_000000005000us.ckpt";
+  std::vector<CheckpointFields> parts(3);
+  for (int r = 0; r < 3; ++r) {
+    parts[r].put("ionic.myocyte.cells", std::vector<int>{2 * r, 2 * r + 1});
+    parts[r].put("x", std::vector<double>{20.0 * r, 20.0 * r + 10});
+    parts[r].put_integer("run.mpi_ranks", 3);
+    parts[r].put_integer("run.mpi_rank", r);
+    parts[r].put("run.time_ms", 5.0);
+    if (r > 0) write_checkpoint_file(rank_checkpoint_path(file, r), parts[r]);
+  }
+  // Rank 0's part is the checkpoint itself, held, not read again.
+  const auto take = [&](const std::vector<int>& cells, const std::vector<int>& likely) {
+    CellPick pick(cells, 6);
+    std::vector<int> visited;
+    const int read = take_checkpoint_parts(
+        file, parts[0], likely, [&pick] { return pick.complete(); },
+        [&](const CheckpointFields& part, int r) {
+          visited.push_back(r);
+          pick.take(part, r, part.ints("ionic.myocyte.cells"), {"x"});
+        });
+    CHECK(read == static_cast<int>(visited.size()));
+    return std::pair{visited, pick.release_rows("x")};
+  };
+  CHECK(take({5, 4}, {2}) == std::pair{std::vector<int>{0, 2}, std::vector<double>{50, 40}});
+  CHECK(take({1}, {}) == std::pair{std::vector<int>{0}, std::vector<double>{10}});
+  // A wrong guess costs reads, not cells: part 1 holds none of them.
+  CHECK(take({5, 4}, {1}) == std::pair{std::vector<int>{0, 1, 2}, std::vector<double>{50, 40}});
+  CHECK(take({2, 5}, {2}) == std::pair{std::vector<int>{0, 2, 1}, std::vector<double>{20, 50}});
+  // A part missing from disk is named.
+  std::filesystem::remove(rank_checkpoint_path(file, 2));
+  CHECK_THROWS_WITH_AS(take({5}, {2}), doctest::Contains("rank 2's part cannot be read"), CheckpointError);
 }
