@@ -145,10 +145,11 @@ void CellSystem::evaluate(double t_stim_ms, double t_ms, const AfterPopulationBl
   // 1. Currents into each cell: the stimulus here; the gap-junction and
   // stretch-activated currents block by block in step 2, in parallel.
   // (Zeros between pulses stand: not rewritten every step, their cache lines
-  // stay shared by the cores that read them.)
+  // stay shared by the cores that read them. A pulse writes its own cells
+  // only, a rank's own over ranks: not every cell of the tissue.)
   const bool pulse = stimulus.on(t_stim_ms);
   if (stimulus_in_i_ext_ || pulse) {
-    std::fill(i_ext_pA.begin(), i_ext_pA.end(), 0.0);
+    stimulus.clear_current(i_ext_pA.data());
     stimulus.add_current(t_stim_ms, i_ext_pA.data());
   }
   stimulus_in_i_ext_ = pulse;

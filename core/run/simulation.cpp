@@ -62,6 +62,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   build_mechanics();
   if (plan.has("mechanics")) release_particles_over_ranks();
   system.stimulus = Stimulus(scene.stimuli, tissue);
+  if (split.ranks) system.stimulus.apply_only_to(split.owned);
   refuse_traced_outputs();
   traces = TraceRecorder(split.ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));
   build_lookup_tables();

@@ -91,15 +91,30 @@ bool PulseTrain::on(double t) const {
 }
 
 Stimulus::Stimulus(const std::vector<StimulusSpec>& specs, const Tissue& tissue) {
-  for (const auto& s : specs)
-    trains_.push_back({resolve_target(s.target, tissue, s.path), s.start_ms, s.duration_ms,
-                       s.amplitude_pA, s.period_ms, s.count});
+  for (const auto& s : specs) {
+    std::vector<int> cells = resolve_target(s.target, tissue, s.path);
+    trains_.push_back({cells, s.start_ms, s.duration_ms, s.amplitude_pA, s.period_ms, s.count, cells});
+  }
 }
 
 void Stimulus::add_current(double t, double* i_ext) const {
   for (const auto& train : trains_)
     if (train.on(t))
-      for (int c : train.cells) i_ext[c] += train.amplitude_pA;
+      for (int c : train.applied_to) i_ext[c] += train.amplitude_pA;
+}
+
+void Stimulus::clear_current(double* i_ext) const {
+  for (const auto& train : trains_)
+    for (int c : train.applied_to) i_ext[c] = 0.0;
+}
+
+void Stimulus::apply_only_to(const std::vector<char>& owned) {
+  for (auto& train : trains_) {
+    train.applied_to.clear();
+    for (int c : train.cells)
+      if (owned[static_cast<std::size_t>(c)]) train.applied_to.push_back(c);
+    train.applied_to.shrink_to_fit();
+  }
 }
 
 bool Stimulus::on(double t) const {

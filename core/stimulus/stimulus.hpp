@@ -15,6 +15,7 @@ struct PulseTrain {
   std::vector<int> cells;
   double start_ms = 0, duration_ms = 0, amplitude_pA = 0, period_ms = 0;
   long long count = 1;
+  std::vector<int> applied_to;  // the cells its current goes into: `cells`, or a rank's own of them
 
   bool on(double t_ms) const;
 };
@@ -28,6 +29,13 @@ class Stimulus {
 
   // Adds the stimulus current at time t into i_ext (indexed by global cell).
   void add_current(double t_ms, double* i_ext_pA) const;
+  // Sets i_ext back to 0 wherever add_current adds: a pulse's current
+  // undone in as many writes as it took.
+  void clear_current(double* i_ext_pA) const;
+  // A rank of a split run applies the current to its own cells alone
+  // (owned[cell] set), so that a pulse costs it its own cells; trains()
+  // still lists every cell stimulated.
+  void apply_only_to(const std::vector<char>& owned);
   // Whether any pulse is on at t.
   bool on(double t_ms) const;
   // The first pulse edge (on or off) strictly after t, or +inf.

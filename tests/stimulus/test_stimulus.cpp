@@ -9,7 +9,7 @@
 using namespace fibrodem;
 
 TEST_CASE("a periodic pulse train is on exactly in its pulses") {
-  PulseTrain train{{0}, 50.0, 2.0, 2000.0, 1000.0, 3};
+  PulseTrain train{{0}, 50.0, 2.0, 2000.0, 1000.0, 3, {0}};
   CHECK_FALSE(train.on(49.999));
   CHECK(train.on(50.0));
   CHECK(train.on(51.999));
@@ -117,4 +117,27 @@ TEST_CASE("the fractions form of a region still selects by the bounding box") {
     if ((sheet.tissue.y_um[c] - box[2]) / (box[3] - box[2]) <= 0.25) expected.push_back(c);
   REQUIRE(!expected.empty());
   CHECK(sheet.cells == expected);
+}
+
+TEST_CASE("a rank's stimulus goes into its own cells only, and is undone where it went") {
+  // Two trains on a strand of 6 cells, overlapping at cell 2; a rank owning
+  // the even cells. Expected currents counted by hand from the amplitudes.
+  json m = testing::passive_cell_manifest();
+  m["tissue"] = {{"builder", "strand"}, {"cells", 6}, {"type", "fibroblast"}};
+  m["stimulus"] = json::array({{{"target", {0, 1, 2}}, {"start_ms", 1}, {"duration_ms", 2}, {"amplitude_pA", 5}},
+                               {{"target", {2, 3}}, {"start_ms", 2}, {"duration_ms", 2}, {"amplitude_pA", 7}}});
+  Scene scene = parse_scene(m);
+  Stimulus stimulus(scene.stimuli, scene.tissue->build(0));
+  std::vector<double> i_ext(6, 0.0);
+  stimulus.add_current(2.5, i_ext.data());
+  CHECK(i_ext == std::vector<double>{5, 5, 12, 7, 0, 0});
+  stimulus.apply_only_to({1, 0, 1, 0, 1, 0});
+  CHECK(stimulus.trains()[1].cells == std::vector<int>{2, 3});  // (the stimulated cells, for the measures)
+  stimulus.clear_current(i_ext.data());
+  CHECK(i_ext == std::vector<double>{0, 5, 0, 7, 0, 0});  // a rank's own cells cleared, the others untouched
+  std::fill(i_ext.begin(), i_ext.end(), 0.0);
+  stimulus.add_current(2.5, i_ext.data());
+  CHECK(i_ext == std::vector<double>{5, 0, 12, 0, 0, 0});
+  stimulus.clear_current(i_ext.data());
+  CHECK(i_ext == std::vector<double>(6, 0.0));
 }
