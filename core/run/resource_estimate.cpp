@@ -12,8 +12,8 @@
 #include "integrate/adaptive.hpp"
 #include "integrate/integrator.hpp"
 #include "io/tissue_imprint.hpp"
-#include "tissue/tissue_builder.hpp"
 #include "measure/biomarkers.hpp"
+#include "tissue/tissue_builder.hpp"
 #include "util/manifest_error.hpp"
 
 namespace fibrodem {

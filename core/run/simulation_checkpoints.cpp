@@ -13,9 +13,9 @@
 
 #include "run/cell_state_checkpoint.hpp"
 #include "run/checkpoint_recut.hpp"
-#include "tissue/cell_partition.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
+#include "tissue/cell_partition.hpp"
 
 namespace fibrodem {
 namespace fs = std::filesystem;

@@ -68,8 +68,9 @@ std::string Simulation::Impl::particles_kept_on_rank0_for() const {
 // hands them over; otherwise a rank builds the whole tissue and frees it.
 void Simulation::Impl::build_tissue() {
   const TissueBuilder& builder = *scene.tissue;
-  const bool with_mechanics = plan_processes(scene, Tissue{}).has("mechanics");  // (a property of the scene alone)
-  if (!split.ranks || with_mechanics || (split.ranks->rank() == 0 && !particles_kept_on_rank0_for().empty())) {
+  // (Whether the plan builds mechanics is a property of the scene alone.)
+  if (!split.ranks || plan_processes(scene, Tissue{}).has("mechanics") ||
+      (split.ranks->rank() == 0 && !particles_kept_on_rank0_for().empty())) {
     tissue = builder.build(scene.seed);
   } else if (split.ranks->rank() != 0) {
     tissue = builder.build_cells(scene.seed);
