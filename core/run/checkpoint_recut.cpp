@@ -34,6 +34,10 @@ void CellPick::take(const CheckpointFields& part, int r, const std::vector<int>&
       found_[static_cast<std::size_t>(i)] = 1;
     }
   }
+  // Every field named is put, empty where no part taken has cells for it
+  // (a population this rank and the parts it read hold none of).
+  for (const std::string& name : rows) rows_.try_emplace(name);
+  for (const std::string& name : bytes) bytes_.try_emplace(name);
   const std::size_t n = part_cells.size();
   if (n == 0) return;  // (its fields, if it has them, are empty)
   const auto uneven = [&](const std::string& name, std::size_t size, const char* unit) {

@@ -59,6 +59,14 @@ TEST_CASE("checkpoint re-cut: each cell's values come from the part that held it
     CHECK(picked(CellPick({2, 3}, 5), parts, order, {}, {"b"}).text("b") == "cCdD");
   }
   CHECK(picked(CellPick({}, 5), parts, {0, 1}, {"x"}, {}).numbers("x").empty());
+  // A population none of the parts taken holds (their lists of it empty):
+  // its fields are put all the same, empty, as a rank with none of its cells writes them.
+  CellPick none({}, 5);
+  none.take(parts[0], 0, {}, {"x"}, {"b"});
+  CheckpointFields empty;
+  none.put_into(empty);
+  CHECK(empty.numbers("x").empty());
+  CHECK(empty.text("b").empty());
   CellPick pick({3, 1}, 5);
   pick.take(parts[0], 0, {3, 0}, {"x"});
   pick.take(parts[1], 1, {1, 4, 2}, {"x"});
