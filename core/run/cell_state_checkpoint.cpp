@@ -86,10 +86,9 @@ void check_same_cells(const CellSystem& system, const CheckpointFields& fields) 
   check_checkpoint_fits(system, fields, true);
 }
 
-// One population's: its prefix ("ionic.myocyte."), cells, fields and pick.
+// One population's: its prefix ("ionic.myocyte."), fields and pick of its cells.
 struct CellStatesRecut::Picked {
   std::string prefix;
-  std::vector<int> cells;
   std::vector<std::string> fields;
   CellPick pick;
 };
@@ -102,7 +101,7 @@ CellStatesRecut::CellStatesRecut(const CellSystem& system, const CheckpointField
       fields.insert(fields.end(), {p + "inputs", p + "outputs"});
       if (m) fields.push_back(p + "rest_sarcomere_length");
     }
-    populations_.push_back({p, pop.cells, std::move(fields), CellPick(pop.cells, system.cell_count())});
+    populations_.push_back({p, std::move(fields), CellPick(pop.cells, system.cell_count())});
   });
 }
 
@@ -118,7 +117,7 @@ bool CellStatesRecut::complete() const {
 
 void CellStatesRecut::put_into(CheckpointFields& out) const {
   for (const Picked& pop : populations_) {
-    out.put(pop.prefix + "cells", pop.cells);
+    out.put(pop.prefix + "cells", pop.pick.cells());
     pop.pick.put_into(out);
   }
 }

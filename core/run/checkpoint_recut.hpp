@@ -23,6 +23,7 @@ namespace fibrodem {
 class CellPick {
  public:
   CellPick(const std::vector<int>& cells, std::size_t tissue_cells);
+  const std::vector<int>& cells() const { return cells_; }
 
   // From part r, whose fields list `part_cells` in their order: of each
   // field in `rows` (values k * n + j for its n cells, a whole number of
