@@ -108,6 +108,18 @@ void Simulation::Impl::release_particles_over_ranks() {
       scene.tissue->builds_cells_alone() ? "; every rank built the cells without them" : ""));
 }
 
+// Once the run has started (its coupling built, a checkpoint's parts found
+// by the partition), a rank of a run without mechanics reads the tissue's
+// cell graph no more: it frees it (24 bytes a cell on a brick sheet) before
+// the stepping's arrays are made. Rank 0 keeps it for the re-entry
+// measures; with mechanics each rank measures its cells' stretch along it.
+void Simulation::Impl::release_cell_graph_over_ranks() {
+  if (!split.ranks || mechanics || mechanics_over_ranks) return;
+  if (split.ranks->rank() == 0 && scene.output.reentry.on) return;
+  system.coupled_pairs = {};  // (a view of them, read by CVODE alone, which does not run split)
+  std::vector<std::pair<int, int>>().swap(tissue.cell_edges);
+}
+
 // The gap currents of this rank's cells read their ghosts' potentials (the
 // coupler, this rank's rows with the others': build_coupling); the adaptive
 // step control takes every rank's error and stop.
