@@ -91,6 +91,9 @@ class SheetSlots {
     if (!holes_) return SlotKind::fibroblast;
     return collagen_particles_ ? SlotKind::collagen : SlotKind::empty;
   }
+  // Whether a slot's disks are separate bodies, each bonded to the next (a
+  // fibroblast's, collagen's), not one myocyte's clump.
+  static bool chained(SlotKind kind) { return kind == SlotKind::fibroblast || kind == SlotKind::collagen; }
 
   // Each slot (c, r), column by column, with what it holds.
   template <class Visit>
@@ -214,7 +217,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
     auto index = [&](const SlotParticles& s, int k) { return (s.collagen ? cell_particles : 0) + s.first + k; };
     // Bonds inside a slot of disks: each to the next (16.67 um apart).
     for (std::size_t s = 0; s < slot.size(); ++s)
-      if (sheet.kind(s) == SlotKind::fibroblast || sheet.kind(s) == SlotKind::collagen)
+      if (SheetSlots::chained(sheet.kind(s)))
         for (int k = 0; k + 1 < kMyocyteParticles; ++k) {
           if (slot[s].collagen) tissue.add_collagen_bond(index(slot[s], k), index(slot[s], k + 1));
           else tissue.add_bond(index(slot[s], k), index(slot[s], k + 1));
@@ -248,7 +251,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
     sheet.for_each_slot([&](int c, int r, std::size_t s, SlotKind kind) {
       if (kind == SlotKind::empty) return;
       particles += kMyocyteParticles;
-      if (kind != SlotKind::myocyte) bonds += kMyocyteParticles - 1;
+      if (SheetSlots::chained(kind)) bonds += kMyocyteParticles - 1;
       if (kind == SlotKind::collagen) return;
       const auto [x, y] = sheet.centre_um(c, r, kind);
       cell_of[s] = tissue.add_cell(cell_type_of(kind), x, y);
