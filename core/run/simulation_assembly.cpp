@@ -337,15 +337,14 @@ void Simulation::Impl::start_from_initial_state() {
   if (scene.initial_state.from.empty()) return;
   const std::string path = "initial_state.from";
   try {
-    FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
-    const double time_there_ms = found.fields.number("run.time_ms");
+    const FoundCheckpoint found = find_checkpoint(scene.initial_state.from, scene.initial_state.time_ms);
     try {
       // Split over ranks, or from a split run's checkpoint (every rank's part
       // beside it), the cells' states are taken cell by cell from its parts.
       if (split.ranks || ranks_of_checkpoint(found.fields) > 1) {
         CellStatesRecut states(system, found.fields, true);
         take_checkpoint_parts(
-            found.file, found.fields, checkpoint_parts_of_own_cells(ranks_of_checkpoint(found.fields)),
+            found.file, found.fields, checkpoint_parts_of_own_cells(found.fields),
             [&states] { return states.complete(); },
             [&states](const CheckpointFields& part, int r) { states.take(part, r); });
         states.load_states(system);
@@ -355,7 +354,7 @@ void Simulation::Impl::start_from_initial_state() {
       throw CheckpointError("checkpoint " + found.file.string() + " does not fit this scene: " + e.what());
     }
     plan.notes.push_back(fmt::format("initial_state: the cells' states of {} (t = {:g} ms there)",
-                                     found.file.string(), time_there_ms));
+                                     found.file.string(), found.fields.number("run.time_ms")));
   } catch (const CheckpointError& e) {
     throw ManifestError(path, e.what());
   }

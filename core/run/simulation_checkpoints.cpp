@@ -179,9 +179,8 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
   for (const int cell : own) wanted[static_cast<std::size_t>(cell)] = 1;
   std::vector<BeatBiomarkers> own_beats;
   CheckpointFields f;
-  const long long written = ranks_of_checkpoint(checkpoint);
   const int read = take_checkpoint_parts(
-      file, checkpoint, checkpoint_parts_of_own_cells(written),
+      file, checkpoint, checkpoint_parts_of_own_cells(checkpoint),
       [&] { return cell_states.complete() && tracker_cells.complete(); },
       [&](const CheckpointFields& part, int r) {
         cell_states.take(part, r);
@@ -189,7 +188,8 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
         take_beats(part, wanted, own_beats);
         for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
       });
-  log->info("resume: {} of the checkpoint's {} parts read for this rank's cells", read, written);
+  log->info("resume: {} of the checkpoint's {} parts read for this rank's cells", read,
+            ranks_of_checkpoint(checkpoint));
   cell_states.put_into(f);
   tracker_cells.put_into(f);
   std::stable_sort(own_beats.begin(), own_beats.end(), in_beat_order);
@@ -201,12 +201,13 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
   return f;
 }
 
-// The parts of a checkpoint written over `written` ranks that hold this
-// rank's cells, if that run was split as this tissue's partition over
-// `written` ranks cuts it, as it was unless the two runs' Scotch differ
+// The parts of a checkpoint (rank 0's fields) that hold this rank's cells,
+// if the run that wrote it over N ranks was split as this tissue's
+// partition over N cuts it, as it was unless the two runs' Scotch differ
 // (take_checkpoint_parts then reads the others too): every part in one
 // process.
-std::vector<int> Simulation::Impl::checkpoint_parts_of_own_cells(long long written) const {
+std::vector<int> Simulation::Impl::checkpoint_parts_of_own_cells(const CheckpointFields& checkpoint) const {
+  const long long written = ranks_of_checkpoint(checkpoint);
   std::vector<char> holds(static_cast<std::size_t>(written), split.ranks ? 0 : 1);
   if (split.ranks && written > 1) {
     const CellPartition then = partition_cells(tissue, static_cast<int>(written));

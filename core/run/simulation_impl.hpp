@@ -228,7 +228,7 @@ struct Simulation::Impl : StepObserver {
   void restore_beats(const CheckpointFields& f);
   void write_rank_checkpoint(const std::filesystem::path& file, const CheckpointFields& mine, bool kill);
   CheckpointFields recut_checkpoint(const std::filesystem::path& file, const CheckpointFields& checkpoint) const;
-  std::vector<int> checkpoint_parts_of_own_cells(long long written) const;
+  std::vector<int> checkpoint_parts_of_own_cells(const CheckpointFields& checkpoint) const;
 
   // ---- output.reentry's samples (simulation_reentry.cpp) ----
   void start_reentry_sampling(double t);
