@@ -34,50 +34,109 @@ void check_regions_hold_junctions(const Tissue& tissue, const std::vector<Coupli
   }
 }
 
+// The junction's conductance [nS] (0: none), its midpoint counted in the
+// region or map that holds it.
+double junction_conductance_nS(const Tissue& tissue, const JunctionConductances& base_nS,
+                               const std::vector<CouplingRegion>& regions, const CouplingField* field, int i, int j,
+                               std::vector<int>& junctions_held, std::size_t& junctions_in_field) {
+  const JunctionConductances* g_nS = &base_nS;
+  // The junction's midpoint, asked only by regions and maps (a tissue made
+  // for a test of the coupling alone may have no cell positions).
+  const bool placed = !regions.empty() || field;
+  const double x_um = placed ? 0.5 * (tissue.x_um[i] + tissue.x_um[j]) : 0.0;
+  const double y_um = placed ? 0.5 * (tissue.y_um[i] + tissue.y_um[j]) : 0.0;
+  if (!regions.empty()) {
+    if (const int k = region_holding(regions, x_um, y_um); k >= 0) {
+      g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
+      ++junctions_held[static_cast<std::size_t>(k)];
+    }
+  }
+  const bool both_myocytes = tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
+  const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
+  double g = !both_myocytes                              ? g_nS->D_f_nS
+             : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
+                                                         : g_nS->D_m_side_nS;
+  if (field && field->contains(x_um, y_um)) {
+    g *= field->scale_at(x_um, y_um);
+    ++junctions_in_field;
+  }
+  return g;
+}
+
 }  // namespace
 
+// L is written row by row in place (compressed rows, columns ascending:
+// those below the diagonal, the diagonal, those above), with a double a
+// junction of the rows beside it while it is made. Gathered as triplets and
+// summed by Eigen's setFromTriplets (four 16-byte triplets a junction, and a
+// transposed copy) it took ~100 MB on a rank of the 846,279-cell sheet split
+// 4 ways, and a sixth of one process's set-up. The cell edges are sorted
+// (i < j, by i then j), so row r's entries below the diagonal come in
+// increasing column as the junctions (c, r) go by, and those above as the
+// junctions (r, c) do; its diagonal adds the junctions' conductances in the
+// junctions' order, as summing the triplets did: the same matrix, bit for
+// bit (tests/coupling/test_coupling_cg.cpp).
 CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const JunctionConductances& base_nS,
                                             const std::vector<CouplingRegion>& regions, const CouplingField* field,
                                             const std::vector<char>* own_rows) {
-  const auto n = static_cast<Eigen::Index>(tissue.cell_count());
+  const std::size_t n = tissue.cell_count();
   const auto own = [own_rows](int cell) { return !own_rows || (*own_rows)[static_cast<std::size_t>(cell)]; };
-  std::vector<Eigen::Triplet<double>> entries;
-  if (!own_rows) entries.reserve(4 * tissue.cell_edges.size());
   std::vector<int> junctions_held(regions.size(), 0);
   std::size_t junctions_in_field = 0;
+  // Pass 1: the conductance of each junction of an own row (0: none, left
+  // out) and each row's entries below and above the diagonal.
+  std::vector<double> g_of_junction;
+  std::vector<int> below(n, 0), above(n, 0);
   for (const auto& [i, j] : tissue.cell_edges) {
-    const JunctionConductances* g_nS = &base_nS;
-    // The junction's midpoint, asked only by regions and maps (a tissue made
-    // for a test of the coupling alone may have no cell positions).
-    const bool placed = !regions.empty() || field;
-    const double x_um = placed ? 0.5 * (tissue.x_um[i] + tissue.x_um[j]) : 0.0;
-    const double y_um = placed ? 0.5 * (tissue.y_um[i] + tissue.y_um[j]) : 0.0;
-    if (!regions.empty()) {
-      if (const int k = region_holding(regions, x_um, y_um); k >= 0) {
-        g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
-        ++junctions_held[static_cast<std::size_t>(k)];
-      }
-    }
-    const bool both_myocytes =
-        tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
-    const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
-    double g = !both_myocytes                              ? g_nS->D_f_nS
-               : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
-                                                           : g_nS->D_m_side_nS;
-    if (field && field->contains(x_um, y_um)) {
-      g *= field->scale_at(x_um, y_um);
-      ++junctions_in_field;
-    }
+    const double g = junction_conductance_nS(tissue, base_nS, regions, field, i, j, junctions_held, junctions_in_field);
+    if (!(own(i) || own(j))) continue;
+    g_of_junction.push_back(g);
     if (g == 0.0) continue;
-    if (own(i)) entries.emplace_back(i, i, g), entries.emplace_back(i, j, -g);
-    if (own(j)) entries.emplace_back(j, j, g), entries.emplace_back(j, i, -g);
+    if (own(i)) ++above[static_cast<std::size_t>(i)];
+    if (own(j)) ++below[static_cast<std::size_t>(j)];
   }
   check_regions_hold_junctions(tissue, regions, junctions_held);
   if (field && junctions_in_field == 0)
     throw holds_no_junction(tissue, field->path, "", field->x_min_um, field->x_max_um, field->y_min_um, field->y_max_um);
-  Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian(n, n);
-  laplacian.setFromTriplets(entries.begin(), entries.end());
-  laplacian.makeCompressed();
+  CouplingCg::Laplacian laplacian(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  int* outer = laplacian.outerIndexPtr();
+  outer[0] = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    const int entries = below[r] + above[r];
+    outer[r + 1] = outer[r] + (entries > 0 ? entries + 1 : 0);  // (a row with entries has its diagonal)
+  }
+  laplacian.resizeNonZeros(outer[n]);
+  int* column = laplacian.innerIndexPtr();
+  double* value = laplacian.valuePtr();
+  // Pass 2: below[r] and above[r] become the places of row r's next entries
+  // below and above its diagonal, at diagonal_at[r].
+  std::vector<int> diagonal_at(n, -1);
+  for (std::size_t r = 0; r < n; ++r) {
+    if (outer[r + 1] == outer[r]) continue;
+    diagonal_at[r] = outer[r] + below[r];
+    column[diagonal_at[r]] = static_cast<int>(r);
+    value[diagonal_at[r]] = 0.0;
+    below[r] = outer[r];
+    above[r] = diagonal_at[r] + 1;
+  }
+  std::size_t junction = 0;
+  for (const auto& [i, j] : tissue.cell_edges) {
+    if (!(own(i) || own(j))) continue;
+    const double g = g_of_junction[junction++];
+    if (g == 0.0) continue;
+    if (own(i)) {
+      const auto r = static_cast<std::size_t>(i);
+      column[above[r]] = j;
+      value[above[r]++] = -g;
+      value[diagonal_at[r]] += g;
+    }
+    if (own(j)) {
+      const auto r = static_cast<std::size_t>(j);
+      column[below[r]] = i;
+      value[below[r]++] = -g;
+      value[diagonal_at[r]] += g;
+    }
+  }
   return laplacian;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "coupling/coupling_field.hpp"
 #include "coupling/gap_junction.hpp"
 #include "support/coupling_reference.hpp"
 
@@ -132,6 +133,56 @@ TEST_CASE("gap-junction coupling: currents -L V and total conductances from the 
     CHECK(total[i] == doctest::Approx(L(row, row)).epsilon(1e-14));
   }
   CHECK(total.back() == 0.0);  // the isolated cell
+}
+
+TEST_CASE("junction Laplacian: written row by row, the matrix a sum of triplets gives, own rows alone too") {
+  // Conductances that differ junction by junction (so that the diagonals sum
+  // inexactly, and their order shows): a coupling map along y, each cell at
+  // y = its number, and fibroblast junctions at D_f 0 (left out: a row can
+  // have no entry).
+  Tissue tissue = irregular_tissue();
+  const auto n = static_cast<Eigen::Index>(tissue.cell_count());
+  tissue.x_um.assign(tissue.cell_count(), 0.0);
+  for (Eigen::Index c = 0; c < n; ++c) tissue.y_um.push_back(static_cast<double>(c));
+  CouplingField field;
+  field.x_min_um = -1, field.x_max_um = 1, field.y_min_um = 0, field.y_max_um = static_cast<double>(n);
+  field.rows = static_cast<int>(n) + 1, field.columns = 2;
+  field.between = CouplingField::Between::nearest;
+  for (int row = 0; row < field.rows; ++row)
+    for (int column = 0; column < 2; ++column) field.scale.push_back(1.0 + 0.0137 * (row % 7) + 0.001 * column);
+  const JunctionConductances junctions{1000.0, 1000.0, 0.0};
+  // The reference: every junction's four entries as triplets, duplicates
+  // (the diagonals) summed in the order given by Eigen's setFromTriplets;
+  // with own rows, only theirs.
+  const auto summed_triplets = [&](const std::vector<char>* own_rows) {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (const auto& [i, j] : tissue.cell_edges) {
+      const bool myocytes = tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
+      const double g = myocytes ? 1000.0 * field.scale_at(0.0, 0.5 * (i + j)) : 0.0;
+      if (g == 0.0) continue;
+      if (!own_rows || (*own_rows)[i]) entries.emplace_back(i, i, g), entries.emplace_back(i, j, -g);
+      if (!own_rows || (*own_rows)[j]) entries.emplace_back(j, j, g), entries.emplace_back(j, i, -g);
+    }
+    CouplingCg::Laplacian L(n, n);
+    L.setFromTriplets(entries.begin(), entries.end());
+    L.makeCompressed();
+    return L;
+  };
+  const auto check_same = [](const CouplingCg::Laplacian& a, const CouplingCg::Laplacian& b) {
+    REQUIRE(a.nonZeros() == b.nonZeros());
+    for (Eigen::Index r = 0; r <= a.rows(); ++r) CHECK(a.outerIndexPtr()[r] == b.outerIndexPtr()[r]);
+    for (Eigen::Index e = 0; e < a.nonZeros(); ++e) {
+      CAPTURE(e);
+      CHECK(a.innerIndexPtr()[e] == b.innerIndexPtr()[e]);
+      CHECK(a.valuePtr()[e] == b.valuePtr()[e]);  // the same bits
+    }
+  };
+  SUBCASE("every row") { check_same(junction_laplacian_nS(tissue, junctions, {}, &field), summed_triplets(nullptr)); }
+  SUBCASE("a rank's rows") {
+    std::vector<char> own(tissue.cell_count(), 0);
+    for (std::size_t c = 0; c < own.size(); c += 3) own[c] = 1;
+    check_same(junction_laplacian_nS(tissue, junctions, {}, &field, &own), summed_triplets(&own));
+  }
 }
 
 TEST_CASE("coupling CG: a potential that is not finite is left for the caller to see") {
