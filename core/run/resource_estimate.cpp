@@ -144,12 +144,25 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // The tissue as built: its particles, bonds, cell graph and cells, with
   // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
   // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
-  const auto tissue_bytes = [&](double with_particles, double with_bonds) {
-    return 1.5 * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds + sizeof(std::pair<int, int>) * edges +
-                  20 * tissue_cells);
+  // Split over ranks without mechanics, a rank frees the cell graph once
+  // the run has started (rank 0 keeps it for the re-entry measures), and a
+  // rank other than 0 the cells' centres (16 of their 20 bytes).
+  const bool frees_layout = split && !mechanics;
+  const bool keeps_graph = !frees_layout || (rank == 0 && scene.output.reentry.on);
+  const bool keeps_centres = !frees_layout || rank == 0;
+  const auto tissue_bytes = [&](double with_particles, double with_bonds, bool graph, bool centres) {
+    return 1.5 * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds +
+                  (graph ? sizeof(std::pair<int, int>) * edges : 0.0) + (centres ? 20.0 : 4.0) * tissue_cells);
   };
-  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells", particles, bonds, tissue_cells),
-                      tissue_bytes(particles, bonds), "a smaller tissue"});
+  const char* freed = keeps_graph ? "" : keeps_centres ? ", its graph freed" : ", its graph and centres freed";
+  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}", particles, bonds,
+                                  tissue_cells, freed),
+                      tissue_bytes(particles, bonds, keeps_graph, keeps_centres), "a smaller tissue"});
+  // Split over ranks, each rank still holds every tissue cell's potential,
+  // stimulus current and place (population, index: CellSystem), 24 bytes a
+  // cell (in one process they are counted with the cell states).
+  if (split)
+    e.memory.push_back({"every cell's potential, stimulus current and place", 24 * tissue_cells, "a smaller tissue"});
   const TissueImprint* imprint = tissue.imprint();
   if (imprint)
     e.memory.push_back({"the particles' imprint, for the pictures and VTK files", static_cast<double>(imprint->bytes()),
@@ -293,7 +306,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // alone (a run without mechanics on fibrotic_sheet).
   const bool built_whole = mechanics || !scene.tissue || !scene.tissue->builds_cells_alone();
   if (split && tissue.particles_released() && built_whole) {
-    const double build = kProgramBytes + tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds())) +
+    const double build = kProgramBytes +
+                         tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds()), true, true) +
                          (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
     const double beyond = std::max(0.0, build - e.memory_bytes());
     e.memory.push_back({"the whole tissue while it is built, beyond the stepping's", beyond, "a smaller tissue"});

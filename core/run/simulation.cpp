@@ -97,7 +97,7 @@ void Simulation::Impl::run() {
       tracker->start(0.0, tracked(system.V_mV.data(), split.own_V_mV, 0, tracked_edge(system.cell_count())));
     }
     start_reentry_sampling(start_ms);
-    release_cell_graph_over_ranks();
+    release_cell_layout_over_ranks();
     try {
       advance_and_time_integrator();
     } catch (const InterruptedError& e) {

@@ -211,7 +211,7 @@ struct Simulation::Impl : StepObserver {
   void build_tissue();
   std::string particles_kept_on_rank0_for() const;
   void release_particles_over_ranks();
-  void release_cell_graph_over_ranks();
+  void release_cell_layout_over_ranks();
   std::unique_ptr<BiomarkerTracker> make_tracker();
   std::size_t tracked_edge(std::size_t cell_edge) const;
   const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);

@@ -32,6 +32,11 @@ std::array<double, 4> Tissue::bounds_um() const {
   return b;
 }
 
+void Tissue::release_centres() {
+  std::vector<double>().swap(x_um);
+  std::vector<double>().swap(y_um);
+}
+
 int Tissue::add_cell(CellType t, double x, double y) {
   type.push_back(t);
   x_um.push_back(x);

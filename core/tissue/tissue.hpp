@@ -71,6 +71,11 @@ struct Tissue {
   // within `bounds_um`.
   void release_unbuilt_particles(std::size_t particle_count, std::size_t bond_count, const std::array<double, 4>& bounds_um);
   bool particles_released() const { return particles_released_; }
+  // Frees the cells' centres (x_um, y_um), keeping their types: for a rank
+  // other than 0 of a split run once it has started, which reads them no
+  // more (docs/guide/parallel.md). The particles must have been released.
+  void release_centres();
+  bool centres_released() const { return x_um.size() != type.size(); }
   // The imprint the particles were released with (null: none).
   const TissueImprint* imprint() const { return imprint_.get(); }
   // Particles and bonds as built (collagen's included), released or not.
