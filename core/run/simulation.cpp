@@ -98,6 +98,14 @@ void Simulation::Impl::run() {
     }
     start_reentry_sampling(start_ms);
     release_cell_layout_over_ranks();
+#if defined(__GLIBC__)
+    // What the set-up freed (the tissue's build, the partition, the
+    // coupling's assembly, the cell layout just freed) back to the system
+    // before the stepping's arrays are made: glibc keeps freed heap, which
+    // would otherwise stay in the peak beside them (27 MB on a rank of the
+    // 846,279-cell sheet split 4 ways).
+    malloc_trim(0);
+#endif
     try {
       advance_and_time_integrator();
     } catch (const InterruptedError& e) {
