@@ -22,6 +22,11 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene) {
   return unsupported_over_ranks(scene, choose_method(scene.solver, cells).solver.method);
 }
 
+CellLayoutKept cell_layout_kept(int rank, int ranks, bool mechanics, bool reentry) {
+  if (ranks <= 1 || mechanics) return {};
+  return {rank == 0 && reentry, rank == 0};
+}
+
 std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported) {
   std::string text = "`fibrodem " + command + "` under mpirun with " + std::to_string(ranks) +
                      " ranks: this scene cannot be split over ranks yet; unsupported: ";

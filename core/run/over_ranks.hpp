@@ -29,6 +29,18 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const std::s
 // "auto": what it chooses follows from the cell count).
 std::vector<std::string> unsupported_over_ranks(const Scene& scene);
 
+// What a rank of a run split over `ranks` keeps of the cells' layout once
+// the run has started (run/simulation_ranks.cpp frees the rest before the
+// stepping's arrays are made; validate counts what it keeps): the cell graph
+// where the scene has mechanics (each rank measures its cells' stretch along
+// it) or on rank 0 with re-entry measures, the cells' centres where the
+// scene has mechanics or on rank 0 (conduction velocity, maps, re-entry).
+// In one process, everything.
+struct CellLayoutKept {
+  bool graph = true, centres = true;
+};
+CellLayoutKept cell_layout_kept(int rank, int ranks, bool mechanics, bool reentry);
+
 // The error every rank stops with: the command, the rank count, what is
 // unsupported and what to do instead.
 std::string refusal_over_ranks(const std::string& command, int ranks, const std::vector<std::string>& unsupported);

@@ -13,6 +13,8 @@
 #include "integrate/integrator.hpp"
 #include "io/tissue_imprint.hpp"
 #include "measure/biomarkers.hpp"
+#include "run/over_ranks.hpp"
+#include "scene/effects.hpp"
 #include "tissue/tissue_builder.hpp"
 #include "util/manifest_error.hpp"
 
@@ -144,20 +146,18 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // The tissue as built: its particles, bonds, cell graph and cells, with
   // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
   // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
-  // Split over ranks without mechanics, a rank frees the cell graph once
-  // the run has started (rank 0 keeps it for the re-entry measures), and a
-  // rank other than 0 the cells' centres (16 of their 20 bytes).
-  const bool frees_layout = split && !mechanics;
-  const bool keeps_graph = !frees_layout || (rank == 0 && scene.output.reentry.on);
-  const bool keeps_centres = !frees_layout || rank == 0;
+  // Split over ranks, what a rank keeps of the cell graph and the cells'
+  // centres (16 of their 20 bytes) once the run has started.
+  const CellLayoutKept layout =
+      cell_layout_kept(rank, ranks, plan_processes(scene, tissue).has("mechanics"), scene.output.reentry.on);
   const auto tissue_bytes = [&](double with_particles, double with_bonds, bool graph, bool centres) {
     return 1.5 * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds +
                   (graph ? sizeof(std::pair<int, int>) * edges : 0.0) + (centres ? 20.0 : 4.0) * tissue_cells);
   };
-  const char* freed = keeps_graph ? "" : keeps_centres ? ", its graph freed" : ", its graph and centres freed";
+  const char* freed = layout.graph ? "" : layout.centres ? ", its graph freed" : ", its graph and centres freed";
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}", particles, bonds,
                                   tissue_cells, freed),
-                      tissue_bytes(particles, bonds, keeps_graph, keeps_centres), "a smaller tissue"});
+                      tissue_bytes(particles, bonds, layout.graph, layout.centres), "a smaller tissue"});
   // Split over ranks, each rank still holds every tissue cell's potential,
   // stimulus current and place (population, index: CellSystem), 24 bytes a
   // cell (in one process they are counted with the cell states).

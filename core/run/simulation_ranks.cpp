@@ -109,17 +109,16 @@ void Simulation::Impl::release_particles_over_ranks() {
 }
 
 // Once the run has started (its coupling built, a checkpoint's parts found
-// by the partition, the stimulus's cells chosen), a rank of a run without
-// mechanics reads the tissue's cell graph no more, and a rank other than 0
-// its cells' centres: it frees them (24 and 16 bytes a cell on a brick
-// sheet) before the stepping's arrays are made. Rank 0 keeps the centres
-// for its measures (conduction velocity, maps, re-entry) and the graph for
-// the re-entry measures; with mechanics each rank measures its cells'
-// stretch along the graph.
+// by the partition, the stimulus's cells chosen), a rank reads the tissue's
+// cell graph and its cells' centres only where cell_layout_kept says
+// (run/over_ranks.hpp): it frees the rest (24 and 16 bytes a cell on a brick
+// sheet) before the stepping's arrays are made.
 void Simulation::Impl::release_cell_layout_over_ranks() {
-  if (!split.ranks || mechanics || mechanics_over_ranks) return;
-  if (split.ranks->rank() != 0) tissue.release_centres();
-  if (split.ranks->rank() == 0 && scene.output.reentry.on) return;
+  if (!split.ranks) return;
+  const CellLayoutKept kept = cell_layout_kept(split.ranks->rank(), split.ranks->size(), plan.has("mechanics"),
+                                               scene.output.reentry.on);
+  if (!kept.centres) tissue.release_centres();
+  if (kept.graph) return;
   system.coupled_pairs = {};  // (a view of them, read by CVODE alone, which does not run split)
   std::vector<std::pair<int, int>>().swap(tissue.cell_edges);
 }
