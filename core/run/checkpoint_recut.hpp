@@ -24,6 +24,10 @@ class CellPick {
  public:
   CellPick(const std::vector<int>& cells, std::size_t tissue_cells);
   const std::vector<int>& cells() const { return cells_; }
+  // Whether `cell` (any number: one outside the tissue is not) is picked.
+  bool picks(int cell) const {
+    return cell >= 0 && static_cast<std::size_t>(cell) < place_.size() && place_[static_cast<std::size_t>(cell)] >= 0;
+  }
 
   // From part r, whose fields list `part_cells` in their order: of each
   // field in `rows` (values k * n + j for its n cells, a whole number of

@@ -26,13 +26,13 @@ std::string over_ranks_text(long long ranks) {
   return ranks == 1 ? std::string("in one process") : "split over " + std::to_string(ranks) + " MPI ranks";
 }
 
-// The beats in a part of `cells` (wanted[cell] set), added to `beats`.
-void take_beats(const CheckpointFields& part, const std::vector<char>& wanted, std::vector<BeatBiomarkers>& beats) {
+// The beats in a part of the cells `pick` picks, added to `beats`.
+void take_beats(const CheckpointFields& part, const CellPick& pick, std::vector<BeatBiomarkers>& beats) {
   const std::string raw = part.text("run.beats");
   for (std::size_t at = 0; at + sizeof(BeatBiomarkers) <= raw.size(); at += sizeof(BeatBiomarkers)) {
     int cell = -1;
     std::memcpy(&cell, raw.data() + at + offsetof(BeatBiomarkers, cell), sizeof cell);
-    if (cell < 0 || static_cast<std::size_t>(cell) >= wanted.size() || !wanted[static_cast<std::size_t>(cell)]) continue;
+    if (!pick.picks(cell)) continue;
     beats.emplace_back();
     std::memcpy(static_cast<void*>(&beats.back()), raw.data() + at, sizeof(BeatBiomarkers));
   }
@@ -175,8 +175,6 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
   std::vector<std::string> tracker_rows;
   for (const auto& name : BiomarkerTracker::per_cell_number_fields())
     if (checkpoint.has(name)) tracker_rows.push_back(name);
-  std::vector<char> wanted(tissue.cell_count(), 0);
-  for (const int cell : own) wanted[static_cast<std::size_t>(cell)] = 1;
   std::vector<BeatBiomarkers> own_beats;
   CheckpointFields f;
   const int read = take_checkpoint_parts(
@@ -185,7 +183,7 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
       [&](const CheckpointFields& part, int r) {
         cell_states.take(part, r);
         tracker_cells.take(part, r, own_cells_of_part(part), tracker_rows, {BiomarkerTracker::kPerCellBytesField});
-        take_beats(part, wanted, own_beats);
+        take_beats(part, tracker_cells, own_beats);
         for (const auto& name : part.names_starting("traces.column.")) f.copy_from(part, name);
       });
   log->info("resume: {} of the checkpoint's {} parts read for this rank's cells", read,
