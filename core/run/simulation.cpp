@@ -7,9 +7,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include "run/interrupt.hpp"
 #include "run/output_dir.hpp"
@@ -18,6 +15,7 @@
 #include "run/simulation_impl.hpp"
 #include "run/state_guard.hpp"
 #include "run/tissue_snapshots.hpp"
+#include "util/freed_heap.hpp"
 
 namespace fibrodem {
 namespace fs = std::filesystem;
@@ -98,14 +96,11 @@ void Simulation::Impl::run() {
     }
     start_reentry_sampling(start_ms);
     release_cell_layout_over_ranks();
-#if defined(__GLIBC__)
     // What the set-up freed (the tissue's build, the partition, the
     // coupling's assembly, the cell layout just freed) back to the system
-    // before the stepping's arrays are made: glibc keeps freed heap, which
-    // would otherwise stay in the peak beside them (27 MB on a rank of the
+    // before the stepping's arrays are made (27 MB on a rank of the
     // 846,279-cell sheet split 4 ways).
-    malloc_trim(0);
-#endif
+    give_freed_heap_back();
     try {
       advance_and_time_integrator();
     } catch (const InterruptedError& e) {
@@ -170,9 +165,7 @@ void Simulation::Impl::release_stepping_work() {
   integrator_report = integrator->report();
   integrator.reset();
   system.coupler.reset();
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
+  give_freed_heap_back();
 }
 
 // What only the stepping needed, freed before the maps, summary.json and the
@@ -195,9 +188,7 @@ void Simulation::Impl::release_run_buffers() {
   std::vector<double>().swap(reentry.own_V);
   std::vector<double>().swap(reentry.gathered_V);
   std::vector<double>().swap(reentry.frame_V);
-#if defined(__GLIBC__)
-  malloc_trim(0);  // freed pages back to the system: the peak RSS is the stepping's
-#endif
+  give_freed_heap_back();  // the peak RSS is the stepping's
 }
 
 // The integrator's own time: its wall time less what the models, coupling,
