@@ -39,6 +39,7 @@ SolverSpec read_solver_spec(JsonReader r) {
     r.text("threads", "auto", {"auto"});  // "auto" is the default; anything else is an error
   else
     s.threads = static_cast<int>(r.integer("threads", s.threads, 0, 1024));
+  s.partition = r.text("partition", "rcb", {"rcb", "scotch"}) == "scotch" ? PartitionMethod::scotch : PartitionMethod::rcb;
   if (r.has("lookup_tables")) s.lookup_tables = r.boolean("lookup_tables", false);
   s.simd = r.boolean("simd", s.simd);
   r.finish();

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "tissue/cell_partition.hpp"
 #include "util/json_reader.hpp"
 
 namespace fibrodem {
@@ -28,6 +29,8 @@ struct SolverSpec {
   // the scene is large enough to gain, else 1; 0: every core; results do not
   // depend on it.
   int threads = -1;
+  // How a tissue split over MPI ranks is cut ("rcb" | "scotch").
+  PartitionMethod partition = PartitionMethod::rcb;
   // Rates (and, for rush_larsen, exp(b dt)) of voltage_only gates from tables
   // in V (linear, 0.05 mV). Unset: on for the fixed-step methods (their APD90
   // moves < 0.001 ms, docs/topics/numerics.md#lookup-tables), off for CVODE (a table makes

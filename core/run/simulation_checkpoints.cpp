@@ -201,14 +201,14 @@ CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const 
 
 // The parts of a checkpoint (rank 0's fields) that hold this rank's cells,
 // if the run that wrote it over N ranks was split as this tissue's
-// partition over N cuts it, as it was unless the two runs' Scotch differ
-// (take_checkpoint_parts then reads the others too): every part in one
-// process.
+// partition over N cuts it, as it was unless the two runs' partitions
+// differ (take_checkpoint_parts then reads the others too): every part in
+// one process.
 std::vector<int> Simulation::Impl::checkpoint_parts_of_own_cells(const CheckpointFields& checkpoint) const {
   const long long written = ranks_of_checkpoint(checkpoint);
   std::vector<char> holds(static_cast<std::size_t>(written), split.ranks ? 0 : 1);
   if (split.ranks && written > 1) {
-    const CellPartition then = partition_cells(tissue, static_cast<int>(written));
+    const CellPartition then = partition_cells(tissue, static_cast<int>(written), scene.solver.partition);
     for (const auto& pop : system.populations)
       for (const int cell : pop.cells) holds[static_cast<std::size_t>(then.part_of[static_cast<std::size_t>(cell)])] = 1;
   }

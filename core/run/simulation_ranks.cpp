@@ -36,15 +36,16 @@ void Simulation::Impl::split_over_ranks() {
   if (!split.ranks) return;
   const std::vector<std::string> unsupported = unsupported_over_ranks(scene, scene.solver.method);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", split.ranks->size(), unsupported));
-  const CellPartition partition = partition_cells(tissue, split.ranks->size());
+  const CellPartition partition = partition_cells(tissue, split.ranks->size(), scene.solver.partition);
   split.share = rank_cells(tissue, partition, split.ranks->rank());
   split.owned.assign(tissue.cell_count(), 0);
   for (int cell : split.share.owned) split.owned[static_cast<std::size_t>(cell)] = 1;
   split.layout = rank_layout(partition);
   const std::vector<int>& sizes = split.layout.counts;
-  plan.notes.push_back(fmt::format("split over {} MPI ranks (Scotch): {} to {} cells a rank, {} of {} cell-graph "
+  plan.notes.push_back(fmt::format("split over {} MPI ranks ({}): {} to {} cells a rank, {} of {} cell-graph "
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
-                                   split.ranks->size(), *std::min_element(sizes.begin(), sizes.end()),
+                                   split.ranks->size(), scene.solver.partition == PartitionMethod::scotch ? "Scotch" : "rcb",
+                                   *std::min_element(sizes.begin(), sizes.end()),
                                    *std::max_element(sizes.begin(), sizes.end()), partition.cut_edges(tissue),
                                    tissue.cell_edges.size(), split.ranks->rank(), split.share.owned.size(), split.share.ghosts.size(),
                                    split.share.neighbours.size()));

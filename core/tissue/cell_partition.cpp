@@ -1,5 +1,6 @@
 #include "tissue/cell_partition.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -51,7 +52,20 @@ std::size_t CellPartition::cut_edges(const Tissue& tissue) const {
   return cut;
 }
 
-CellPartition partition_cells(const Tissue& tissue, int parts) {
+CellPitch cell_pitch(const Tissue& tissue) {
+  double sum_x_um = 0, sum_y_um = 0;
+  for (const auto& [a, b] : tissue.cell_edges) {
+    sum_x_um += std::abs(tissue.x_um[static_cast<std::size_t>(a)] - tissue.x_um[static_cast<std::size_t>(b)]);
+    sum_y_um += std::abs(tissue.y_um[static_cast<std::size_t>(a)] - tissue.y_um[static_cast<std::size_t>(b)]);
+  }
+  const auto edges = static_cast<double>(tissue.cell_edges.size());
+  CellPitch pitch;
+  if (sum_x_um > 0) pitch.x_um = sum_x_um / edges;
+  if (sum_y_um > 0) pitch.y_um = sum_y_um / edges;
+  return pitch;
+}
+
+CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method) {
   const std::size_t n = tissue.cell_count();
   if (parts < 1 || static_cast<std::size_t>(parts) > n)
     throw std::invalid_argument("cannot split " + std::to_string(n) + " cells into " + std::to_string(parts) +
@@ -61,8 +75,15 @@ CellPartition partition_cells(const Tissue& tissue, int parts) {
   partition.part_of.assign(n, 0);
   if (parts == 1) return partition;
 
-  // Scotch splits the graph.
-  partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
+  if (method == PartitionMethod::scotch) {
+    partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
+  } else {
+    if (tissue.centres_released())
+      throw std::logic_error(
+          "partition_cells: rcb needs the cells' centres, which this tissue does not hold (freed, or never "
+          "given); scotch cuts the cell graph alone");
+    partition.part_of = bisect_coordinates(tissue.x_um, tissue.y_um, cell_pitch(tissue), parts);
+  }
   return partition;
 }
 

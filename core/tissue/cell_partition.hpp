@@ -1,20 +1,27 @@
-// The cells' coupling graph (Tissue::cell_edges) split into parts, one per
-// MPI rank of a run over several ranks (docs/guide/parallel.md): parts of nearly
-// equal cell counts with few edges between them (each cut edge is a
+// The tissue's cells split into parts, one per MPI rank of a run over
+// several ranks (docs/guide/parallel.md): parts of nearly equal cell counts
+// with few edges of the cell graph between them (each cut edge is a
 // potential sent between two ranks at every coupling evaluation).
 //
 // Every rank builds the same tissue from the same scene and seed, and the
-// partition is a function of the tissue alone (Scotch with a fixed strategy,
-// a fixed random seed and its deterministic mode, on one thread), so every
-// rank computes the same partition without communicating.
+// partition is a function of the tissue alone, so every rank computes the
+// same partition without communicating: by recursive coordinate bisection
+// of the cells' centres (tissue/coordinate_bisection.hpp), which never needs
+// the whole cell graph, or by Scotch on the whole graph (a fixed strategy, a
+// fixed random seed and its deterministic mode, on one thread), which cuts
+// fewer edges of an irregular graph at the cost of holding it.
 #pragma once
 
 #include <cstddef>
 #include <vector>
 
+#include "tissue/coordinate_bisection.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
+
+// How the cells are split: "rcb" or "scotch" in a manifest (solver.partition).
+enum class PartitionMethod { rcb, scotch };
 
 // Load imbalance Scotch is asked to keep within: no part holds more than
 // (1 + kPartImbalance) times the mean cell count (rounded up to whole cells).
@@ -33,8 +40,13 @@ struct CellPartition {
 
 // Splits the tissue's cells into `parts` parts (1 <= parts <= cell count;
 // std::invalid_argument naming both otherwise). One part: every cell in part
-// 0, without Scotch. Cells without edges (isolated fibroblasts) are placed
-// like any other, counted for the balance.
-CellPartition partition_cells(const Tissue& tissue, int parts);
+// 0. Cells without edges (isolated fibroblasts) are placed like any other,
+// counted for the balance. rcb needs the cells' centres, scotch their graph.
+CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method = PartitionMethod::rcb);
+
+// The cells' mean spacing along x and along y: the mean of |dx| and of |dy|
+// over the cell graph's edges (1 um along an axis no edge spans), which
+// rcb compares its boxes' sides by.
+CellPitch cell_pitch(const Tissue& tissue);
 
 }  // namespace fibrodem

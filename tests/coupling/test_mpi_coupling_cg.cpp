@@ -67,7 +67,8 @@ std::vector<double> direct_solve(const Tissue& tissue, const std::vector<double>
 // partition (its results the caller's to guard).
 template <class Each>
 void on_thread_ranks(const Tissue& tissue, int ranks, bool drop_halo, Each&& each) {
-  const CellPartition partition = partition_cells(tissue, ranks);
+  // (The sheet is a graph without centres: Scotch cuts it.)
+  const CellPartition partition = partition_cells(tissue, ranks, PartitionMethod::scotch);
   ThreadRanks all(ranks, drop_halo);
   all.run([&](ThreadRanks::Group& group) { each(group, rank_cells(tissue, partition, group.rank())); });
   CHECK(all.layouts_agree);

@@ -1,6 +1,7 @@
-// The cell graph split over ranks (tissue/cell_partition.hpp): every cell in
-// one part, balanced, deterministic, and far fewer cut edges than a random
-// split, on a grid whose best cuts are known and on a built tissue.
+// The cells split over ranks (tissue/cell_partition.hpp), by coordinate
+// bisection and by Scotch: every cell in one part, balanced, deterministic,
+// and far fewer cut edges than a random split, on a grid whose best cuts are
+// known and on a built tissue.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -73,57 +74,104 @@ void check_balanced(const CellPartition& p) {
 
 }  // namespace
 
+const PartitionMethod kMethods[] = {PartitionMethod::rcb, PartitionMethod::scotch};
+
 TEST_CASE("cell partition: a 40 x 30 grid in 2 and 4 parts, balanced, with near-minimal cuts") {
   const Tissue grid = grid_tissue(40, 30);
   // The smallest bisection of a 40 x 30 grid cuts the 30 edges of one row
   // of columns; four equal quadrants cut 30 + 40 = 70. Scotch's multilevel
   // heuristic is not exact: within twice these.
   const int best_cut[] = {0, 0, 30, 0, 70};
-  for (int parts : {2, 4}) {
-    CAPTURE(parts);
-    const CellPartition p = partition_cells(grid, parts);
-    check_is_partition(p, grid, parts);
-    check_balanced(p);
-    CHECK(p.cut_edges(grid) <= static_cast<std::size_t>(2 * best_cut[parts]));
-    // A random split cuts about (1 - 1/parts) of the 2330 edges.
-    CHECK(p.cut_edges(grid) * 10 < random_cut(grid, parts));
-  }
+  for (PartitionMethod method : kMethods)
+    for (int parts : {2, 4}) {
+      CAPTURE(static_cast<int>(method));
+      CAPTURE(parts);
+      const CellPartition p = partition_cells(grid, parts, method);
+      check_is_partition(p, grid, parts);
+      check_balanced(p);
+      CHECK(p.cut_edges(grid) <= static_cast<std::size_t>(2 * best_cut[parts]));
+      // A random split cuts about (1 - 1/parts) of the 2330 edges.
+      CHECK(p.cut_edges(grid) * 10 < random_cut(grid, parts));
+    }
+}
+
+// The grid's cells are 25 um apart along x and 125 um along y: 1 mm by
+// 3.6 mm, but 40 by 30 cells. Cut across its longer side in um, along y, a
+// bisection would cut 40 edges; measured in cells it cuts the 30 of one
+// column exactly, and the quadrants the 70 of the best cut.
+TEST_CASE("coordinate bisection: parts within one cell of each other, cut across the side longer in cells") {
+  const Tissue grid = grid_tissue(40, 30);
+  const CellPitch pitch = cell_pitch(grid);
+  CHECK(pitch.y_um / pitch.x_um == doctest::Approx(125.0 / 25.0).epsilon(0.03));
+  CHECK(partition_cells(grid, 2).cut_edges(grid) == 30);
+  CHECK(partition_cells(grid, 4).cut_edges(grid) == 70);
+  // 1,200 cells in 7 parts: 172 in the first three (1,200 % 7 = 3), 171 in the rest.
+  const CellPartition seven = partition_cells(grid, 7);
+  check_is_partition(seven, grid, 7);
+  CHECK(seven.sizes() == std::vector<std::size_t>{172, 172, 172, 171, 171, 171, 171});
+}
+
+TEST_CASE("coordinate bisection: a function of the centres alone, whatever their graph") {
+  const Tissue tissue = built_tissue();
+  Tissue without_graph = tissue;
+  without_graph.cell_edges.clear();
+  // Without edges the pitch is 1 um both ways; with the same pitch the
+  // parts are the same cells.
+  CHECK(bisect_coordinates(tissue.x_um, tissue.y_um, cell_pitch(tissue), 3) ==
+        bisect_coordinates(without_graph.x_um, without_graph.y_um, cell_pitch(tissue), 3));
+  // Cells on one point: split by cell number, lower numbers first.
+  const std::vector<double> same(10, 5.0);
+  CHECK(bisect_coordinates(same, same, CellPitch{}, 3) == std::vector<int>{0, 0, 0, 0, 1, 1, 1, 2, 2, 2});
+  // A tissue without centres cannot be cut by them.
+  Tissue graph_only;
+  graph_only.type.assign(4, CellType::myocyte);
+  graph_only.cell_edges = {{0, 1}, {1, 2}, {2, 3}};
+  CHECK_THROWS_AS(partition_cells(graph_only, 2, PartitionMethod::rcb), std::logic_error);
+  CHECK(partition_cells(graph_only, 2, PartitionMethod::scotch).cut_edges(graph_only) == 1);
 }
 
 TEST_CASE("cell partition: a built tissue with fibroblasts, 2 to 4 parts") {
   const Tissue tissue = built_tissue();
   REQUIRE(tissue.count(CellType::fibroblast) > 0);
-  for (int parts : {2, 3, 4}) {
-    CAPTURE(parts);
-    const CellPartition p = partition_cells(tissue, parts);
-    check_is_partition(p, tissue, parts);
-    check_balanced(p);
-    CHECK(p.cut_edges(tissue) * 5 < random_cut(tissue, parts));
-  }
+  for (PartitionMethod method : kMethods)
+    for (int parts : {2, 3, 4}) {
+      CAPTURE(static_cast<int>(method));
+      CAPTURE(parts);
+      const CellPartition p = partition_cells(tissue, parts, method);
+      check_is_partition(p, tissue, parts);
+      check_balanced(p);
+      CHECK(p.cut_edges(tissue) * 5 < random_cut(tissue, parts));
+    }
 }
 
 TEST_CASE("cell partition: the same tissue gives the same parts") {
   const Tissue tissue = built_tissue();
-  const CellPartition first = partition_cells(tissue, 3);
-  // In between, a partition of another graph (Scotch's state must not leak).
-  (void)partition_cells(grid_tissue(20, 20), 4);
-  const CellPartition again = partition_cells(built_tissue(), 3);
-  CHECK(first.part_of == again.part_of);
+  for (PartitionMethod method : kMethods) {
+    CAPTURE(static_cast<int>(method));
+    const CellPartition first = partition_cells(tissue, 3, method);
+    // In between, a partition of another graph (Scotch's state must not leak).
+    (void)partition_cells(grid_tissue(20, 20), 4, method);
+    const CellPartition again = partition_cells(built_tissue(), 3, method);
+    CHECK(first.part_of == again.part_of);
+  }
 }
 
-TEST_CASE("cell partition: one part without Scotch, and a part count out of range refused") {
+TEST_CASE("cell partition: one part without a cut, and a part count out of range refused") {
   const Tissue grid = grid_tissue(3, 2);
-  const CellPartition one = partition_cells(grid, 1);
-  CHECK(one.part_of == std::vector<int>(6, 0));
-  CHECK(one.cut_edges(grid) == 0);
-  CHECK_THROWS_WITH_AS(partition_cells(grid, 7),
-                       "cannot split 6 cells into 7 parts: expected 1 to 6 parts (one per MPI rank)",
-                       std::invalid_argument);
-  CHECK_THROWS_AS(partition_cells(grid, 0), std::invalid_argument);
-  // Every cell a part of its own.
-  const CellPartition six = partition_cells(grid, 6);
-  check_is_partition(six, grid, 6);
-  CHECK(six.sizes() == std::vector<std::size_t>(6, 1));
+  for (PartitionMethod method : kMethods) {
+    CAPTURE(static_cast<int>(method));
+    const CellPartition one = partition_cells(grid, 1, method);
+    CHECK(one.part_of == std::vector<int>(6, 0));
+    CHECK(one.cut_edges(grid) == 0);
+    CHECK_THROWS_WITH_AS(partition_cells(grid, 7, method),
+                         "cannot split 6 cells into 7 parts: expected 1 to 6 parts (one per MPI rank)",
+                         std::invalid_argument);
+    CHECK_THROWS_AS(partition_cells(grid, 0, method), std::invalid_argument);
+    // Every cell a part of its own.
+    const CellPartition six = partition_cells(grid, 6, method);
+    check_is_partition(six, grid, 6);
+    CHECK(six.sizes() == std::vector<std::size_t>(6, 1));
+  }
 }
 
 TEST_CASE("rank cells: ghosts close each rank's coupling, and the ranks agree on every message") {

@@ -90,6 +90,15 @@ TEST_CASE("mpirun -n 2: one tissue split over ranks agrees with one process") {
   check_agrees(dir / "one", dir / "two", 1e-9, true);
   // Rank 0 alone wrote: the same files as one process.
   CHECK(testing::read_file(dir / "two.txt").find("outputs: ") != std::string::npos);
+  CHECK(testing::read_file(dir / "two" / "run.log").find("split over 2 MPI ranks (rcb)") != std::string::npos);
+
+  // Cut by Scotch (solver.partition): other parts, one process's numbers.
+  json by_scotch = planar_wave();
+  by_scotch["solver"]["partition"] = "scotch";
+  std::ofstream(dir / "scotch.json") << by_scotch.dump();
+  REQUIRE(testing::run_scene(testing::mpirun(2), dir / "scotch.json", dir / "scotch") == 0);
+  CHECK(testing::read_file(dir / "scotch" / "run.log").find("split over 2 MPI ranks (Scotch)") != std::string::npos);
+  check_agrees(dir / "one", dir / "scotch", 1e-9, true);
 }
 
 // (Labelled slow: the code is the 2-rank case's, which runs under the
