@@ -284,6 +284,34 @@ TEST_CASE("a scene too large for the machine is refused at set-up with the estim
   CHECK(fits.resource_estimate().find("memory ~") == 0);
 }
 
+// A rank of a split run holds every cell, its centre and graph while the
+// partition is cut (resource_estimate.cpp): with Scotch also its copies of
+// the graph, 104 bytes a cell (measured with heaptrack on the 846,279-cell
+// sheet: 88 MB), which set a rank's peak from 16 ranks on that sheet; with
+// rcb 8 bytes a cell. A rank with no cells of its own to step (an empty
+// system) shows the set-up alone.
+TEST_CASE("validate counts a split rank's set-up: the cells' build and the partitioner's work") {
+  json m = json::parse(R"({
+    "fibrodem": 1, "name": "split_set_up", "duration_ms": 10,
+    "tissue": {"builder": "fibrotic_sheet", "width_mm": 1, "length_mm": 3},
+    "cells": {"myocyte": {"model": "colman"}},
+    "solver": {"method": "rush_larsen", "dt_ms": 0.01}
+  })");
+  const auto set_up_bytes = [&](const char* method) {
+    m["solver"]["partition"] = method;
+    const Scene scene = parse_scene(m);
+    const Tissue tissue = scene.tissue->build_cells(scene.seed);
+    const ResourceEstimate estimate = estimate_resources(scene, tissue, CellSystem(), false, 1, 8);
+    for (const auto& part : estimate.memory)
+      if (part.what.rfind("the set-up", 0) == 0) return part.bytes;
+    return 0.0;
+  };
+  const double cells = 966;  // (the 1 x 3 mm sheet's)
+  const double rcb = set_up_bytes("rcb"), scotch = set_up_bytes("scotch");
+  CHECK(rcb > 0);
+  CHECK(scotch - rcb == doctest::Approx((104 - 8) * cells));
+}
+
 TEST_CASE("the estimate of the snapshots' size bounds what is written, within a factor of ten") {
   // A 400-cell myocyte strand with snapshots as PNG and compressed VTK XML:
   // the estimate (resource_estimate.cpp: at most 33 bytes a particle before
