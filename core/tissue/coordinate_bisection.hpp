@@ -1,9 +1,9 @@
 // Recursive coordinate bisection of the cells: the cells split into parts
 // by straight cuts through their centres, each cut across the longer side
 // of its cells' bounding box, measured in cells (docs/guide/parallel.md,
-// Design 2). It reads the centres alone, never the cell graph, so a rank
-// can cut a tissue it holds only part of; the parts are compact, as a
-// spatial decomposition of the DEM wants them.
+// Design 2). It reads the centres alone, never the cell graph (cut over
+// ranks that each hold some of the cells, only its medians would need
+// reducing); the parts are compact, as a spatial split of the DEM wants.
 #pragma once
 
 #include <vector>
