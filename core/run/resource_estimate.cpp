@@ -220,6 +220,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                         dense ? 16 * states * states : 8 * 40 * states,
                         dense ? "solver.linear_solver \"band\" or \"krylov\"" : "a smaller tissue"});
   }
+  double coupling_bytes = 0;
   if (system.coupler) {
     // (Split over ranks: this rank's rows, about its share of the pairs,
     // and each tissue cell's row here, an int.)
@@ -234,8 +235,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs),
-                        matrix + 56 * cells + (split ? 4 * tissue_cells : 0.0), "a smaller tissue"});
+    coupling_bytes = matrix + 56 * cells + (split ? 4 * tissue_cells : 0.0);
+    stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), coupling_bytes, "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on && gathers) {
     // V of every cell at every sample, as float (with mechanics its fibre
@@ -300,26 +301,39 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   if (scene.output.checkpoint.every_ms > 0)
     e.memory.push_back({"a checkpoint while it is written", checkpoint_bytes(states, cells, columns * trace_samples),
                         "output.checkpoint: none, or a smaller tissue"});
-  // A rank of a split run may peak at set-up: where it builds the whole
-  // tissue, then frees its particles before the stepping
-  // (run/simulation_ranks.cpp; rank 0 with the particles' imprint made),
-  // and when the partition is cut, with every cell's centre and graph and
-  // the partitioner's own work: 8 bytes a cell for rcb, 104 for Scotch's
-  // copies of the graph (heaptrack on the 846,279-cell sheet: 88 MB), with
-  // the particles still held where the DEM is to be built.
+  // A rank of a split run may peak at set-up (run/simulation_ranks.cpp):
+  // - where it builds the whole tissue, then frees its particles before
+  //   the stepping (rank 0 with the particles' imprint made);
+  // - when the partition is cut, with every cell, its centre and graph,
+  //   and the partitioner's own work: 8 bytes a cell for rcb, 104 for
+  //   Scotch's copies of the graph (heaptrack on the 846,279-cell sheet:
+  //   88 MB), with the particles where the DEM is to be built;
+  // - when its coupling is assembled (coupling/gap_junction.cpp), beside
+  //   the whole graph, its cells' states and every cell's arrays, with
+  //   three ints of every tissue cell while the rows are made (the sheet's
+  //   rank 1 of 16: 126 MB measured and estimated).
+  // Built cell by cell (fibrotic_sheet), the cells' vectors are reserved
+  // to their size: counted as they are, not with tissue_bytes's growth.
   if (split) {
     const bool built_whole = mechanics || !scene.tissue || !scene.tissue->builds_cells_alone();
-    double set_up = 0;
+    double build = 0;
     if (tissue.particles_released() && built_whole)
-      set_up = kProgramBytes + tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds()), true, true) +
-               (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
+      build = kProgramBytes + tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds()), true, true) +
+              (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
+    const double cells_held = built_whole
+                                  ? tissue_bytes(mechanics ? particles : 0.0, mechanics ? bonds : 0.0, true, true)
+                                  : sizeof(std::pair<int, int>) * edges + 20.0 * tissue_cells;
     const double partitioner_bytes_a_cell = solver.partition == PartitionMethod::scotch ? 104.0 : 8.0;
-    const double cut = kProgramBytes + tissue_bytes(mechanics ? particles : 0.0, mechanics ? bonds : 0.0, true, true) +
-                       partitioner_bytes_a_cell * tissue_cells;
-    const double beyond = std::max(0.0, std::max(set_up, cut) - e.memory_bytes());
+    const double cut = kProgramBytes + cells_held + partitioner_bytes_a_cell * tissue_cells;
+    const double assembly = system.coupler ? kProgramBytes + cells_held + state_bytes * states + 24 * tissue_cells +
+                                                 coupling_bytes + 12 * tissue_cells
+                                           : 0.0;
+    const double beyond = std::max(0.0, std::max({build, cut, assembly}) - e.memory_bytes());
+    const char* remedy = solver.partition == PartitionMethod::scotch ? "solver.partition: rcb" : "a smaller tissue";
     if (beyond > 0)
-      e.memory.push_back({"the set-up (the tissue built, and cut over the ranks), beyond the stepping's", beyond,
-                          solver.partition == PartitionMethod::scotch ? "solver.partition: rcb" : "a smaller tissue"});
+      e.memory.push_back(
+          {"the set-up (the tissue built, cut over the ranks, its coupling assembled), beyond the stepping's", beyond,
+           remedy});
   }
   if (!scene.output.dir.empty()) {
     e.output.push_back({"traces.csv", trace_samples * (24 * columns + 24),
