@@ -150,9 +150,10 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // centres (16 of their 20 bytes) once the run has started.
   const CellLayoutKept layout =
       cell_layout_kept(rank, ranks, plan_processes(scene, tissue).has("mechanics"), scene.output.reentry.on);
-  const auto tissue_bytes = [&](double with_particles, double with_bonds, bool graph, bool centres) {
-    return 1.5 * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds +
-                  (graph ? sizeof(std::pair<int, int>) * edges : 0.0) + (centres ? 20.0 : 4.0) * tissue_cells);
+  const auto tissue_bytes = [&](double with_particles, double with_bonds, bool graph, bool centres,
+                                double spare = 1.5) {
+    return spare * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds +
+                    (graph ? sizeof(std::pair<int, int>) * edges : 0.0) + (centres ? 20.0 : 4.0) * tissue_cells);
   };
   const char* freed = layout.graph ? "" : layout.centres ? ", its graph freed" : ", its graph and centres freed";
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}", particles, bonds,
@@ -313,16 +314,15 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   //   three ints of every tissue cell while the rows are made (the sheet's
   //   rank 1 of 16: 126 MB measured and estimated).
   // Built cell by cell (fibrotic_sheet), the cells' vectors are reserved
-  // to their size: counted as they are, not with tissue_bytes's growth.
+  // to their size: counted without tissue_bytes's spare capacity.
   if (split) {
     const bool built_whole = mechanics || !scene.tissue || !scene.tissue->builds_cells_alone();
     double build = 0;
     if (tissue.particles_released() && built_whole)
       build = kProgramBytes + tissue_bytes(built_particles, static_cast<double>(tissue.built_bonds()), true, true) +
               (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
-    const double cells_held = built_whole
-                                  ? tissue_bytes(mechanics ? particles : 0.0, mechanics ? bonds : 0.0, true, true)
-                                  : sizeof(std::pair<int, int>) * edges + 20.0 * tissue_cells;
+    const double cells_held = tissue_bytes(mechanics ? particles : 0.0, mechanics ? bonds : 0.0, true, true,
+                                           built_whole ? 1.5 : 1.0);
     const double partitioner_bytes_a_cell = solver.partition == PartitionMethod::scotch ? 104.0 : 8.0;
     const double cut = kProgramBytes + cells_held + partitioner_bytes_a_cell * tissue_cells;
     const double assembly = system.coupler ? kProgramBytes + cells_held + state_bytes * states + 24 * tissue_cells +
