@@ -544,7 +544,8 @@ void AdaptiveIntegrator::fail(CellSystem& system, double t, double h, double err
           worst_pop = &pop;
           worst_cell = c;
           worst = fmt::format("cell {} ({}, model {}), state '{}' = {:.9g} {}, expected within [{:g}, {:g}]",
-                              pop.cells[c], cell_type_name(pop.type), pop.info().name, state.name, y, state.unit,
+                              system.numbering.tissue_cell(static_cast<std::size_t>(pop.cells[c])),
+                              cell_type_name(pop.type), pop.info().name, state.name, y, state.unit,
                               state.lower, state.upper);
         }
       }

@@ -150,7 +150,7 @@ class AdaptiveIntegrator final : public Integrator {
   StepController controller_{1, kControllerSafety};
   StepHistogram histogram_;
   std::vector<Buffers> buffers_;
-  // Coupled V, per global cell: the right-hand side of a solve, then its solution.
+  // Coupled V, per held cell: the right-hand side of a solve, then its solution.
   std::vector<double> v_global_;
   double solve_tolerance_mV_ = 0;
   std::string coupling_report_;  // the coupler's, at the end of the last advance

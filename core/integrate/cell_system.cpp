@@ -22,7 +22,7 @@ void CellSystem::scatter_voltage() {
 
 void CellSystem::record_rest_lengths(bool stretch_read) {
   // (Only for a reader, the mechanics: without it, 8 bytes a cell unread.)
-  stretch_by_cell_.assign(stretch_read ? cell_count() : 0, 1.0);
+  stretch_by_cell_.assign(stretch_read ? numbering.tissue_cells() : 0, 1.0);
   for (auto& m : myofilaments) {
     m.pop.evaluate(0.0);
     const std::size_t n = m.pop.size();
@@ -51,7 +51,9 @@ void CellSystem::block_inputs(std::size_t p, std::size_t begin, std::size_t end)
     double current = i_ext_pA[cells[c]];
     if (gap) current += held[c];
     if (sarcomere) current -= stretch_activated_pA(*sarcomere, pop, c);
-    if (tissue_stretch) current -= sac.current_pA(tissue_stretch[cells[c]], pop.y[pop.voltage_state * pop.size() + c]);
+    if (tissue_stretch)
+      current -= sac.current_pA(tissue_stretch[numbering.tissue_cell(static_cast<std::size_t>(cells[c]))],
+                                pop.y[pop.voltage_state * pop.size() + c]);
     in[c] = current;
   }
 }
@@ -121,7 +123,8 @@ void CellSystem::evaluate_myofilament(Myofilament& m, const CellRange& piece, do
   if (!m.rest_sarcomere_length.empty() && !stretch_by_cell_.empty()) {  // (the run has started; the mechanics read it)
     const double* length = m.pop.outputs.data() + m.sarcomere_output * n;
     for (std::size_t c = piece.begin; c < piece.end; ++c)
-      stretch_by_cell_[host.cells[c]] = length[c] / m.rest_sarcomere_length[c];
+      stretch_by_cell_[numbering.tissue_cell(static_cast<std::size_t>(host.cells[c]))] =
+          length[c] / m.rest_sarcomere_length[c];
   }
   if (m.host_trpn_input < 0) return;
   // Troponin flux back into the host's Ca balance (calcium feedback).

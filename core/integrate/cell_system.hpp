@@ -17,6 +17,7 @@
 #include "model/block_schedule.hpp"
 #include "model/population.hpp"
 #include "stimulus/stimulus.hpp"
+#include "tissue/cell_numbering.hpp"
 
 namespace fibrodem {
 
@@ -65,10 +66,16 @@ struct CellSystem {
   std::vector<std::vector<double>> gap_current_pA;
   Stimulus stimulus;
   StretchActivatedCurrent sac;
-  // Global cell -> (ionic population, local index); 32 bits for the index
-  // (8 bytes a cell, not 16), UINT32_MAX for another rank's cell.
+  // The cells held and their numbers: the tissue's every cell in one
+  // process; split over ranks, this rank's own cells, then its ghosts. Every
+  // per-cell array below (and each population's `cells`) is in these
+  // numbers.
+  CellNumbering numbering;
+  // Held cell -> (ionic population, index in it); 32 bits for the index
+  // (8 bytes a cell, not 16), UINT32_MAX for a ghost (its population named
+  // for its type).
   std::vector<std::pair<int, std::uint32_t>> where;
-  std::vector<double> V_mV;                        // per global cell
+  std::vector<double> V_mV;                        // per held cell
   // Set by the fixed-step integrator when its update has left every cell's
   // new V in V_mV (written to next_V_mV on the way, then swapped): the
   // observer and the next evaluation need not gather it. The evaluation that
@@ -79,7 +86,7 @@ struct CellSystem {
   // potentials to its observer's on_step_voltages, on the step's threads.
   bool voltages_observed = false;
   std::vector<double> next_V_mV;
-  std::vector<double> i_ext_pA;                    // per global cell: the stimulus of the step
+  std::vector<double> i_ext_pA;                    // per held cell: the stimulus of the step
   // A run split over ranks (run/halo_exchange.hpp): the populations hold this
   // rank's cells only, and this refreshes the other ranks' cells joined to
   // them (ghosts) in V_mV before the explicit gap currents read it. Null in
@@ -145,9 +152,9 @@ struct CellSystem {
   // Records each cell's sarcomere length as its rest length (call at t = 0),
   // and keeps stretch_by_cell() if something reads it (stretch_read).
   void record_rest_lengths(bool stretch_read);
-  // Per global cell, its length relative to rest (SL / SL_rest) at the last
-  // evaluation; 1 without a myofilament; empty unless record_rest_lengths
-  // was told it is read. (Taken piece by piece in the cells'
+  // Per tissue cell, its length relative to rest (SL / SL_rest) at the last
+  // evaluation; 1 without a myofilament (and, split over ranks, for another
+  // rank's cell); empty unless record_rest_lengths was told it is read. (Taken piece by piece in the cells'
   // parallel loop: over the Fig. 3 tissue a serial pass cost ~5 us a step.)
   const std::vector<double>& stretch_by_cell() const { return stretch_by_cell_; }
 

@@ -25,8 +25,8 @@ namespace {
 // ionic states first (so its potential is at offset + voltage_state), then its
 // myofilament states.
 struct Layout {
-  std::vector<std::size_t> offset;  // per global cell
-  std::vector<std::size_t> states;  // per global cell
+  std::vector<std::size_t> offset;  // per cell
+  std::vector<std::size_t> states;  // per cell
   std::size_t size = 0;
   long half_bandwidth = 0;
 

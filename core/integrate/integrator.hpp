@@ -21,13 +21,15 @@ class StepObserver {
   // The populations hold the state at t.
   virtual void on_sample(double t_ms) = 0;
   // One integrator step done; the populations hold the state at t_new.
-  // dVdt (per global cell) is the integrator's own derivative at t_new where it
-  // has one (CVODE); null means: use the difference quotient over the step.
+  // dVdt (per held cell, CellSystem::numbering) is the integrator's own
+  // derivative at t_new where it has one (CVODE); null means: use the
+  // difference quotient over the step.
   virtual void on_step(double t_old_ms, double t_new_ms, const double* dVdt) = 0;
   // Optional work per cell that can share the step's threads: a fixed-step
   // integrator calls it, before on_step, once every cell's V at t_new is in
-  // V_new (per global cell), on each of its threads for a disjoint range of
-  // cells [begin, end), the ranges together covering every cell; it then
+  // V_new (per held cell, CellSystem::numbering), on each of its threads
+  // for a disjoint range of cells [begin, end), the ranges together
+  // covering every held cell; it then
   // sets CellSystem::voltages_observed for on_step. (Not where the coupling
   // is split off: V changes again after the cells' step.)
   virtual void on_step_voltages(double /*t_old_ms*/, double /*t_new_ms*/, const double* /*V_new*/,

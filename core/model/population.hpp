@@ -43,7 +43,7 @@ struct Population {
   // (empty for a model that came from no registry). Keys the table cache.
   std::string model_origin;
   std::string variant;
-  std::vector<int> cells;  // global cell index of each local cell
+  std::vector<int> cells;  // each of its cells' number in the system (CellSystem::numbering)
   std::vector<double> params;
   std::vector<double> initial_state;  // per state (after the variant)
   std::vector<double> y, a, b, inputs, outputs;

@@ -25,6 +25,16 @@ void for_each_population(const CellSystem& system, F&& f) {
   for (const auto& m : system.myofilaments) f(m.pop, prefix_of(m.pop, true), &m);
 }
 
+// A population's cells by tissue number (a checkpoint's numbers, whatever
+// the ranks): its own held numbers in one process.
+std::vector<int> tissue_cells_of(const CellSystem& system, const Population& pop) {
+  if (system.numbering.whole()) return pop.cells;
+  std::vector<int> cells(pop.cells.size());
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    cells[k] = system.numbering.tissue_cell(static_cast<std::size_t>(pop.cells[k]));
+  return cells;
+}
+
 // The populations' prefixes, in order: which populations a system has.
 std::string population_list(const CellSystem& system) {
   std::string list;
@@ -41,14 +51,14 @@ void save_cell_states(const CellSystem& system, CheckpointFields& fields) {
     fields.put_text(p + "model", pop.info().name);
     fields.put_text(p + "version", pop.info().version);
     fields.put_text(p + "states", state_names(pop));
-    fields.put(p + "cells", pop.cells);
+    fields.put(p + "cells", tissue_cells_of(system, pop));
     fields.put(p + "y", pop.y);
     fields.put(p + "inputs", pop.inputs);
     fields.put(p + "outputs", pop.outputs);
     if (m) fields.put(p + "rest_sarcomere_length", m->rest_sarcomere_length);
   });
   fields.put_text("cells.populations", population_list(system));
-  fields.put_integer("cells.count", static_cast<long long>(system.cell_count()));
+  fields.put_integer("cells.count", static_cast<long long>(system.numbering.tissue_cells()));
   fields.put("cells.last_step_ms", system.last_step_ms);
 }
 
@@ -62,9 +72,10 @@ std::string other_cells(const std::string& p) {
 // being the checkpoint's (a rank's share: load_own_cell_states checks them).
 void check_checkpoint_fits(const CellSystem& system, const CheckpointFields& fields, bool same_cells) {
   const long long count = fields.integer("cells.count");
-  if (count != static_cast<long long>(system.cell_count()))
+  const std::size_t tissue_cells = system.numbering.tissue_cells();
+  if (count != static_cast<long long>(tissue_cells))
     throw CheckpointError("its tissue has " + std::to_string(count) + " cells, this scene's has " +
-                          std::to_string(system.cell_count()));
+                          std::to_string(tissue_cells));
   const std::string populations = population_list(system);
   if (fields.text("cells.populations") != populations)
     throw CheckpointError("its cell populations are '" + fields.text("cells.populations") + "', this scene's are '" +
@@ -76,7 +87,7 @@ void check_checkpoint_fits(const CellSystem& system, const CheckpointFields& fie
     if (fields.text(p + "states") != state_names(pop))
       throw CheckpointError("its " + p + "states are (" + fields.text(p + "states") + "), model " + pop.info().name +
                             " " + pop.info().version + " has (" + state_names(pop) + ")");
-    if (same_cells && fields.ints(p + "cells") != pop.cells) throw CheckpointError(other_cells(p));
+    if (same_cells && fields.ints(p + "cells") != tissue_cells_of(system, pop)) throw CheckpointError(other_cells(p));
   });
 }
 
@@ -101,7 +112,7 @@ CellStatesRecut::CellStatesRecut(const CellSystem& system, const CheckpointField
       fields.insert(fields.end(), {p + "inputs", p + "outputs"});
       if (m) fields.push_back(p + "rest_sarcomere_length");
     }
-    populations_.push_back({p, std::move(fields), CellPick(pop.cells, system.cell_count())});
+    populations_.push_back({p, std::move(fields), CellPick(tissue_cells_of(system, pop), system.numbering.tissue_cells())});
   });
 }
 

@@ -2,28 +2,10 @@
 
 #include <algorithm>
 
+#include "tissue/cell_numbering.hpp"
+
 namespace fibrodem {
 
-namespace {
-
-// The halo plan in the CG's numbering: a rank's own cells by their place in
-// `owned`, its ghosts by theirs in `ghosts` from first_ghost.
-RankCells numbered_for_cg(const RankCells& share, long first_ghost) {
-  const auto place = [](const std::vector<int>& cells, int cell) {
-    return static_cast<int>(std::lower_bound(cells.begin(), cells.end(), cell) - cells.begin());
-  };
-  RankCells numbered;
-  numbered.rank = share.rank;
-  for (const HaloNeighbour& neighbour : share.neighbours) {
-    HaloNeighbour n{neighbour.rank, {}, {}};
-    for (int cell : neighbour.send) n.send.push_back(place(share.owned, cell));
-    for (int cell : neighbour.receive) n.receive.push_back(static_cast<int>(first_ghost) + place(share.ghosts, cell));
-    numbered.neighbours.push_back(std::move(n));
-  }
-  return numbered;
-}
-
-}  // namespace
 
 // The rows the CG holds come from a Laplacian of this rank's rows alone: a
 // rank never holds the whole tissue's coupling.
@@ -31,8 +13,8 @@ CouplingOverRanks::CouplingOverRanks(const Tissue& tissue, const JunctionConduct
                                      const std::vector<double>& capacitance_pF,
                                      const std::vector<CouplingRegion>& regions, const CouplingField* field,
                                      RankGroup& ranks, const RankCells& share)
-    : cells_(tissue.cell_count()),
-      owned_(share.owned),
+    : owned_(share.owned.size()),
+      held_(share.owned.size() + share.ghosts.size()),
       reductions_(ranks),
       cg_(
           [&] {
@@ -41,45 +23,39 @@ CouplingOverRanks::CouplingOverRanks(const Tissue& tissue, const JunctionConduct
             return junction_laplacian_nS(tissue, g_nS, regions, field, &own);
           }(),
           capacitance_pF, share.owned, share.ghosts, *this),
-      halo_(ranks, numbered_for_cg(share, cg_.first_ghost())),
-      own_V_mV_(share.owned.size(), 0.0) {
+      halo_(ranks, numbered_from_ghost(share, static_cast<std::size_t>(cg_.first_ghost()))) {
+  // The CG's columns in the run's held numbers: own rows first (padded to
+  // first_ghost), then the ghosts.
   cell_of_column_.assign(static_cast<std::size_t>(cg_.first_ghost()), -1);
-  std::copy(owned_.begin(), owned_.end(), cell_of_column_.begin());
-  cell_of_column_.insert(cell_of_column_.end(), share.ghosts.begin(), share.ghosts.end());
-  row_of_cell_.assign(cells_, -1);
-  for (std::size_t k = 0; k < owned_.size(); ++k)
-    row_of_cell_[static_cast<std::size_t>(owned_[k])] = static_cast<int>(k);
+  for (std::size_t k = 0; k < owned_; ++k) cell_of_column_[k] = static_cast<int>(k);
+  for (std::size_t j = 0; j < share.ghosts.size(); ++j) cell_of_column_.push_back(static_cast<int>(owned_ + j));
   // GapJunctionCoupler's: the largest 2 L_ii / C_i, over every rank's cells.
   const std::vector<double> own_total_nS = cg_.diagonal_nS();
-  for (std::size_t k = 0; k < owned_.size(); ++k)
+  for (std::size_t k = 0; k < owned_; ++k)
     max_rate_per_ms_ =
-        std::max(max_rate_per_ms_, 2.0 * own_total_nS[k] / capacitance_pF[static_cast<std::size_t>(owned_[k])]);
+        std::max(max_rate_per_ms_, 2.0 * own_total_nS[k] / capacitance_pF[static_cast<std::size_t>(share.owned[k])]);
   double unused = 0;
   reductions_.reduce(unused, max_rate_per_ms_);
 }
 
 void CouplingOverRanks::add_current(const double* V_mV, double* i_ext_pA) const {
-  for (std::size_t k = 0; k < owned_.size(); ++k)
-    i_ext_pA[owned_[k]] += cg_.row_current(static_cast<long>(k), V_mV, cell_of_column_.data());
+  for (std::size_t k = 0; k < owned_; ++k) i_ext_pA[k] += cg_.row_current(static_cast<long>(k), V_mV, cell_of_column_.data());
 }
 
 void CouplingOverRanks::current_into(const double* V_mV, const int* cells, std::size_t count,
                                      double* current_pA) const {
-  for (std::size_t k = 0; k < count; ++k)
-    current_pA[k] = cg_.row_current(row_of_cell_[static_cast<std::size_t>(cells[k])], V_mV, cell_of_column_.data());
+  for (std::size_t k = 0; k < count; ++k) current_pA[k] = cg_.row_current(cells[k], V_mV, cell_of_column_.data());
 }
 
 std::vector<double> CouplingOverRanks::total_conductance_nS() const {
-  std::vector<double> total(cells_, 0.0);
-  const std::vector<double> own = cg_.diagonal_nS();
-  for (std::size_t k = 0; k < owned_.size(); ++k) total[static_cast<std::size_t>(owned_[k])] = own[k];
+  std::vector<double> total = cg_.diagonal_nS();
+  total.resize(held_, 0.0);
   return total;
 }
 
+// (The own cells' potentials are the first of V_mV: the CG takes them in place.)
 void CouplingOverRanks::implicit_step(double* V_mV, double dt_ms, double tolerance_mV) {
-  for (std::size_t k = 0; k < owned_.size(); ++k) own_V_mV_[k] = V_mV[owned_[k]];
-  cg_.solve(own_V_mV_.data(), dt_ms, tolerance_mV);
-  for (std::size_t k = 0; k < owned_.size(); ++k) V_mV[owned_[k]] = own_V_mV_[k];
+  cg_.solve(V_mV, dt_ms, tolerance_mV);
 }
 
 }  // namespace fibrodem

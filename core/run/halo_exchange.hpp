@@ -1,8 +1,9 @@
 // The halo exchange of a run split over ranks (docs/guide/parallel.md): before the
 // gap-junction currents are computed, each rank sends the potentials of its
 // cells that other ranks' cells are joined to, and receives those of its
-// ghost cells, in V_mV (indexed by global cell on every rank). Buffers are
-// made once: an exchange allocates nothing.
+// ghost cells, in V_mV (by the numbers of the plan it is given: the run's
+// held numbers, tissue/cell_numbering.hpp). Buffers are made once: an
+// exchange allocates nothing.
 #pragma once
 
 #include <vector>

@@ -159,11 +159,14 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}", particles, bonds,
                                   tissue_cells, freed),
                       tissue_bytes(particles, bonds, layout.graph, layout.centres), "a smaller tissue"});
-  // Split over ranks, each rank still holds every tissue cell's potential,
-  // stimulus current and place (population, index: CellSystem), 24 bytes a
-  // cell (in one process they are counted with the cell states).
+  // Split over ranks, a rank holds its own cells' and its ghosts' potential,
+  // stimulus current, place (population, index) and tissue number
+  // (CellSystem::numbering): 28 bytes a held cell (in one process they are
+  // counted with the cell states).
+  const double held = static_cast<double>(system.numbering.held());
   if (split)
-    e.memory.push_back({"every cell's potential, stimulus current and place", 24 * tissue_cells, "a smaller tissue"});
+    e.memory.push_back({fmt::format("{:.0f} held cells' potential, stimulus current and place", held), 28 * held,
+                        "a smaller tissue"});
   const TissueImprint* imprint = tissue.imprint();
   if (imprint)
     e.memory.push_back({"the particles' imprint, for the pictures and VTK files", static_cast<double>(imprint->bytes()),
@@ -223,8 +226,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   }
   double coupling_bytes = 0;
   if (system.coupler) {
-    // (Split over ranks: this rank's rows, about its share of the pairs,
-    // and each tissue cell's row here, an int.)
+    // (Split over ranks: this rank's rows, about its share of the pairs.)
     const double pairs = static_cast<double>(system.coupled_pairs.size()) * cells / std::max(1.0, tissue_cells);
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
@@ -236,7 +238,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     // list, counted with it. Scale sheet 10 x 10 mm:
     // L in compressed rows measures 2.93 MB, 12 bytes x (2 pairs + cells) 2.79.
     const double matrix = 12 * (2 * pairs + cells);
-    coupling_bytes = matrix + 56 * cells + (split ? 4 * tissue_cells : 0.0);
+    coupling_bytes = matrix + 56 * cells;
     stepping.push_back({fmt::format("coupling: {:.0f} edges", pairs), coupling_bytes, "a smaller tissue"});
   }
   if (const auto& re = scene.output.reentry; re.on && gathers) {
@@ -325,7 +327,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
                                            built_whole ? 1.5 : 1.0);
     const double partitioner_bytes_a_cell = solver.partition == PartitionMethod::scotch ? 104.0 : 8.0;
     const double cut = kProgramBytes + cells_held + partitioner_bytes_a_cell * tissue_cells;
-    const double assembly = system.coupler ? kProgramBytes + cells_held + state_bytes * states + 24 * tissue_cells +
+    const double assembly = system.coupler ? kProgramBytes + cells_held + state_bytes * states + 28 * held +
                                                  coupling_bytes + 12 * tissue_cells
                                            : 0.0;
     const double beyond = std::max(0.0, std::max({build, cut, assembly}) - e.memory_bytes());

@@ -50,6 +50,7 @@ std::vector<double> integrate_alone(const Population& prototype, const SettleSpe
   pop.fault = std::make_shared<ModelFault>();
   pop.reset();
   system.populations.push_back(std::move(pop));
+  system.numbering = CellNumbering(1);
   system.where = {{0, 0}};
   system.V_mV.assign(1, 0.0);
   system.i_ext_pA.assign(1, 0.0);

@@ -60,7 +60,7 @@ Simulation::Impl::Impl(const Scene& s, std::shared_ptr<PluginRegistry> r, RunOpt
   build_mechanics();
   if (plan.has("mechanics")) release_particles_over_ranks();
   system.stimulus = Stimulus(scene.stimuli, tissue);
-  if (split.ranks) system.stimulus.apply_only_to(split.owned);
+  if (split.ranks) system.stimulus.hold_only(system.numbering);
   refuse_traced_outputs();
   traces = TraceRecorder(split.ranks ? scene_of_own_traces() : scene, system, mechanics != nullptr, plan.has("contraction"));
   build_lookup_tables();
@@ -92,7 +92,7 @@ void Simulation::Impl::run() {
       resume();
     } else {
       system.gather_voltage();
-      tracker->start(0.0, tracked(system.V_mV.data(), split.own_V_mV, 0, tracked_edge(system.cell_count())));
+      tracker->start(0.0, system.V_mV.data());
     }
     start_reentry_sampling(start_ms);
     release_cell_layout_over_ranks();
@@ -178,8 +178,6 @@ void Simulation::Impl::release_run_buffers() {
   if (!tracker && !integrator) return;  // released before (a run that completed, then its end)
   release_stepping_work();
   tracker.reset();
-  std::vector<double>().swap(split.own_V_mV);
-  std::vector<double>().swap(split.own_dVdt);
   reentry.frames = VoltageFrames();
   reentry.V_log.reset();
   reentry.stretch_log.reset();
@@ -230,9 +228,9 @@ void Simulation::Impl::on_step_voltages(double t_old, double t_new, const double
                                         std::size_t end) {
   if (!tracker->steps_by_range(t_new)) return;  // on_step measures the step whole
   const std::size_t first = tracked_edge(begin), last = tracked_edge(end);
-  if (begin != 0) return tracker->step_cells(t_old, t_new, tracked(V_new, split.own_V_mV, first, last), first, last);
+  if (begin != 0) return tracker->step_cells(t_old, t_new, V_new, first, last);
   const auto start = Clock::now();
-  tracker->step_cells(t_old, t_new, tracked(V_new, split.own_V_mV, first, last), first, last);
+  tracker->step_cells(t_old, t_new, V_new, first, last);
   const double took_s = std::chrono::duration<double>(Clock::now() - start).count();
   times.measurement_s += took_s;
   system.seconds[CellSystem::kIonic] -= took_s;
@@ -247,10 +245,7 @@ void Simulation::Impl::on_step(double t_old, double t_new, const double* dVdt) {
   check_states(system, t_new, {scene.solver, stability, *registry, *integrator});
   if (!system.voltage_fresh) system.gather_voltage();
   if (!(system.voltages_observed && tracker->steps_by_range(t_new))) {  // else done in on_step_voltages
-    const std::size_t cells = tracked_edge(system.cell_count());
-    if (dVdt && split.ranks) split.own_dVdt.resize(cells);  // (allocated once, for an integrator that gives dV/dt)
-    tracker->step(t_old, t_new, tracked(system.V_mV.data(), split.own_V_mV, 0, cells),
-                  dVdt ? tracked(dVdt, split.own_dVdt, 0, cells) : nullptr);
+    tracker->step(t_old, t_new, system.V_mV.data(), dVdt);
   }
   sample_reentry_if_due(t_old, t_new);
   auto measured = Clock::now();

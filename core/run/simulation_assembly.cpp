@@ -98,24 +98,35 @@ void Simulation::Impl::build_populations() {
     system.populations.push_back(make_population(type, spec->second.ionic, ModelKind::ionic, *registry, &warnings));
     settle(system.populations.back(), spec->second);
   }
-  system.where.resize(tissue.cell_count());
-  for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell) {
-    const int p = population_of.at(tissue.type[cell]);
-    // Split over ranks: another rank's cell is in no population here (its
-    // type's population is named, for its capacitance; every rank has one
-    // population per cell type of the tissue, possibly empty).
-    if (!owns(cell)) {
-      system.where[cell] = {p, std::numeric_limits<std::uint32_t>::max()};
+  // The held cells (CellSystem::numbering: in one process the tissue's;
+  // split over ranks this rank's own, then its ghosts). A ghost is in no
+  // population here (its type's population is named, for its capacitance;
+  // every rank has one population per cell type of the tissue, possibly
+  // empty).
+  if (!split.ranks) system.numbering = CellNumbering(tissue.cell_count());
+  const std::size_t held = system.numbering.held(), own = system.numbering.own();
+  system.where.resize(held);
+  for (std::size_t c = 0; c < held; ++c) {
+    const int p = population_of.at(tissue.type[static_cast<std::size_t>(system.numbering.tissue_cell(c))]);
+    if (c >= own) {
+      system.where[c] = {p, std::numeric_limits<std::uint32_t>::max()};
       continue;
     }
-    system.where[cell] = {p, static_cast<std::uint32_t>(system.populations[p].cells.size())};
-    system.populations[p].cells.push_back(static_cast<int>(cell));
+    system.where[c] = {p, static_cast<std::uint32_t>(system.populations[p].cells.size())};
+    system.populations[p].cells.push_back(static_cast<int>(c));
   }
   // (a and b for the whole population only for an integrator that reads them)
   const bool derivatives = reads_population_derivatives(scene.solver.method);
   for (auto& pop : system.populations) pop.reset(derivatives);
-  system.V_mV.assign(tissue.cell_count(), 0.0);
-  system.i_ext_pA.assign(tissue.cell_count(), 0.0);
+  system.V_mV.assign(held, 0.0);
+  system.i_ext_pA.assign(held, 0.0);
+}
+
+// The ionic population of a cell type of the tissue (every rank has one).
+const Population& Simulation::Impl::population_of_type(CellType type) const {
+  for (const Population& pop : system.populations)
+    if (pop.type == type) return pop;
+  throw std::logic_error(std::string("no population of ") + cell_type_name(type) + " cells");
 }
 
 // cells.TYPE.settle: the type's model alone before t = 0 (run/settle.hpp);
@@ -138,8 +149,8 @@ void Simulation::Impl::derive_contraction_from_traces() {
   for (const auto& block : scene.output.traces.blocks) {
     for (const auto& var : block.variables)
       for (const auto& cell : block.cells) {
-        if (cell >= static_cast<int>(tissue.cell_count())) continue;
-        const Population& host = system.populations[system.where[cell].first];
+        if (cell < 0 || cell >= static_cast<int>(tissue.cell_count())) continue;
+        const Population& host = population_of_type(tissue.type[static_cast<std::size_t>(cell)]);
         const auto& spec = scene.cells.at(host.type);
         if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
         const ModelInfo& info = registry->load(spec.myofilament->model)->info();
@@ -242,9 +253,9 @@ void Simulation::Impl::warn_of_shadowed_plugins() {
 
 void Simulation::Impl::build_coupling() {
   if (!plan.has("coupling")) return;
-  std::vector<double> capacitance(tissue.cell_count());
+  std::vector<double> capacitance(tissue.cell_count());  // (by tissue cell, at set-up)
   for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
-    capacitance[cell] = system.populations[system.where[cell].first].capacitance_pF;
+    capacitance[cell] = population_of_type(tissue.type[cell]).capacitance_pF;
   const CouplingField* field = scene.coupling.field ? &*scene.coupling.field : nullptr;
   // Split over ranks, this rank's rows only (run/coupling_over_ranks.hpp).
   if (split.ranks)

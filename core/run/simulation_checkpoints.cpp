@@ -168,9 +168,9 @@ void Simulation::Impl::resume() {
 // as the checkpoint has it.
 CheckpointFields Simulation::Impl::recut_checkpoint(const fs::path& file, const CheckpointFields& checkpoint) const {
   CellStatesRecut cell_states(system, checkpoint, false);
-  std::vector<int> own;  // the tracker's cells: this rank's, in increasing order
-  for (const auto& pop : system.populations) own.insert(own.end(), pop.cells.begin(), pop.cells.end());
-  std::sort(own.begin(), own.end());
+  std::vector<int> own;  // the tracker's cells: this rank's, in increasing tissue order
+  own.reserve(system.numbering.own());
+  for (std::size_t c = 0; c < system.numbering.own(); ++c) own.push_back(system.numbering.tissue_cell(c));
   CellPick tracker_cells(own, tissue.cell_count());
   std::vector<std::string> tracker_rows;
   for (const auto& name : BiomarkerTracker::per_cell_number_fields())
@@ -209,8 +209,8 @@ std::vector<int> Simulation::Impl::checkpoint_parts_of_own_cells(const Checkpoin
   std::vector<char> holds(static_cast<std::size_t>(written), split.ranks ? 0 : 1);
   if (split.ranks && written > 1) {
     const CellPartition then = partition_cells(tissue, static_cast<int>(written), scene.solver.partition);
-    for (const auto& pop : system.populations)
-      for (const int cell : pop.cells) holds[static_cast<std::size_t>(then.part_of[static_cast<std::size_t>(cell)])] = 1;
+    for (std::size_t c = 0; c < system.numbering.own(); ++c)
+      holds[static_cast<std::size_t>(then.part_of[static_cast<std::size_t>(system.numbering.tissue_cell(c))])] = 1;
   }
   std::vector<int> parts;
   for (std::size_t r = 0; r < holds.size(); ++r)

@@ -85,9 +85,8 @@ struct ReentrySampling {
   long long next_sample = 0;  // index k of the next sample time from_ms + k every_ms
   json measured;
   // Every cell's V at a sample, interpolated (by tissue number). Split over
-  // ranks: this rank's cells' V at a sample (share.owned's order), and on
-  // rank 0 every cell's as gathered (rank order) and the frame; sized when
-  // the sampling starts.
+  // ranks: this rank's own cells' V at a sample, and on rank 0 every cell's
+  // as gathered (rank order) and the frame; sized when the sampling starts.
   std::vector<double> own_V, gathered_V, frame_V;
   // With checkpoints, on the rank holding the frames: the frames on disk
   // beside them (run/frame_log.hpp), V's and, with mechanics, the stretch's.
@@ -96,24 +95,19 @@ struct ReentrySampling {
 };
 
 // A run split over ranks (RunOptions::ranks with more than one; else
-// `ranks` is null): this rank's cells (`owned`, per global cell) and their
-// ghosts, the halo exchange of the ghosts' potentials, and where gathered
-// values go (simulation_ranks.cpp).
+// `ranks` is null): this rank's cells and their ghosts (held under the
+// numbers of CellSystem::numbering), the halo exchange of the ghosts'
+// potentials, and where gathered values go (simulation_ranks.cpp).
 struct RankSplit {
   std::shared_ptr<RankGroup> ranks;
   // The step control's error and stop, and at each step's end whether a
   // rank received SIGINT or SIGTERM, the same on every rank.
   std::shared_ptr<RankReductions> reductions;
   RankCells share;
-  std::vector<char> owned;
   std::unique_ptr<HaloExchange> halo;
   // Every rank's cells, rank after rank: where rank 0 places the values it
   // gathers (run/rank_layout.hpp).
   RankLayout layout;
-  // The biomarker tracker's cells: this rank's own, in share.owned's order;
-  // their V (and dV/dt) copied there from the per-cell arrays at each step
-  // (V's buffer sized when the run starts).
-  std::vector<double> own_V_mV, own_dVdt;
 };
 
 struct Simulation::Impl : StepObserver {
@@ -182,6 +176,7 @@ struct Simulation::Impl : StepObserver {
   void choose_solver();
   void use_threads();
   void build_populations();
+  const Population& population_of_type(CellType type) const;
   void settle(Population& pop, const CellTypeSpec& spec);
   void derive_contraction_from_traces();
   void build_myofilaments();
@@ -204,7 +199,6 @@ struct Simulation::Impl : StepObserver {
 
   // ---- a run split over ranks (simulation_ranks.cpp) ----
   void split_over_ranks();
-  bool owns(std::size_t cell) const { return split.owned.empty() || split.owned[cell]; }
   Scene scene_of_own_traces() const;
   void refuse_traced_outputs() const;
   void connect_ranks();
@@ -214,7 +208,6 @@ struct Simulation::Impl : StepObserver {
   void release_cell_layout_over_ranks();
   std::unique_ptr<BiomarkerTracker> make_tracker();
   std::size_t tracked_edge(std::size_t cell_edge) const;
-  const double* tracked(const double* per_cell, std::vector<double>& own, std::size_t begin, std::size_t end);
   std::vector<double> voltage_of_every_cell();
   void gather_from_ranks();
   void leave_failed_summary();

@@ -1,7 +1,8 @@
 // A run split over the ranks of an mpirun (docs/guide/parallel.md): the tissue's
 // cell graph is partitioned (every rank computes the same partition from the
-// same tissue), each rank's populations hold its own cells, the gap currents
-// read the neighbours' potentials refreshed by a halo exchange, and at the
+// same tissue), each rank's populations and per-cell arrays hold its own
+// cells and their ghosts alone (tissue/cell_numbering.hpp), the gap currents
+// read the ghosts' potentials refreshed by a halo exchange, and at the
 // end rank 0 gathers the beats and traces and writes every file as one
 // process would. With a fixed step and explicit coupling each cell's update
 // reads its own states, its stimulus and its neighbours' potentials, summed
@@ -16,13 +17,13 @@
 #include <stdexcept>
 
 #include "io/tissue_imprint.hpp"
-#include "model/simd.hpp"
 #include "run/beat_gather.hpp"
 #include "run/over_ranks.hpp"
 #include "run/rank_reductions.hpp"
 #include "run/run_summary.hpp"
 #include "run/simulation_impl.hpp"
 #include "scene/effects.hpp"
+#include "tissue/cell_numbering.hpp"
 #include "tissue/cell_partition.hpp"
 #include "tissue/tissue_builder.hpp"
 #include "util/json_reader.hpp"
@@ -38,8 +39,7 @@ void Simulation::Impl::split_over_ranks() {
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", split.ranks->size(), unsupported));
   const CellPartition partition = partition_cells(tissue, split.ranks->size(), scene.solver.partition);
   split.share = rank_cells(tissue, partition, split.ranks->rank());
-  split.owned.assign(tissue.cell_count(), 0);
-  for (int cell : split.share.owned) split.owned[static_cast<std::size_t>(cell)] = 1;
+  system.numbering = CellNumbering(tissue.cell_count(), split.share);
   split.layout = rank_layout(partition);
   const std::vector<int>& sizes = split.layout.counts;
   plan.notes.push_back(fmt::format("split over {} MPI ranks ({}): {} to {} cells a rank, {} of {} cell-graph "
@@ -132,20 +132,21 @@ void Simulation::Impl::connect_ranks() {
   split.reductions = std::make_shared<RankReductions>(*split.ranks);
   system.largest_over_ranks = [reductions = split.reductions](double mine) { return reductions->largest(mine); };
   if (!system.coupler) return;
-  split.halo = std::make_unique<HaloExchange>(*split.ranks, split.share);
+  split.halo = std::make_unique<HaloExchange>(*split.ranks, numbered_from_ghost(split.share, split.share.owned.size()));
   system.refresh_ghost_voltages = [h = split.halo.get()](double* V_mV) { h->refresh(V_mV); };
 }
 
 // The biomarker tracker: of every cell in one process; split over ranks, of
 // this rank's own cells only (each cell's measures read its own potentials
-// only, so they have the same bits), numbered as in the tissue.
+// only, so they have the same bits), numbered as in the tissue. Its cells
+// are the first of the held ones (CellSystem::numbering): it reads the
+// per-cell arrays as they are.
 std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
   std::vector<CellType> types = tissue.type;
   if (split.ranks) {
     types.clear();
     types.reserve(split.share.owned.size());
     for (int cell : split.share.owned) types.push_back(tissue.type[static_cast<std::size_t>(cell)]);
-    split.own_V_mV.assign(split.share.owned.size(), 0.0);  // (own_dVdt: at the first step given dV/dt, if any)
   }
   auto made = std::make_unique<BiomarkerTracker>(std::move(types), system.stimulus.onsets(scene.duration_ms),
                                                  scene.output.biomarkers_from_ms,
@@ -156,27 +157,11 @@ std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
   return made;
 }
 
-// The tracker's index where a range of cells by tissue number starts or ends
-// (0 <= cell_edge <= cells). Split over ranks, the step's threads cut the
-// tissue's numbers into ranges; the same cut of the own cells, in proportion
-// and at whole SIMD widths, keeps the threads' shares of them apart and
-// about even (the own cells need not be spread over the numbers).
+// The tracker's index where a range of held cells starts or ends
+// (0 <= cell_edge <= held cells): split over ranks its cells are the own
+// cells, the first of the held ones, not the ghosts after them.
 std::size_t Simulation::Impl::tracked_edge(std::size_t cell_edge) const {
-  if (!split.ranks) return cell_edge;
-  const std::size_t own = split.share.owned.size(), cells = tissue.cell_count();
-  if (cell_edge >= cells) return own;
-  return cell_edge * own / cells / simd::kLanes * simd::kLanes;
-}
-
-// A per-cell array (by tissue number) as the tracker reads it: itself in one
-// process; split over ranks, its own cells' values [begin, end) copied into
-// `own` (tracker order), whose data is returned.
-const double* Simulation::Impl::tracked(const double* per_cell, std::vector<double>& own, std::size_t begin,
-                                        std::size_t end) {
-  if (!split.ranks) return per_cell;
-  const int* cells = split.share.owned.data();
-  for (std::size_t i = begin; i < end; ++i) own[i] = per_cell[cells[i]];
-  return own.data();
+  return std::min(cell_edge, system.numbering.own());
 }
 
 // output.traces as this rank records it: its own cells only (a cell that
@@ -190,7 +175,7 @@ Scene Simulation::Impl::scene_of_own_traces() const {
     block.cells.erase(std::remove_if(block.cells.begin(), block.cells.end(),
                                      [&](int cell) {
                                        return cell >= 0 && static_cast<std::size_t>(cell) < tissue.cell_count() &&
-                                              !owns(static_cast<std::size_t>(cell));
+                                              !system.numbering.owns(cell);
                                      }),
                       block.cells.end());
   }
@@ -206,7 +191,7 @@ void Simulation::Impl::refuse_traced_outputs() const {
     for (std::size_t j = 0; j < block.variables.size(); ++j)
       for (int cell : block.cells) {
         if (cell < 0 || static_cast<std::size_t>(cell) >= tissue.cell_count()) continue;
-        const Population& pop = system.populations[system.where[static_cast<std::size_t>(cell)].first];
+        const Population& pop = population_of_type(tissue.type[static_cast<std::size_t>(cell)]);
         const std::string& var = block.variables[j];
         if (find_state(pop.info(), var) < 0 && find_output(pop.info(), var) >= 0)
           throw ManifestError(index_path(block.path + ".variables", j),
@@ -220,8 +205,8 @@ void Simulation::Impl::refuse_traced_outputs() const {
 // Collective: every rank calls it at the same time. (At snapshot times,
 // not every step.)
 std::vector<double> Simulation::Impl::voltage_of_every_cell() {
-  std::vector<double> mine, gathered, V;
-  gather_by_cell(*split.ranks, split.layout, system.V_mV, mine, gathered, V);
+  std::vector<double> gathered, V;
+  gather_by_cell(*split.ranks, split.layout, system.V_mV.data(), gathered, V);
   return V;
 }
 

@@ -152,13 +152,11 @@ void Simulation::Impl::sample_reentry_if_due(double t_old, double t_new) {
 // adaptive step control's agreed steps and stops), so every rank comes here
 // for the same samples, in the same order: the gather is collective.
 void Simulation::Impl::add_reentry_frame_over_ranks(double t, const double* w) {
-  const int* cells = split.share.owned.data();
+  // (The own cells are the first of the held ones.)
   const double* V = system.V_mV.data();
   const double* V_before = reentry.V_previous.data();
-  for (std::size_t i = 0; i < reentry.own_V.size(); ++i) {
-    const auto c = static_cast<std::size_t>(cells[i]);
-    reentry.own_V[i] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
-  }
+  for (std::size_t c = 0; c < reentry.own_V.size(); ++c)
+    reentry.own_V[c] = w ? V_before[c] + *w * (V[c] - V_before[c]) : V[c];
   gather_by_cell(*split.ranks, split.layout, reentry.own_V.data(), reentry.gathered_V, reentry.frame_V);
   if (split.ranks->rank() == 0) reentry.frames.add(t, reentry.frame_V);
 }

@@ -34,7 +34,7 @@ Simulation::Impl::SettledRange Simulation::Impl::settled_range(const std::vector
   auto take = [&](std::size_t c) {
     const double V = system.V_mV[c];
     if (!std::isfinite(V)) {
-      if (range.unfinite_cell < 0) range.unfinite_cell = static_cast<long long>(c), range.unfinite_V_mV = V;
+      if (range.unfinite_cell < 0) range.unfinite_cell = system.numbering.tissue_cell(c), range.unfinite_V_mV = V;
       return;
     }
     range.V_min_mV = std::min(range.V_min_mV, V), range.V_max_mV = std::max(range.V_max_mV, V);
@@ -47,7 +47,7 @@ Simulation::Impl::SettledRange Simulation::Impl::settled_range(const std::vector
     }
     return range;
   }
-  for (int cell : split.share.owned) take(static_cast<std::size_t>(cell));
+  for (std::size_t c = 0; c < system.numbering.own(); ++c) take(c);
   // Every rank's five numbers (a missing unfinite cell as +inf), combined in rank order.
   const double inf = std::numeric_limits<double>::infinity();
   const double mine[5] = {range.V_min_mV, range.V_max_mV, range.tail_change_mV,

@@ -38,7 +38,8 @@ std::string cell_states(const Population& pop, std::size_t c) {
   const SolverSpec& solver = context.solver;
   const StabilityEstimate& stability = context.stability;
   std::ostringstream s;
-  s << "blow-up at t = " << format_number(t) << " ms: cell " << pop.cells[c] << " ("
+  s << "blow-up at t = " << format_number(t) << " ms: cell "
+    << system.numbering.tissue_cell(static_cast<std::size_t>(pop.cells[c])) << " ("
     << cell_type_name(pop.type) << ", model " << pop.info().name << "), state '" << pop.info().states[k].name
     << "' = " << format_number(value) << " " << pop.info().states[k].unit << ", expected within ["
     << format_number(pop.info().states[k].lower) << ", " << format_number(pop.info().states[k].upper)

@@ -58,10 +58,13 @@ void TraceRecorder::add_cell_columns(const TraceBlock& spec, CellSystem& system,
                                      bool contraction) {
   for (std::size_t i = 0; i < spec.cells.size(); ++i) {
     const int cell = spec.cells[i];
-    if (cell >= static_cast<int>(system.cell_count()))
+    const std::size_t tissue_cells = system.numbering.tissue_cells();
+    if (cell >= static_cast<int>(tissue_cells))
       throw ManifestError(index_path(spec.path + ".cells", i),
                           "cell " + std::to_string(cell) + " does not exist (the tissue has " +
-                              std::to_string(system.cell_count()) + " cells)");
+                              std::to_string(tissue_cells) + " cells)");
+    // (Split over ranks, the scene's traces are this rank's own cells': held.)
+    const auto held = static_cast<std::size_t>(system.numbering.held_cell(cell));
     for (std::size_t j = 0; j < spec.variables.size(); ++j) {
       const std::string& var = spec.variables[j];
       if (var == kStepVariable) continue;  // one column for the whole tissue
@@ -71,7 +74,7 @@ void TraceRecorder::add_cell_columns(const TraceBlock& spec, CellSystem& system,
                               "\"" + var + "\" is the tissue strain, which needs the effect mechanics");
         continue;
       }
-      const auto [p, local] = system.where[cell];
+      const auto [p, local] = system.where[held];
       TraceColumn col;
       col.variable = var;
       col.cell = cell;
@@ -86,7 +89,7 @@ void TraceRecorder::add_cell_columns(const TraceBlock& spec, CellSystem& system,
           }
       if (col.index < 0) {
         std::vector<std::string> names;
-        system.for_each_part(cell, [&](const Population& pop, std::size_t) {
+        system.for_each_part(held, [&](const Population& pop, std::size_t) {
           for (const auto& s : pop.info().states) names.push_back(s.name);
           for (const auto& o : pop.info().outputs) names.push_back(o.name);
         });

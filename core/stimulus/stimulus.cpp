@@ -108,11 +108,11 @@ void Stimulus::clear_current(double* i_ext) const {
     for (int c : train.applied_to) i_ext[c] = 0.0;
 }
 
-void Stimulus::apply_only_to(const std::vector<char>& owned) {
+void Stimulus::hold_only(const CellNumbering& numbering) {
   for (auto& train : trains_) {
     train.applied_to.clear();
     for (int c : train.cells)
-      if (owned[static_cast<std::size_t>(c)]) train.applied_to.push_back(c);
+      if (numbering.owns(c)) train.applied_to.push_back(static_cast<int>(numbering.held_cell(c)));
     train.applied_to.shrink_to_fit();
   }
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "stimulus/stimulus_spec.hpp"
+#include "tissue/cell_numbering.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
@@ -15,7 +16,9 @@ struct PulseTrain {
   std::vector<int> cells;
   double start_ms = 0, duration_ms = 0, amplitude_pA = 0, period_ms = 0;
   long long count = 1;
-  std::vector<int> applied_to;  // the cells its current goes into: `cells`, or a rank's own of them
+  // The cells its current goes into, in the held numbers of the per-cell
+  // arrays: `cells` in one process; a rank's own of them split over ranks.
+  std::vector<int> applied_to;
 
   bool on(double t_ms) const;
 };
@@ -27,15 +30,17 @@ class Stimulus {
   // cell index out of range) is a ManifestError at the stimulus' path.
   Stimulus(const std::vector<StimulusSpec>& specs, const Tissue& tissue);
 
-  // Adds the stimulus current at time t into i_ext (indexed by global cell).
+  // Adds the stimulus current at time t into i_ext (indexed by held cell:
+  // by tissue cell in one process).
   void add_current(double t_ms, double* i_ext_pA) const;
   // Sets i_ext back to 0 wherever add_current adds: a pulse's current
   // undone in as many writes as it took.
   void clear_current(double* i_ext_pA) const;
-  // A rank of a split run applies the current to its own cells alone
-  // (owned[cell] set), so that a pulse costs it its own cells; trains()
-  // still lists every cell stimulated.
-  void apply_only_to(const std::vector<char>& owned);
+  // A rank of a split run applies the current to its own cells alone,
+  // under their numbers in `numbering` (tissue/cell_numbering.hpp), so that
+  // a pulse costs it its own cells; trains() still lists every cell
+  // stimulated, by tissue number.
+  void hold_only(const CellNumbering& numbering);
   // Whether any pulse is on at t.
   bool on(double t_ms) const;
   // The first pulse edge (on or off) strictly after t, or +inf.

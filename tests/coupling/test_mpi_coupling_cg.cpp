@@ -16,6 +16,7 @@
 #include "support/coupling_reference.hpp"
 #include "support/thread_ranks.hpp"
 #include "run/coupling_over_ranks.hpp"
+#include "tissue/cell_numbering.hpp"
 #include "tissue/cell_partition.hpp"
 #include "tissue/rank_cells.hpp"
 
@@ -91,14 +92,16 @@ SplitSolve solve_split(int ranks, bool drop_halo, double dt_ms, double tolerance
   on_thread_ranks(tissue, ranks, drop_halo, [&](ThreadRanks::Group& group, const RankCells& share) {
     const int r = share.rank;
     CouplingOverRanks coupler(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C, {}, nullptr, group, share);
-    // Another rank's cells hold a stale value (as in a run): the solve must not read them.
-    std::vector<double> V = potentials(tissue.cell_count());
-    for (std::size_t i = 0; i < V.size(); ++i)
-      if (!std::binary_search(share.owned.begin(), share.owned.end(), static_cast<int>(i))) V[i] = 1e3;
+    // The rank's own cells, then its ghosts (held numbers); the ghosts hold
+    // a stale value (as in a run): the solve must not read them.
+    const CellNumbering held(tissue.cell_count(), share);
+    const std::vector<double> V_tissue = potentials(tissue.cell_count());
+    std::vector<double> V(held.held(), 1e3);
+    for (std::size_t c = 0; c < held.own(); ++c) V[c] = V_tissue[static_cast<std::size_t>(held.tissue_cell(c))];
     coupler.implicit_step(V.data(), dt_ms, tolerance_mV);
     coupler.implicit_step(V.data(), 0.5 * dt_ms, tolerance_mV);
     std::lock_guard<std::mutex> lock(result_mutex);
-    for (int cell : share.owned) result.V[static_cast<std::size_t>(cell)] = V[static_cast<std::size_t>(cell)];
+    for (std::size_t c = 0; c < held.own(); ++c) result.V[static_cast<std::size_t>(held.tissue_cell(c))] = V[c];
     result.statistics[static_cast<std::size_t>(r)] = coupler.describe_solves();
     result.exchanges[static_cast<std::size_t>(r)] = coupler.exchanges();
   });
@@ -154,15 +157,24 @@ TEST_CASE("coupling over 2 and 3 ranks: each rank's rows give one process's curr
     std::mutex result_mutex;
     on_thread_ranks(tissue, ranks, false, [&](ThreadRanks::Group& group, const RankCells& share) {
       const CouplingOverRanks coupler(tissue, g_nS, C, {}, nullptr, group, share);
-      std::vector<double> mine(share.owned.size()), own_added(tissue.cell_count(), 0.0);
-      coupler.current_into(V.data(), share.owned.data(), share.owned.size(), mine.data());
-      coupler.add_current(V.data(), own_added.data());
+      // Held numbers: the rank's own cells (0, 1, ...), then its ghosts,
+      // their potentials as a halo exchange leaves them.
+      const CellNumbering held(tissue.cell_count(), share);
+      std::vector<double> V_held(held.held()), mine(held.own()), own_added(held.held(), 0.0);
+      std::vector<int> own(held.own());
+      for (std::size_t c = 0; c < held.held(); ++c) V_held[c] = V[static_cast<std::size_t>(held.tissue_cell(c))];
+      for (std::size_t c = 0; c < held.own(); ++c) own[c] = static_cast<int>(c);
+      coupler.current_into(V_held.data(), own.data(), own.size(), mine.data());
+      coupler.add_current(V_held.data(), own_added.data());
       std::lock_guard<std::mutex> lock(result_mutex);
-      for (std::size_t k = 0; k < mine.size(); ++k) {
-        const auto cell = static_cast<std::size_t>(share.owned[k]);
-        split[cell] = mine[k];
-        added[cell] = own_added[cell];
+      for (std::size_t c = 0; c < held.own(); ++c) {
+        const auto cell = static_cast<std::size_t>(held.tissue_cell(c));
+        split[cell] = mine[c];
+        added[cell] = own_added[c];
       }
+      // Nothing goes into a ghost.
+      CHECK(std::all_of(own_added.begin() + static_cast<long>(held.own()), own_added.end(),
+                        [](double i) { return i == 0.0; }));
       rates[static_cast<std::size_t>(share.rank)] = coupler.max_rate_per_ms();
     });
     CHECK(split == every);

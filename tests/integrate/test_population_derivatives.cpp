@@ -48,6 +48,7 @@ struct Unobserved : StepObserver {
 Population advanced(const std::string& method, bool with_derivatives, bool* had_derivatives_after) {
   CellSystem system;
   system.populations.push_back(random_block(300, with_derivatives));
+  system.numbering = CellNumbering(300);
   for (std::size_t c = 0; c < 300; ++c) system.where.push_back({0, static_cast<std::uint32_t>(c)});
   system.V_mV.assign(300, 0.0);
   system.i_ext_pA.assign(300, 0.0);

@@ -121,7 +121,9 @@ TEST_CASE("the fractions form of a region still selects by the bounding box") {
 
 TEST_CASE("a rank's stimulus goes into its own cells only, and is undone where it went") {
   // Two trains on a strand of 6 cells, overlapping at cell 2; a rank owning
-  // the even cells. Expected currents counted by hand from the amplitudes.
+  // the even cells, the odd ones its ghosts. It holds its cells as 0 2 4
+  // then 1 3 5 (tissue/cell_numbering.hpp): tissue cells 0 and 2 are held
+  // cells 0 and 1. Expected currents counted by hand from the amplitudes.
   json m = testing::passive_cell_manifest();
   m["tissue"] = {{"builder", "strand"}, {"cells", 6}, {"type", "fibroblast"}};
   m["stimulus"] = json::array({{{"target", {0, 1, 2}}, {"start_ms", 1}, {"duration_ms", 2}, {"amplitude_pA", 5}},
@@ -131,13 +133,16 @@ TEST_CASE("a rank's stimulus goes into its own cells only, and is undone where i
   std::vector<double> i_ext(6, 0.0);
   stimulus.add_current(2.5, i_ext.data());
   CHECK(i_ext == std::vector<double>{5, 5, 12, 7, 0, 0});
-  stimulus.apply_only_to({1, 0, 1, 0, 1, 0});
+  RankCells share;
+  share.owned = {0, 2, 4};
+  share.ghosts = {1, 3, 5};
+  stimulus.hold_only(CellNumbering(6, share));
   CHECK(stimulus.trains()[1].cells == std::vector<int>{2, 3});  // (the stimulated cells, for the measures)
-  stimulus.clear_current(i_ext.data());
-  CHECK(i_ext == std::vector<double>{0, 5, 0, 7, 0, 0});  // a rank's own cells cleared, the others untouched
-  std::fill(i_ext.begin(), i_ext.end(), 0.0);
-  stimulus.add_current(2.5, i_ext.data());
-  CHECK(i_ext == std::vector<double>{5, 0, 12, 0, 0, 0});
-  stimulus.clear_current(i_ext.data());
-  CHECK(i_ext == std::vector<double>(6, 0.0));
+  std::vector<double> held(6, 9.0);
+  stimulus.clear_current(held.data());
+  CHECK(held == std::vector<double>{0, 0, 9, 9, 9, 9});  // the rank's own stimulated cells cleared, nothing else
+  stimulus.add_current(2.5, held.data());
+  CHECK(held == std::vector<double>{5, 12, 9, 9, 9, 9});
+  stimulus.clear_current(held.data());
+  CHECK(held == std::vector<double>{0, 0, 9, 9, 9, 9});
 }

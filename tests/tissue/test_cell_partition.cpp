@@ -9,6 +9,7 @@
 #include <random>
 
 #include "support/scenes.hpp"
+#include "tissue/cell_numbering.hpp"
 #include "tissue/cell_partition.hpp"
 #include "tissue/rank_cells.hpp"
 #include "tissue/tissue_builder.hpp"
@@ -222,4 +223,49 @@ TEST_CASE("rank cells: ghosts close each rank's coupling, and the ranks agree on
   CHECK(alone.ghosts.empty());
   CHECK(alone.neighbours.empty());
   CHECK_THROWS_AS(rank_cells(tissue, p, 3), std::invalid_argument);
+}
+
+TEST_CASE("cell numbering: a rank holds its own cells, then its ghosts, and finds each by tissue number") {
+  const Tissue tissue = built_tissue();
+  const CellPartition p = partition_cells(tissue, 3);
+  for (int rank = 0; rank < 3; ++rank) {
+    CAPTURE(rank);
+    const RankCells share = rank_cells(tissue, p, rank);
+    const CellNumbering numbering(tissue.cell_count(), share);
+    REQUIRE(numbering.own() == share.owned.size());
+    REQUIRE(numbering.held() == share.owned.size() + share.ghosts.size());
+    CHECK(numbering.tissue_cells() == tissue.cell_count());
+    // Every tissue cell: held at its place in owned, or after them at its
+    // place in ghosts, or not at all.
+    for (int cell = 0; cell < static_cast<int>(tissue.cell_count()); ++cell) {
+      const auto own = std::find(share.owned.begin(), share.owned.end(), cell);
+      const auto ghost = std::find(share.ghosts.begin(), share.ghosts.end(), cell);
+      const long expected = own != share.owned.end()     ? own - share.owned.begin()
+                            : ghost != share.ghosts.end() ? static_cast<long>(share.owned.size()) + (ghost - share.ghosts.begin())
+                                                          : -1;
+      CHECK(numbering.held_cell(cell) == expected);
+      CHECK(numbering.owns(cell) == (own != share.owned.end()));
+      if (expected >= 0) CHECK(numbering.tissue_cell(static_cast<std::size_t>(expected)) == cell);
+    }
+    CHECK(numbering.held_cell(-1) == -1);
+    CHECK(numbering.held_cell(static_cast<long>(tissue.cell_count())) == -1);
+    // The halo plan in held numbers: the same cells, each at its held place.
+    const RankCells held = numbered_from_ghost(share, numbering.own());
+    REQUIRE(held.neighbours.size() == share.neighbours.size());
+    for (std::size_t k = 0; k < held.neighbours.size(); ++k) {
+      for (std::size_t i = 0; i < held.neighbours[k].send.size(); ++i)
+        CHECK(numbering.tissue_cell(static_cast<std::size_t>(held.neighbours[k].send[i])) ==
+              share.neighbours[k].send[i]);
+      for (std::size_t i = 0; i < held.neighbours[k].receive.size(); ++i)
+        CHECK(numbering.tissue_cell(static_cast<std::size_t>(held.neighbours[k].receive[i])) ==
+              share.neighbours[k].receive[i]);
+    }
+  }
+  // One process: every cell under its own number.
+  const CellNumbering whole(tissue.cell_count());
+  CHECK(whole.whole());
+  CHECK(whole.held() == tissue.cell_count());
+  CHECK(whole.own() == tissue.cell_count());
+  CHECK(whole.held_cell(7) == 7);
+  CHECK(whole.tissue_cell(7) == 7);
 }
