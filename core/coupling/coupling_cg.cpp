@@ -106,32 +106,26 @@ CouplingCg::CouplingCg(const Laplacian& laplacian, std::vector<double> capacitan
 }
 
 CouplingCg::CouplingCg(const Laplacian& laplacian, const std::vector<double>& capacitance_pF,
-                       const std::vector<int>& own, const std::vector<int>& ghosts, Ranks& ranks)
-    : n_(static_cast<long>(own.size())), max_iterations_(kMaxIterations), ranks_(&ranks) {
-  take_diagonal(laplacian, capacitance_pF, [&own](long k) { return own[static_cast<std::size_t>(k)]; });
-  // A tissue cell's column here: own cells first, ghosts past the padded rows.
-  std::vector<int> local(static_cast<std::size_t>(laplacian.rows()), -1);
-  for (long k = 0; k < n_; ++k) local[static_cast<std::size_t>(own[k])] = static_cast<int>(k);
-  for (std::size_t g = 0; g < ghosts.size(); ++g)
-    local[static_cast<std::size_t>(ghosts[g])] = static_cast<int>(padded_ + static_cast<long>(g));
+                       const CellNumbering& held, Ranks& ranks)
+    : n_(static_cast<long>(held.own())), max_iterations_(kMaxIterations), ranks_(&ranks) {
+  take_diagonal(laplacian, capacitance_pF, [](long k) { return static_cast<int>(k); });
   const int* outer = laplacian.outerIndexPtr();
   const int* column = laplacian.innerIndexPtr();
   const double* value = laplacian.valuePtr();
   slice_rows(
       [&](long k, auto&& emit) {
-        const int i = own[k];
-        for (int e = outer[i]; e < outer[i + 1]; ++e) {
+        const int cell = held.tissue_cell(static_cast<std::size_t>(k));
+        for (int e = outer[k]; e < outer[k + 1]; ++e) {
           const int j = column[e];
-          if (j == i) continue;
-          if (local[static_cast<std::size_t>(j)] < 0)
-            throw std::logic_error(fmt::format("coupling CG over ranks: cell {} reaches cell {}, neither its "
-                                               "rank's nor a ghost", i, j));
-          // (Past the diagonal by tissue cell: a ghost's column here comes
-          // after every own cell's, whatever its cell.)
-          emit(local[static_cast<std::size_t>(j)], value[e], j > i);
+          if (j == k) continue;
+          // A ghost's column here comes past the padded rows; the entry is
+          // past the diagonal by tissue cell (the row is in the tissue's
+          // column order, whatever its columns' numbers here).
+          const long here = j < n_ ? j : padded_ + (j - n_);
+          emit(static_cast<int>(here), value[e], held.tissue_cell(static_cast<std::size_t>(j)) > cell);
         }
       },
-      static_cast<long>(ghosts.size()));
+      static_cast<long>(held.held() - held.own()));
   // The whole tissue's largest rate: every rank's drift allowance alike.
   double unused = 0;
   ranks.reduce(unused, max_rate_per_ms_);

@@ -65,6 +65,8 @@
 #include <string>
 #include <vector>
 
+#include "tissue/cell_numbering.hpp"
+
 namespace fibrodem {
 
 class CouplingCg {
@@ -90,17 +92,17 @@ class CouplingCg {
     // and its largest by every rank's largest: the same bits on every rank.
     virtual void reduce(double& sum, double& largest) = 0;
   };
-  // This rank's rows `own` of the tissue's L (cells in increasing order;
-  // L's other rows are not read, and may be empty), numbered 0 ..
-  // own.size()-1; the columns of other ranks' cells, `ghosts` (increasing),
-  // numbered from first_ghost(); capacitances by tissue cell. solve() then
-  // takes and returns the own cells' potentials, in own's order; every rank
-  // calls it at the same point (it exchanges and reduces through `ranks`),
-  // and constructs it at the same point (it takes the whole tissue's
-  // largest L_ii / C_i, for the stopping test's drift allowance, through
-  // `ranks`).
-  CouplingCg(const Laplacian& laplacian_nS, const std::vector<double>& capacitance_pF, const std::vector<int>& own,
-             const std::vector<int>& ghosts, Ranks& ranks);
+  // This rank's rows of the tissue's L in its held numbers
+  // (junction_laplacian_nS given `held`: its own cells' rows, 0 ..
+  // held.own()-1, filled; its ghosts' columns from held.own()), numbered
+  // here as there, the ghosts from first_ghost(); capacitances by held cell.
+  // solve() then takes and returns the own cells' potentials, in held
+  // order; every rank calls it at the same point (it exchanges and reduces
+  // through `ranks`), and constructs it at the same point (it takes the
+  // whole tissue's largest L_ii / C_i, for the stopping test's drift
+  // allowance, through `ranks`).
+  CouplingCg(const Laplacian& laplacian_nS, const std::vector<double>& capacitance_pF, const CellNumbering& held,
+             Ranks& ranks);
   // Where a vector's ghost entries start (split over ranks).
   long first_ghost() const { return padded_; }
 
@@ -118,10 +120,10 @@ class CouplingCg {
   // one by one in column order, the diagonal among them (the order of L's
   // compressed rows), so that it is the same sum whatever the threads.
   double row_current(long i, const double* V_mV) const;
-  // The same for a rank's row i (split over ranks), V by tissue cell:
-  // cell_of_column[j] is the cell of column j (own rows' cells, then past
-  // first_ghost() the ghosts'). The same terms in the same order as the
-  // whole tissue's row: the same bits.
+  // The same for a rank's row i (split over ranks), V by held cell:
+  // cell_of_column[j] is the held cell of column j (own rows' cells, then
+  // past first_ghost() the ghosts'). The same terms in the same order as
+  // the whole tissue's row: the same bits.
   double row_current(long i, const double* V_mV, const int* cell_of_column) const;
   // L_ii [nS] of each cell.
   std::vector<double> diagonal_nS() const;

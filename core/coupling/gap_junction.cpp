@@ -1,6 +1,7 @@
 #include "coupling/gap_junction.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -75,21 +76,33 @@ double junction_conductance_nS(const Tissue& tissue, const JunctionConductances&
 // increasing column as the junctions (c, r) go by, and those above as the
 // junctions (r, c) do; its diagonal adds the junctions' conductances in the
 // junctions' order, as summing the triplets did: the same matrix, bit for
-// bit (tests/coupling/test_coupling_cg.cpp).
+// bit (tests/coupling/test_coupling_cg.cpp). Split over ranks, rows and
+// columns are held numbers but each row's entries stay in the tissue's
+// column order (a ghost's column may come before the diagonal): the same
+// terms in the same order as the whole tissue's row.
 CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const JunctionConductances& base_nS,
                                             const std::vector<CouplingRegion>& regions, const CouplingField* field,
-                                            const std::vector<char>* own_rows) {
-  const std::size_t n = tissue.cell_count();
-  const auto own = [own_rows](int cell) { return !own_rows || (*own_rows)[static_cast<std::size_t>(cell)]; };
+                                            const CellNumbering* held) {
+  const std::size_t n = held ? held->held() : tissue.cell_count();
+  const long own_rows = held ? static_cast<long>(held->own()) : static_cast<long>(n);
   std::vector<int> junctions_held(regions.size(), 0);
   std::size_t junctions_in_field = 0;
+  // A cell's row (its held number split over ranks), and whether it is an
+  // own row.
+  const auto row_of = [held](int cell) { return held ? held->held_cell(cell) : static_cast<long>(cell); };
+  const auto own = [own_rows](long row) { return row >= 0 && row < own_rows; };
   // Pass 1: the conductance of each junction of an own row (0: none, left
   // out) and each row's entries below and above the diagonal.
   std::vector<double> g_of_junction;
   std::vector<int> below(n, 0), above(n, 0);
-  for (const auto& [i, j] : tissue.cell_edges) {
-    const double g = junction_conductance_nS(tissue, base_nS, regions, field, i, j, junctions_held, junctions_in_field);
+  for (const auto& [cell_i, cell_j] : tissue.cell_edges) {
+    const double g =
+        junction_conductance_nS(tissue, base_nS, regions, field, cell_i, cell_j, junctions_held, junctions_in_field);
+    const long i = row_of(cell_i), j = row_of(cell_j);
     if (!(own(i) || own(j))) continue;
+    if (i < 0 || j < 0)
+      throw std::logic_error(fmt::format("coupling over ranks: a rank's cell {} reaches cell {}, which it does not "
+                                         "hold as a ghost", i < 0 ? cell_j : cell_i, i < 0 ? cell_i : cell_j));
     g_of_junction.push_back(g);
     if (g == 0.0) continue;
     if (own(i)) ++above[static_cast<std::size_t>(i)];
@@ -120,19 +133,20 @@ CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const Junction
     above[r] = diagonal_at[r] + 1;
   }
   std::size_t junction = 0;
-  for (const auto& [i, j] : tissue.cell_edges) {
+  for (const auto& [cell_i, cell_j] : tissue.cell_edges) {
+    const long i = row_of(cell_i), j = row_of(cell_j);
     if (!(own(i) || own(j))) continue;
     const double g = g_of_junction[junction++];
     if (g == 0.0) continue;
     if (own(i)) {
       const auto r = static_cast<std::size_t>(i);
-      column[above[r]] = j;
+      column[above[r]] = static_cast<int>(j);
       value[above[r]++] = -g;
       value[diagonal_at[r]] += g;
     }
     if (own(j)) {
       const auto r = static_cast<std::size_t>(j);
-      column[below[r]] = i;
+      column[below[r]] = static_cast<int>(i);
       value[below[r]++] = -g;
       value[diagonal_at[r]] += g;
     }

@@ -16,18 +16,20 @@
 #include "coupling/coupling_cg.hpp"
 #include "coupling/coupling_field.hpp"
 #include "coupling/coupling_region.hpp"
+#include "tissue/cell_numbering.hpp"
 #include "tissue/tissue.hpp"
 
 namespace fibrodem {
 
-// L [nS] of the tissue's junctions, every cell a row; given `own_rows` (a
-// flag per cell: a rank's cells, split over ranks), only their rows are
-// filled. Regions and the map are checked against every junction, so that a
-// region that holds none is the same error on every rank.
+// L [nS] of the tissue's junctions, every cell a row. Given `held` (a
+// rank's cells split over ranks, tissue/cell_numbering.hpp), L is in its
+// held numbers and only the own cells' rows are filled; each row's entries
+// are in the tissue's column order. Regions and the map are checked against
+// every junction of the tissue, so that a region that holds none is the
+// same error on every rank.
 CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const JunctionConductances& g_nS,
                                             const std::vector<CouplingRegion>& regions = {},
-                                            const CouplingField* field = nullptr,
-                                            const std::vector<char>* own_rows = nullptr);
+                                            const CouplingField* field = nullptr, const CellNumbering* held = nullptr);
 
 class GapJunctionCoupler final : public Coupler {
  public:

@@ -7,33 +7,27 @@
 namespace fibrodem {
 
 
-// The rows the CG holds come from a Laplacian of this rank's rows alone: a
-// rank never holds the whole tissue's coupling.
+// The rows the CG holds come from a Laplacian of this rank's rows alone, in
+// its held numbers: a rank never holds the whole tissue's coupling, nor an
+// array of every tissue cell beside the graph.
 CouplingOverRanks::CouplingOverRanks(const Tissue& tissue, const JunctionConductances& g_nS,
                                      const std::vector<double>& capacitance_pF,
                                      const std::vector<CouplingRegion>& regions, const CouplingField* field,
-                                     RankGroup& ranks, const RankCells& share)
-    : owned_(share.owned.size()),
-      held_(share.owned.size() + share.ghosts.size()),
+                                     RankGroup& ranks, const RankCells& share, const CellNumbering& held)
+    : owned_(held.own()),
+      held_(held.held()),
       reductions_(ranks),
-      cg_(
-          [&] {
-            std::vector<char> own(tissue.cell_count(), 0);
-            for (int cell : share.owned) own[static_cast<std::size_t>(cell)] = 1;
-            return junction_laplacian_nS(tissue, g_nS, regions, field, &own);
-          }(),
-          capacitance_pF, share.owned, share.ghosts, *this),
+      cg_(junction_laplacian_nS(tissue, g_nS, regions, field, &held), capacitance_pF, held, *this),
       halo_(ranks, numbered_from_ghost(share, static_cast<std::size_t>(cg_.first_ghost()))) {
-  // The CG's columns in the run's held numbers: own rows first (padded to
+  // The CG's columns in held numbers: own rows first (padded to
   // first_ghost), then the ghosts.
   cell_of_column_.assign(static_cast<std::size_t>(cg_.first_ghost()), -1);
   for (std::size_t k = 0; k < owned_; ++k) cell_of_column_[k] = static_cast<int>(k);
-  for (std::size_t j = 0; j < share.ghosts.size(); ++j) cell_of_column_.push_back(static_cast<int>(owned_ + j));
+  for (std::size_t c = owned_; c < held_; ++c) cell_of_column_.push_back(static_cast<int>(c));
   // GapJunctionCoupler's: the largest 2 L_ii / C_i, over every rank's cells.
   const std::vector<double> own_total_nS = cg_.diagonal_nS();
   for (std::size_t k = 0; k < owned_; ++k)
-    max_rate_per_ms_ =
-        std::max(max_rate_per_ms_, 2.0 * own_total_nS[k] / capacitance_pF[static_cast<std::size_t>(share.owned[k])]);
+    max_rate_per_ms_ = std::max(max_rate_per_ms_, 2.0 * own_total_nS[k] / capacitance_pF[k]);
   double unused = 0;
   reductions_.reduce(unused, max_rate_per_ms_);
 }

@@ -20,17 +20,19 @@
 #include "run/halo_exchange.hpp"
 #include "util/rank_group.hpp"
 #include "run/rank_reductions.hpp"
+#include "tissue/cell_numbering.hpp"
 #include "tissue/rank_cells.hpp"
 
 namespace fibrodem {
 
 class CouplingOverRanks final : public Coupler, private CouplingCg::Ranks {
  public:
-  // As GapJunctionCoupler's (capacitances by tissue cell), for `share`'s cells.
-  // (At set-up it reads the whole tissue's graph.)
+  // As GapJunctionCoupler's, for `share`'s cells, held as `held` numbers
+  // them (capacitances by held cell). (At set-up it reads the whole
+  // tissue's graph.)
   CouplingOverRanks(const Tissue& tissue, const JunctionConductances& g_nS, const std::vector<double>& capacitance_pF,
                     const std::vector<CouplingRegion>& regions, const CouplingField* field, RankGroup& ranks,
-                    const RankCells& share);
+                    const RankCells& share, const CellNumbering& held);
   CouplingOverRanks(const CouplingOverRanks&) = delete;  // the CG and halo point into it
   CouplingOverRanks& operator=(const CouplingOverRanks&) = delete;
 

@@ -312,9 +312,8 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   //   Scotch's copies of the graph (heaptrack on the 846,279-cell sheet:
   //   88 MB), with the particles where the DEM is to be built;
   // - when its coupling is assembled (coupling/gap_junction.cpp), beside
-  //   the whole graph, its cells' states and every cell's arrays, with
-  //   three ints of every tissue cell while the rows are made (the sheet's
-  //   rank 1 of 16: 126 MB measured and estimated).
+  //   the whole graph, its cells' states and its held cells' arrays, with
+  //   three ints of every held cell while the rows are made.
   // Built cell by cell (fibrotic_sheet), the cells' vectors are reserved
   // to their size: counted without tissue_bytes's spare capacity.
   if (split) {
@@ -328,7 +327,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
     const double partitioner_bytes_a_cell = solver.partition == PartitionMethod::scotch ? 104.0 : 8.0;
     const double cut = kProgramBytes + cells_held + partitioner_bytes_a_cell * tissue_cells;
     const double assembly = system.coupler ? kProgramBytes + cells_held + state_bytes * states + 28 * held +
-                                                 coupling_bytes + 12 * tissue_cells
+                                                 coupling_bytes + 12 * held
                                            : 0.0;
     const double beyond = std::max(0.0, std::max({build, cut, assembly}) - e.memory_bytes());
     const char* remedy = solver.partition == PartitionMethod::scotch ? "solver.partition: rcb" : "a smaller tissue";

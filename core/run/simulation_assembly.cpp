@@ -253,14 +253,15 @@ void Simulation::Impl::warn_of_shadowed_plugins() {
 
 void Simulation::Impl::build_coupling() {
   if (!plan.has("coupling")) return;
-  std::vector<double> capacitance(tissue.cell_count());  // (by tissue cell, at set-up)
-  for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
-    capacitance[cell] = population_of_type(tissue.type[cell]).capacitance_pF;
+  std::vector<double> capacitance(system.cell_count());  // by held cell
+  for (std::size_t c = 0; c < capacitance.size(); ++c)
+    capacitance[c] = system.populations[system.where[c].first].capacitance_pF;
   const CouplingField* field = scene.coupling.field ? &*scene.coupling.field : nullptr;
   // Split over ranks, this rank's rows only (run/coupling_over_ranks.hpp).
   if (split.ranks)
     system.coupler = std::make_unique<CouplingOverRanks>(tissue, scene.coupling.conductances(), capacitance,
-                                                         scene.coupling.regions, field, *split.ranks, split.share);
+                                                         scene.coupling.regions, field, *split.ranks, split.share,
+                                                         system.numbering);
   else
     system.coupler = std::make_unique<GapJunctionCoupler>(tissue, scene.coupling.conductances(), capacitance,
                                                           scene.coupling.regions, field);

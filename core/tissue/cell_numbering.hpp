@@ -40,8 +40,16 @@ class CellNumbering {
   }
 
  private:
+  // Held cells whose tissue and held numbers both run on by one, by
+  // increasing tissue number: a rank's part of a sheet is a few runs (one a
+  // column of its block), so that held_cell searches a short list.
+  struct Run {
+    int first_tissue_cell, first_held_cell, count;
+  };
+
   std::size_t tissue_cells_ = 0, own_ = 0;
   std::vector<int> tissue_of_;  // split: own cells, then ghosts; empty: every cell, by number
+  std::vector<Run> runs_;
 };
 
 // `share`'s halo plan in its held numbers: each neighbour's send list as

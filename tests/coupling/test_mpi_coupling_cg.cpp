@@ -51,6 +51,13 @@ std::vector<double> capacitances(const Tissue& tissue) {
   return C;
 }
 
+// Per-cell values by tissue cell, in `held`'s numbers.
+std::vector<double> held_values(const std::vector<double>& by_cell, const CellNumbering& held) {
+  std::vector<double> values(held.held());
+  for (std::size_t c = 0; c < values.size(); ++c) values[c] = by_cell[static_cast<std::size_t>(held.tissue_cell(c))];
+  return values;
+}
+
 // A wavefront: the upper third depolarised.
 std::vector<double> potentials(std::size_t n) {
   std::vector<double> V;
@@ -91,10 +98,11 @@ SplitSolve solve_split(int ranks, bool drop_halo, double dt_ms, double tolerance
   std::mutex result_mutex;
   on_thread_ranks(tissue, ranks, drop_halo, [&](ThreadRanks::Group& group, const RankCells& share) {
     const int r = share.rank;
-    CouplingOverRanks coupler(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, C, {}, nullptr, group, share);
     // The rank's own cells, then its ghosts (held numbers); the ghosts hold
     // a stale value (as in a run): the solve must not read them.
     const CellNumbering held(tissue.cell_count(), share);
+    CouplingOverRanks coupler(tissue, JunctionConductances{kD_m_nS, kD_m_nS, kD_f_nS}, held_values(C, held), {},
+                              nullptr, group, share, held);
     const std::vector<double> V_tissue = potentials(tissue.cell_count());
     std::vector<double> V(held.held(), 1e3);
     for (std::size_t c = 0; c < held.own(); ++c) V[c] = V_tissue[static_cast<std::size_t>(held.tissue_cell(c))];
@@ -156,13 +164,13 @@ TEST_CASE("coupling over 2 and 3 ranks: each rank's rows give one process's curr
     std::vector<double> rates(static_cast<std::size_t>(ranks));
     std::mutex result_mutex;
     on_thread_ranks(tissue, ranks, false, [&](ThreadRanks::Group& group, const RankCells& share) {
-      const CouplingOverRanks coupler(tissue, g_nS, C, {}, nullptr, group, share);
       // Held numbers: the rank's own cells (0, 1, ...), then its ghosts,
       // their potentials as a halo exchange leaves them.
       const CellNumbering held(tissue.cell_count(), share);
-      std::vector<double> V_held(held.held()), mine(held.own()), own_added(held.held(), 0.0);
+      const CouplingOverRanks coupler(tissue, g_nS, held_values(C, held), {}, nullptr, group, share, held);
+      const std::vector<double> V_held = held_values(V, held);
+      std::vector<double> mine(held.own()), own_added(held.held(), 0.0);
       std::vector<int> own(held.own());
-      for (std::size_t c = 0; c < held.held(); ++c) V_held[c] = V[static_cast<std::size_t>(held.tissue_cell(c))];
       for (std::size_t c = 0; c < held.own(); ++c) own[c] = static_cast<int>(c);
       coupler.current_into(V_held.data(), own.data(), own.size(), mine.data());
       coupler.add_current(V_held.data(), own_added.data());
