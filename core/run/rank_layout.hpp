@@ -25,6 +25,10 @@ struct RankLayout {
     return {cells_in_rank_order.data() + offsets[r], static_cast<std::size_t>(counts[r])};
   }
   std::size_t cell_count() const { return cells_in_rank_order.size(); }
+  // What a rank other than 0 needs of it to send its own values to rank 0:
+  // the counts and offsets, not every cell's place (4 bytes a cell).
+  // cells_of() and cell_count() are then not to be asked.
+  void keep_counts_only() { std::vector<int>().swap(cells_in_rank_order); }
 };
 
 // The layout of a partition's parts, one pass over its cells (each rank's

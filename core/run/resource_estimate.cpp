@@ -147,13 +147,15 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // the vectors' spare capacity: 1.07 x these sizes on sheet 1 cm (8.98 MB,
   // reserved), 1.75 x on Fig. 3 widened (13.2 MB, grown by doubling).
   // Split over ranks, what a rank keeps of the cell graph and the cells'
-  // centres (16 of their 20 bytes) once the run has started.
+  // centres once the run has started: 20 bytes a cell with the centres
+  // (type, centre and the cell's place in the ranks' order), 1 without
+  // (the type: a rank other than 0 without mechanics frees the rest).
   const CellLayoutKept layout =
       cell_layout_kept(rank, ranks, plan_processes(scene, tissue).has("mechanics"), scene.output.reentry.on);
   const auto tissue_bytes = [&](double with_particles, double with_bonds, bool graph, bool centres,
                                 double spare = 1.5) {
     return spare * (sizeof(Particle) * with_particles + sizeof(Bond) * with_bonds +
-                    (graph ? sizeof(std::pair<int, int>) * edges : 0.0) + (centres ? 20.0 : 4.0) * tissue_cells);
+                    (graph ? sizeof(std::pair<int, int>) * edges : 0.0) + (centres ? 20.0 : 1.0) * tissue_cells);
   };
   const char* freed = layout.graph ? "" : layout.centres ? ", its graph freed" : ", its graph and centres freed";
   e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}", particles, bonds,

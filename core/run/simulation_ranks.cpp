@@ -113,12 +113,16 @@ void Simulation::Impl::release_particles_over_ranks() {
 // by the partition, the stimulus's cells chosen), a rank reads the tissue's
 // cell graph and its cells' centres only where cell_layout_kept says
 // (run/over_ranks.hpp): it frees the rest (24 and 16 bytes a cell on a brick
-// sheet) before the stepping's arrays are made.
+// sheet) before the stepping's arrays are made, and a rank other than 0
+// without mechanics every cell's place in the ranks' order (4 bytes).
 void Simulation::Impl::release_cell_layout_over_ranks() {
   if (!split.ranks) return;
   const CellLayoutKept kept = cell_layout_kept(split.ranks->rank(), split.ranks->size(), plan.has("mechanics"),
                                                scene.output.reentry.on);
   if (!kept.centres) tissue.release_centres();
+  // (With mechanics every rank reads every rank's cells: the DEM split, its
+  // strain, or the cells' lengths gathered on rank 0.)
+  if (split.ranks->rank() != 0 && !plan.has("mechanics")) split.layout.keep_counts_only();
   if (kept.graph) return;
   system.coupled_pairs = {};  // (a view of them, read by CVODE alone, which does not run split)
   std::vector<std::pair<int, int>>().swap(tissue.cell_edges);
