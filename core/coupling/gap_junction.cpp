@@ -23,48 +23,54 @@ ManifestError holds_no_junction(const Tissue& tissue, const std::string& path, c
                                          b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
 }
 
-// A region that holds no junction is named: it lies off the tissue, between
-// its cells, or under later regions.
-void check_regions_hold_junctions(const Tissue& tissue, const std::vector<CouplingRegion>& regions,
-                                  const std::vector<int>& junctions_held) {
-  for (std::size_t k = 0; k < regions.size(); ++k) {
-    if (junctions_held[k] > 0) continue;
-    const CouplingRegion& r = regions[k];
-    throw holds_no_junction(tissue, r.path, "none has its midpoint in it and in no later region; ", r.x_min_um,
-                            r.x_max_um, r.y_min_um, r.y_max_um);
-  }
-}
-
 // The junction's conductance [nS] (0: none), its midpoint counted in the
 // region or map that holds it.
 double junction_conductance_nS(const Tissue& tissue, const JunctionConductances& base_nS,
                                const std::vector<CouplingRegion>& regions, const CouplingField* field, int i, int j,
-                               std::vector<int>& junctions_held, std::size_t& junctions_in_field) {
+                               CouplingPlaces& places) {
   const JunctionConductances* g_nS = &base_nS;
   // The junction's midpoint, asked only by regions and maps (a tissue made
   // for a test of the coupling alone may have no cell positions).
   const bool placed = !regions.empty() || field;
   const double x_um = placed ? 0.5 * (tissue.x_um[i] + tissue.x_um[j]) : 0.0;
   const double y_um = placed ? 0.5 * (tissue.y_um[i] + tissue.y_um[j]) : 0.0;
-  if (!regions.empty()) {
-    if (const int k = region_holding(regions, x_um, y_um); k >= 0) {
-      g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
-      ++junctions_held[static_cast<std::size_t>(k)];
-    }
-  }
+  const int k = regions.empty() ? -1 : region_holding(regions, x_um, y_um);
+  if (k >= 0) g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
+  const bool in_field = field && field->contains(x_um, y_um);
+  places.count(k, in_field);
   const bool both_myocytes = tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
   const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
   double g = !both_myocytes                              ? g_nS->D_f_nS
              : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
                                                          : g_nS->D_m_side_nS;
-  if (field && field->contains(x_um, y_um)) {
-    g *= field->scale_at(x_um, y_um);
-    ++junctions_in_field;
-  }
+  if (in_field) g *= field->scale_at(x_um, y_um);
   return g;
 }
 
 }  // namespace
+
+CouplingPlaces::CouplingPlaces(const std::vector<CouplingRegion>& regions, const CouplingField* field)
+    : regions_(regions), field_(field), junctions_held_(regions.size(), 0) {}
+
+void CouplingPlaces::count(const Tissue& tissue, int i, int j) {
+  const double x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]);
+  const double y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
+  count(regions_.empty() ? -1 : region_holding(regions_, x_um, y_um), field_ && field_->contains(x_um, y_um));
+}
+
+void CouplingPlaces::check(const Tissue& tissue) const {
+  // A region that holds no junction is named: it lies off the tissue,
+  // between its cells, or under later regions.
+  for (std::size_t k = 0; k < regions_.size(); ++k) {
+    if (junctions_held_[k] > 0) continue;
+    const CouplingRegion& r = regions_[k];
+    throw holds_no_junction(tissue, r.path, "none has its midpoint in it and in no later region; ", r.x_min_um,
+                            r.x_max_um, r.y_min_um, r.y_max_um);
+  }
+  if (field_ && junctions_in_field_ == 0)
+    throw holds_no_junction(tissue, field_->path, "", field_->x_min_um, field_->x_max_um, field_->y_min_um,
+                            field_->y_max_um);
+}
 
 // L is written row by row in place (compressed rows, columns ascending:
 // those below the diagonal, the diagonal, those above), with a double a
@@ -85,8 +91,7 @@ CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const Junction
                                             const CellNumbering* held) {
   const std::size_t n = held ? held->held() : tissue.cell_count();
   const long own_rows = held ? static_cast<long>(held->own()) : static_cast<long>(n);
-  std::vector<int> junctions_held(regions.size(), 0);
-  std::size_t junctions_in_field = 0;
+  CouplingPlaces places(regions, field);
   // A cell's row (its held number split over ranks), and whether it is an
   // own row.
   const auto row_of = [held](int cell) { return held ? held->held_cell(cell) : static_cast<long>(cell); };
@@ -96,8 +101,7 @@ CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const Junction
   std::vector<double> g_of_junction;
   std::vector<int> below(n, 0), above(n, 0);
   for (const auto& [cell_i, cell_j] : tissue.cell_edges) {
-    const double g =
-        junction_conductance_nS(tissue, base_nS, regions, field, cell_i, cell_j, junctions_held, junctions_in_field);
+    const double g = junction_conductance_nS(tissue, base_nS, regions, field, cell_i, cell_j, places);
     const long i = row_of(cell_i), j = row_of(cell_j);
     if (!(own(i) || own(j))) continue;
     if (i < 0 || j < 0)
@@ -108,9 +112,8 @@ CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const Junction
     if (own(i)) ++above[static_cast<std::size_t>(i)];
     if (own(j)) ++below[static_cast<std::size_t>(j)];
   }
-  check_regions_hold_junctions(tissue, regions, junctions_held);
-  if (field && junctions_in_field == 0)
-    throw holds_no_junction(tissue, field->path, "", field->x_min_um, field->x_max_um, field->y_min_um, field->y_max_um);
+  // (A tissue holding part of its graph was checked where its whole graph went by.)
+  if (!tissue.graph_partial()) places.check(tissue);
   CouplingCg::Laplacian laplacian(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   int* outer = laplacian.outerIndexPtr();
   outer[0] = 0;

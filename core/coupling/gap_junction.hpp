@@ -21,12 +21,35 @@
 
 namespace fibrodem {
 
+// Where the coupling's regions and map hold the tissue's junctions, counted
+// junction by junction: a region or the map that holds none of them is a
+// ManifestError naming it (check), so that one off the tissue is seen at
+// once. (junction_laplacian_nS counts and checks a tissue holding its
+// whole graph; a rank holding part of it counts every edge as it goes by.)
+class CouplingPlaces {
+ public:
+  CouplingPlaces(const std::vector<CouplingRegion>& regions, const CouplingField* field);
+  void count(const Tissue& tissue, int i, int j);
+  // The junction in region k (-1: none), in the map or not.
+  void count(int region, bool in_field) {
+    if (region >= 0) ++junctions_held_[static_cast<std::size_t>(region)];
+    junctions_in_field_ += in_field;
+  }
+  void check(const Tissue& tissue) const;
+
+ private:
+  const std::vector<CouplingRegion>& regions_;
+  const CouplingField* field_;
+  std::vector<long> junctions_held_;
+  long junctions_in_field_ = 0;
+};
+
 // L [nS] of the tissue's junctions, every cell a row. Given `held` (a
 // rank's cells split over ranks, tissue/cell_numbering.hpp), L is in its
 // held numbers and only the own cells' rows are filled; each row's entries
 // are in the tissue's column order. Regions and the map are checked against
-// every junction of the tissue, so that a region that holds none is the
-// same error on every rank.
+// every junction of the tissue (CouplingPlaces), so that a region that
+// holds none is the same error on every rank.
 CouplingCg::Laplacian junction_laplacian_nS(const Tissue& tissue, const JunctionConductances& g_nS,
                                             const std::vector<CouplingRegion>& regions = {},
                                             const CouplingField* field = nullptr, const CellNumbering* held = nullptr);

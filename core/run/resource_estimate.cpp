@@ -229,7 +229,7 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   double coupling_bytes = 0;
   if (system.coupler) {
     // (Split over ranks: this rank's rows, about its share of the pairs.)
-    const double pairs = static_cast<double>(system.coupled_pairs.size()) * cells / std::max(1.0, tissue_cells);
+    const double pairs = static_cast<double>(tissue.built_cell_edges()) * cells / std::max(1.0, tissue_cells);
     // The Laplacian, held once, by the conjugate gradients (2 entries an
     // edge, 12 bytes each, in slices padded to their longest row, ~ the
     // size of compressed rows with the diagonal), the CG's 6 other
@@ -309,13 +309,16 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
   // A rank of a split run may peak at set-up (run/simulation_ranks.cpp):
   // - where it builds the whole tissue, then frees its particles before
   //   the stepping (rank 0 with the particles' imprint made);
-  // - when the partition is cut, with every cell, its centre and graph,
-  //   and the partitioner's own work: 8 bytes a cell for rcb, 104 for
-  //   Scotch's copies of the graph (heaptrack on the 846,279-cell sheet:
-  //   88 MB), with the particles where the DEM is to be built;
+  // - when the partition is cut, with every cell, its centre and graph
+  //   (a rank other than 0 cut without the whole graph: the part it
+  //   keeps), and the partitioner's own work: 8 bytes a cell for rcb (13
+  //   without the whole graph: the builder's map of its slots while the
+  //   graph goes by), 104 for Scotch's copies of the graph (heaptrack on the
+  //   846,279-cell sheet: 88 MB), with the particles where the DEM is to be
+  //   built;
   // - when its coupling is assembled (coupling/gap_junction.cpp), beside
-  //   the whole graph, its cells' states and its held cells' arrays, with
-  //   three ints of every held cell while the rows are made.
+  //   the graph it holds, its cells' states and its held cells' arrays,
+  //   with three ints of every held cell while the rows are made.
   // Built cell by cell (fibrotic_sheet), the cells' vectors are reserved
   // to their size: counted without tissue_bytes's spare capacity.
   if (split) {
@@ -326,7 +329,9 @@ ResourceEstimate estimate_resources(const Scene& scene, const Tissue& tissue, co
               (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
     const double cells_held = tissue_bytes(mechanics ? particles : 0.0, mechanics ? bonds : 0.0, true, true,
                                            built_whole ? 1.5 : 1.0);
-    const double partitioner_bytes_a_cell = solver.partition == PartitionMethod::scotch ? 104.0 : 8.0;
+    const double partitioner_bytes_a_cell = solver.partition == PartitionMethod::scotch ? 104.0
+                                            : tissue.graph_partial()                     ? 13.0
+                                                                                         : 8.0;
     const double cut = kProgramBytes + cells_held + partitioner_bytes_a_cell * tissue_cells;
     const double assembly = system.coupler ? kProgramBytes + cells_held + state_bytes * states + 28 * held +
                                                  coupling_bytes + 12 * held

@@ -257,7 +257,10 @@ void Simulation::Impl::build_coupling() {
   for (std::size_t c = 0; c < capacitance.size(); ++c)
     capacitance[c] = system.populations[system.where[c].first].capacitance_pF;
   const CouplingField* field = scene.coupling.field ? &*scene.coupling.field : nullptr;
-  // Split over ranks, this rank's rows only (run/coupling_over_ranks.hpp).
+  // Split over ranks, this rank's rows only (run/coupling_over_ranks.hpp);
+  // a rank holding part of the graph checks the regions and map as the whole
+  // graph went by (build_part_of_graph).
+  if (split.coupling_places) split.coupling_places->check(tissue);
   if (split.ranks)
     system.coupler = std::make_unique<CouplingOverRanks>(tissue, scene.coupling.conductances(), capacitance,
                                                          scene.coupling.regions, field, *split.ranks, split.share,

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "coupling/gap_junction.hpp"
 #include "integrate/cell_system.hpp"
 #include "integrate/integrator.hpp"
 #include "integrate/stability.hpp"
@@ -41,6 +42,7 @@
 #include "run/simulation.hpp"
 #include "run/strain_fields.hpp"
 #include "run/trace_recorder.hpp"
+#include "tissue/cell_partition.hpp"
 
 namespace fibrodem {
 
@@ -104,6 +106,11 @@ struct RankSplit {
   // rank received SIGINT or SIGTERM, the same on every rank.
   std::shared_ptr<RankReductions> reductions;
   RankCells share;
+  // A rank other than 0 that holds part of the cell graph
+  // (build_part_of_graph): its cut, and where the coupling's regions and
+  // map hold the whole graph's junctions. Empty otherwise.
+  std::optional<PartialGraphCut> cut;
+  std::optional<CouplingPlaces> coupling_places;
   std::unique_ptr<HaloExchange> halo;
   // Every rank's cells, rank after rank: where rank 0 places the values it
   // gathers (run/rank_layout.hpp).
@@ -203,6 +210,7 @@ struct Simulation::Impl : StepObserver {
   void refuse_traced_outputs() const;
   void connect_ranks();
   void build_tissue();
+  void build_part_of_graph();
   std::string particles_kept_on_rank0_for() const;
   void release_particles_over_ranks();
   void release_cell_layout_over_ranks();

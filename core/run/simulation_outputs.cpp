@@ -52,7 +52,7 @@ void Simulation::Impl::log_setup() {
   const std::size_t particles = tissue.imprint() ? tissue.imprint()->cells.particles() : tissue.particles.size();
   log->info("scene '{}': {} cells ({} myocytes, {} fibroblasts), {} particles, {} cell-graph edges",
             scene.name, tissue.cell_count(), tissue.count(CellType::myocyte),
-            tissue.count(CellType::fibroblast), particles, tissue.cell_edges.size());
+            tissue.count(CellType::fibroblast), particles, tissue.built_cell_edges());
   for (const auto& p : plan.built) log->info("process built: {} ({})", p.name, p.reason);
   for (const auto& note : plan.notes) log->info("{}", note);
   system.for_each_population([&](const Population& pop) {

@@ -37,7 +37,9 @@ void Simulation::Impl::split_over_ranks() {
   if (!split.ranks) return;
   const std::vector<std::string> unsupported = unsupported_over_ranks(scene, scene.solver.method);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", split.ranks->size(), unsupported));
-  const CellPartition partition = partition_cells(tissue, split.ranks->size(), scene.solver.partition);
+  // (Cut as the tissue was built, holding part of its graph: build_tissue.)
+  const CellPartition partition = split.cut ? std::move(split.cut->partition)
+                                            : partition_cells(tissue, split.ranks->size(), scene.solver.partition);
   split.share = rank_cells(tissue, partition, split.ranks->rank());
   system.numbering = CellNumbering(tissue.cell_count(), split.share);
   split.layout = rank_layout(partition);
@@ -46,9 +48,10 @@ void Simulation::Impl::split_over_ranks() {
                                    "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
                                    split.ranks->size(), scene.solver.partition == PartitionMethod::scotch ? "Scotch" : "rcb",
                                    *std::min_element(sizes.begin(), sizes.end()),
-                                   *std::max_element(sizes.begin(), sizes.end()), partition.cut_edges(tissue),
-                                   tissue.cell_edges.size(), split.ranks->rank(), split.share.owned.size(), split.share.ghosts.size(),
-                                   split.share.neighbours.size()));
+                                   *std::max_element(sizes.begin(), sizes.end()),
+                                   split.cut ? split.cut->cut_edges : partition.cut_edges(tissue),
+                                   tissue.built_cell_edges(), split.ranks->rank(), split.share.owned.size(),
+                                   split.share.ghosts.size(), split.share.neighbours.size()));
 }
 
 // What rank 0 of a split run without mechanics keeps the particles for:
@@ -73,6 +76,9 @@ void Simulation::Impl::build_tissue() {
   if (!split.ranks || plan_processes(scene, Tissue{}).has("mechanics") ||
       (split.ranks->rank() == 0 && !particles_kept_on_rank0_for().empty())) {
     tissue = builder.build(scene.seed);
+  } else if (split.ranks->rank() != 0 && builder.builds_cells_alone() &&
+             scene.solver.partition == PartitionMethod::rcb) {
+    build_part_of_graph();
   } else if (split.ranks->rank() != 0) {
     tissue = builder.build_cells(scene.seed);
   } else if (!builder.builds_cells_alone()) {
@@ -84,6 +90,25 @@ void Simulation::Impl::build_tissue() {
     builder.for_each_particle(scene.seed, [&imprinter](const Particle& p) { imprinter.add(p); });
     tissue.release_particles(imprinter.finish());
   }
+}
+
+// A rank other than 0 of a run without mechanics, cut by the cells'
+// centres, never holds the whole cell graph: the builder makes the cells
+// and centres, then gives the graph edge by edge, twice (the partition's
+// pitch, then the edges with one of this rank's cells at an end, which the
+// tissue keeps). As the whole graph goes by, where the coupling's regions
+// and map hold its junctions is counted, for build_coupling's check.
+void Simulation::Impl::build_part_of_graph() {
+  const TissueBuilder& builder = *scene.tissue;
+  tissue = builder.build_cells_without_graph(scene.seed);
+  const std::uint64_t seed = scene.seed;
+  split.coupling_places.emplace(scene.coupling.regions, scene.coupling.field ? &*scene.coupling.field : nullptr);
+  CouplingPlaces& places = *split.coupling_places;
+  const bool placed = !scene.coupling.regions.empty() || scene.coupling.field;
+  split.cut = cut_without_graph(
+      tissue, split.ranks->size(), split.ranks->rank(),
+      [&builder, seed](const std::function<void(int, int)>& visit) { builder.for_each_cell_edge(seed, visit); },
+      placed ? std::function<void(int, int)>([&](int a, int b) { places.count(tissue, a, b); }) : nullptr);
 }
 
 // With mechanics, once the DEM, set up on every rank for the same refusals,

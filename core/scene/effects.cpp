@@ -41,9 +41,9 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
     if (!plan.has("electrophysiology"))
       throw ManifestError("effects", "expected at least \"electrophysiology\": every output of "
                                      "this version of fibrodem needs it");
-    if (!plan.has("coupling") && !tissue.cell_edges.empty())
+    if (!plan.has("coupling") && tissue.built_cell_edges() > 0)
       plan.notes.push_back("coupling not built: not in the listed effects, so the " +
-                           std::to_string(tissue.cell_edges.size()) +
+                           std::to_string(tissue.built_cell_edges()) +
                            " cell-graph edges carry no current");
   } else {
     plan.built.push_back({"electrophysiology", "the scene records membrane potentials and biomarkers"});
@@ -56,8 +56,8 @@ ProcessPlan plan_processes(const Scene& scene, const Tissue& tissue) {
       plan.built.push_back({"mechanics", "output.snapshots.strain draws the cells' strain"});
       plan.built.push_back({"contraction", "mechanics needs the cells' lengths"});
     }
-    if (!tissue.cell_edges.empty())
-      plan.built.push_back({"coupling", std::to_string(tissue.cell_edges.size()) +
+    if (tissue.built_cell_edges() > 0)
+      plan.built.push_back({"coupling", std::to_string(tissue.built_cell_edges()) +
                                             " cell pairs share gap junctions and their potentials "
                                             "are recorded"});
   }

@@ -52,39 +52,96 @@ std::size_t CellPartition::cut_edges(const Tissue& tissue) const {
   return cut;
 }
 
-CellPitch cell_pitch(const Tissue& tissue) {
-  double sum_x_um = 0, sum_y_um = 0;
-  for (const auto& [a, b] : tissue.cell_edges) {
-    sum_x_um += std::abs(tissue.x_um[static_cast<std::size_t>(a)] - tissue.x_um[static_cast<std::size_t>(b)]);
-    sum_y_um += std::abs(tissue.y_um[static_cast<std::size_t>(a)] - tissue.y_um[static_cast<std::size_t>(b)]);
-  }
-  const auto edges = static_cast<double>(tissue.cell_edges.size());
-  CellPitch pitch;
-  if (sum_x_um > 0) pitch.x_um = sum_x_um / edges;
-  if (sum_y_um > 0) pitch.y_um = sum_y_um / edges;
-  return pitch;
-}
+namespace {
 
-CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method) {
-  const std::size_t n = tissue.cell_count();
+// cell_pitch's sums, edge by edge in the graph's order (so that a graph
+// given edge by edge sums the same bits as the whole graph held).
+class PitchSum {
+ public:
+  void add(const Tissue& tissue, int a, int b) {
+    sum_x_um_ += std::abs(tissue.x_um[static_cast<std::size_t>(a)] - tissue.x_um[static_cast<std::size_t>(b)]);
+    sum_y_um_ += std::abs(tissue.y_um[static_cast<std::size_t>(a)] - tissue.y_um[static_cast<std::size_t>(b)]);
+    ++edges_;
+  }
+  CellPitch pitch() const {
+    CellPitch pitch;
+    if (sum_x_um_ > 0) pitch.x_um = sum_x_um_ / static_cast<double>(edges_);
+    if (sum_y_um_ > 0) pitch.y_um = sum_y_um_ / static_cast<double>(edges_);
+    return pitch;
+  }
+
+ private:
+  double sum_x_um_ = 0, sum_y_um_ = 0;
+  std::size_t edges_ = 0;
+};
+
+void check_parts(std::size_t n, int parts) {
   if (parts < 1 || static_cast<std::size_t>(parts) > n)
     throw std::invalid_argument("cannot split " + std::to_string(n) + " cells into " + std::to_string(parts) +
                                 " parts: expected 1 to " + std::to_string(n) + " parts (one per MPI rank)");
+}
+
+}  // namespace
+
+CellPitch cell_pitch(const Tissue& tissue) {
+  PitchSum sum;
+  for (const auto& [a, b] : tissue.cell_edges) sum.add(tissue, a, b);
+  return sum.pitch();
+}
+
+CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method, const CellPitch* pitch) {
+  const std::size_t n = tissue.cell_count();
+  check_parts(n, parts);
   CellPartition partition;
   partition.parts = parts;
   partition.part_of.assign(n, 0);
   if (parts == 1) return partition;
 
   if (method == PartitionMethod::scotch) {
+    if (tissue.graph_partial())
+      throw std::logic_error("partition_cells: Scotch cuts the whole cell graph, which this tissue holds part of");
     partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
   } else {
     if (tissue.centres_released())
       throw std::logic_error(
           "partition_cells: rcb needs the cells' centres, which this tissue does not hold (freed, or never "
           "given); scotch cuts the cell graph alone");
-    partition.part_of = bisect_coordinates(tissue.x_um, tissue.y_um, cell_pitch(tissue), parts);
+    if (!pitch && tissue.graph_partial())
+      throw std::logic_error("partition_cells: rcb's pitch is the whole graph's, which this tissue holds part of");
+    partition.part_of = bisect_coordinates(tissue.x_um, tissue.y_um, pitch ? *pitch : cell_pitch(tissue), parts);
   }
   return partition;
+}
+
+PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const EachCellEdge& each_edge,
+                                  const std::function<void(int, int)>& every_edge) {
+  check_parts(tissue.cell_count(), parts);
+  PartialGraphCut cut;
+  PitchSum sum;
+  std::pair<int, int> last{-1, -1};
+  each_edge([&](int a, int b) {
+    if (!(a < b && std::pair(a, b) > last))
+      throw std::logic_error("cut_without_graph: the tissue's edges do not come in increasing order");
+    last = {a, b};
+    sum.add(tissue, a, b);
+  });
+  cut.pitch = sum.pitch();
+  cut.partition.parts = parts;
+  cut.partition.part_of = parts == 1 ? std::vector<int>(tissue.cell_count(), 0)
+                                     : bisect_coordinates(tissue.x_um, tissue.y_um, cut.pitch, parts);
+  std::vector<std::pair<int, int>> kept;
+  std::size_t edges = 0;
+  const std::vector<int>& part_of = cut.partition.part_of;
+  each_edge([&](int a, int b) {
+    if (every_edge) every_edge(a, b);
+    ++edges;
+    const int part_a = part_of[static_cast<std::size_t>(a)], part_b = part_of[static_cast<std::size_t>(b)];
+    cut.cut_edges += part_a != part_b;
+    if (part_a == rank || part_b == rank) kept.emplace_back(a, b);
+  });
+  kept.shrink_to_fit();
+  tissue.keep_part_of_graph(std::move(kept), edges);
+  return cut;
 }
 
 }  // namespace fibrodem

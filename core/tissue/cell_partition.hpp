@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "tissue/coordinate_bisection.hpp"
@@ -42,11 +43,34 @@ struct CellPartition {
 // std::invalid_argument naming both otherwise). One part: every cell in part
 // 0. Cells without edges (isolated fibroblasts) are placed like any other,
 // counted for the balance. rcb needs the cells' centres, scotch their graph.
-CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method = PartitionMethod::rcb);
+// `pitch`, if given, is the one rcb cuts with (cell_pitch's of the whole
+// graph, for a tissue that holds part of it).
+CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method = PartitionMethod::rcb,
+                              const CellPitch* pitch = nullptr);
 
 // The cells' mean spacing along x and along y: the mean of |dx| and of |dy|
 // over the cell graph's edges (1 um along an axis no edge spans), which
 // rcb compares its boxes' sides by.
 CellPitch cell_pitch(const Tissue& tissue);
+
+// A tissue's graph given edge by edge (a cell graph's edges each once, in
+// increasing order, as Tissue::cell_edges holds them).
+using EachCellEdge = std::function<void(const std::function<void(int, int)>&)>;
+
+// Rank `rank`'s cut of a tissue built without its graph
+// (TissueBuilder::build_cells_without_graph), whose edges `each_edge` gives
+// twice over: rcb's partition (the partition_cells of the whole tissue, the
+// pitch summed in the same order), then the edges the rank keeps (those with
+// one of its cells at an end: all its ghosts and coupling need), set in the
+// tissue (Tissue::keep_part_of_graph). `every_edge`, if given, sees every
+// edge on the second pass. Throws std::logic_error if the edges do not come
+// in increasing order.
+struct PartialGraphCut {
+  CellPartition partition;
+  CellPitch pitch;
+  std::size_t cut_edges = 0;  // of the whole graph
+};
+PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const EachCellEdge& each_edge,
+                                  const std::function<void(int, int)>& every_edge = nullptr);
 
 }  // namespace fibrodem

@@ -86,6 +86,12 @@ void Tissue::release_unbuilt_particles(std::size_t particle_count, std::size_t b
   released_bounds_um_ = bounds_um;
 }
 
+void Tissue::keep_part_of_graph(std::vector<std::pair<int, int>> kept, std::size_t edges) {
+  cell_edges = std::move(kept);
+  graph_partial_ = true;
+  built_cell_edges_ = edges;
+}
+
 int add_myocyte(Tissue& tissue, double x, double y, double angle) {
   const int cell = tissue.add_cell(CellType::myocyte, x, y);
   const double ax = angle == 0.0 ? 0.0 : -std::sin(angle);

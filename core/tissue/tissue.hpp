@@ -76,6 +76,13 @@ struct Tissue {
   // more (docs/guide/parallel.md). The particles must have been released.
   void release_centres();
   bool centres_released() const { return x_um.size() != type.size(); }
+  // Keeps of the cell graph the edges `kept` (in cell_edges' order),
+  // counting the whole graph's `edges` as built: for a rank of a split run,
+  // which never holds the whole graph (docs/guide/parallel.md).
+  void keep_part_of_graph(std::vector<std::pair<int, int>> kept, std::size_t edges);
+  bool graph_partial() const { return graph_partial_; }
+  // The cell graph's edges as built, all held or not.
+  std::size_t built_cell_edges() const { return graph_partial_ ? built_cell_edges_ : cell_edges.size(); }
   // The imprint the particles were released with (null: none).
   const TissueImprint* imprint() const { return imprint_.get(); }
   // Particles and bonds as built (collagen's included), released or not.
@@ -90,6 +97,8 @@ struct Tissue {
   bool particles_released_ = false;
   std::array<double, 4> released_bounds_um_{};
   std::size_t released_particles_ = 0, released_bonds_ = 0;
+  bool graph_partial_ = false;
+  std::size_t built_cell_edges_ = 0;
   std::shared_ptr<const TissueImprint> imprint_;
 };
 

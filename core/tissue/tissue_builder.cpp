@@ -14,6 +14,16 @@ void TissueBuilder::for_each_particle(std::uint64_t seed, const std::function<vo
   for (const Particle& p : build(seed).particles) visit(p);
 }
 
+Tissue TissueBuilder::build_cells_without_graph(std::uint64_t seed) const {
+  Tissue tissue = build_cells(seed);
+  std::vector<std::pair<int, int>>().swap(tissue.cell_edges);
+  return tissue;
+}
+
+void TissueBuilder::for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const {
+  for (const auto& [a, b] : build_cells(seed).cell_edges) visit(a, b);
+}
+
 const std::map<std::string, TissueBuilderFactory>& tissue_builders() {
   static const std::map<std::string, TissueBuilderFactory> builders = {
       {"single_cell", make_single_cell_builder},

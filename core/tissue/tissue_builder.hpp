@@ -29,6 +29,13 @@ class TissueBuilder {
   virtual Tissue build_cells(std::uint64_t seed) const;
   virtual void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const;
   virtual bool builds_cells_alone() const { return false; }
+  // For a process that keeps part of the cell graph (a rank of a split run
+  // without mechanics, cut by the cells' centres): build_cells()'s cells
+  // and centres without their graph, and the graph's edges one at a time,
+  // each once, in Tissue::cell_edges' order (increasing). By default both
+  // from build_cells().
+  virtual Tissue build_cells_without_graph(std::uint64_t seed) const;
+  virtual void for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const;
 };
 
 // Reads a builder's own parameters from the `tissue` object (its `builder` key

@@ -9,6 +9,8 @@
 #include <iomanip>
 
 #include "coupling/gap_junction.hpp"
+#include "tissue/cell_partition.hpp"
+#include "tissue/rank_cells.hpp"
 #include "support/paced_strand.hpp"
 
 using namespace fibrodem;
@@ -121,4 +123,47 @@ TEST_CASE("coupling.regions: bad regions are named") {
   CHECK(error_of({{"shape", "ellipse"}, {"x_mm", {2, 3}}, {"y_mm", {0, 1}}, {"scale", 1}}) ==
         "manifest: coupling.regions[0]: holds no junction (none has its midpoint in it and in no later region; its "
         "x_mm [2, 3], y_mm [0, 1]; the tissue spans x [-0.0125, 0.0125] mm, y [0, 1.25] mm)");
+}
+
+TEST_CASE("coupling.regions: a rank holding part of the graph names a region without junctions as one process does") {
+  // A rank of a split run counts where the regions hold junctions as its
+  // whole graph goes by (CouplingPlaces), and its Laplacian, of part of the
+  // graph, checks nothing: the same error as the whole tissue's, and none
+  // where every region holds a junction somewhere, if not in its rows.
+  json m = paced_strand(10);
+  const json on_strand = {{"shape", "rectangle"}, {"x_mm", {-1, 1}}, {"y_mm", {1.0, 1.3}}, {"scale", 0.5}};
+  const json off_strand = {{"shape", "ellipse"}, {"x_mm", {2, 3}}, {"y_mm", {0, 1}}, {"scale", 1}};
+  const JunctionConductances g_nS{1000, 1000, 0.3};
+  for (const bool off : {false, true}) {
+    CAPTURE(off);
+    m["coupling"]["regions"] = off ? json::array({on_strand, off_strand}) : json::array({on_strand});
+    const Scene scene = parse_scene(m);
+    const Tissue whole = scene.tissue->build(scene.seed);
+    std::string whole_error = "(no error)";
+    try {
+      junction_laplacian_nS(whole, g_nS, scene.coupling.regions);
+    } catch (const ManifestError& e) {
+      whole_error = e.what();
+    }
+    // Rank 0 of 2: the strand's first cells, away from the region.
+    CouplingPlaces places(scene.coupling.regions, nullptr);
+    Tissue part = whole;
+    part.cell_edges.clear();
+    const PartialGraphCut cut = cut_without_graph(
+        part, 2, 0,
+        [&whole](const std::function<void(int, int)>& visit) {
+          for (const auto& [a, b] : whole.cell_edges) visit(a, b);
+        },
+        [&](int a, int b) { places.count(part, a, b); });
+    std::string part_error = "(no error)";
+    try {
+      places.check(part);
+    } catch (const ManifestError& e) {
+      part_error = e.what();
+    }
+    CHECK(part_error == whole_error);
+    CHECK((whole_error == "(no error)") == !off);
+    const CellNumbering held(part.cell_count(), rank_cells(part, cut.partition, 0));
+    CHECK_NOTHROW(junction_laplacian_nS(part, g_nS, scene.coupling.regions, nullptr, &held));
+  }
 }

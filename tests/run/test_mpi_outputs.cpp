@@ -90,6 +90,11 @@ TEST_CASE("mpirun -n 3: a fibrotic sheet built cell by cell on every rank gives 
                                {"as", "collagen"}, {"collagen", "particles"}}}};
   m["stimulus"][0]["target"] = {{"y_max_frac", 0.1}, {"type", "myocyte"}};
   m["output"]["traces"][0]["cells"] = {0, 90, 180};
+  // Ranks 1 and 2 hold part of the cell graph (Simulation's
+  // build_part_of_graph): a coupling region over the sheet's right half,
+  // which they check as the whole graph goes by and take in their rows.
+  m["coupling"]["regions"] =
+      json::array({{{"shape", "rectangle"}, {"x_mm", {0.25, 1}}, {"y_mm", {-1, 2}}, {"scale", 0.5}}});
   m["output"]["snapshots"] = {{"every_ms", 1}, {"from_ms", 3}, {"png", true}, {"vtk", true}};
   m["output"]["vtk_format"] = "xml";
   m["output"]["maps"] = true;
@@ -111,6 +116,17 @@ TEST_CASE("mpirun -n 3: a fibrotic sheet built cell by cell on every rank gives 
   // The premise: the wave is mid-sheet at 3 ms (V differs from cell to cell).
   CHECK(testing::read_file(dir / "one" / "snapshot_00003.000_ms.vtp") !=
         testing::read_file(dir / "one" / "snapshot_00004.000_ms.vtp"));
+
+  // A region off the sheet holds no junction: the run stops at set-up
+  // (every rank refuses it, rank 0 from the whole graph, the others from the
+  // graph as it went by: tests/coupling/test_coupling_regions.cpp; the
+  // first to stop ends the job, so the others may not get to say so).
+  m["coupling"]["regions"][0]["x_mm"] = {5, 6};
+  std::ofstream(dir / "off.json") << m.dump();
+  CHECK(testing::run_fibrodem(testing::mpirun(3), "run " + (dir / "off.json").string() + " --out " +
+                                                      (dir / "off").string(),
+                              dir / "off.txt") != 0);
+  CHECK(testing::read_file(dir / "off.txt").find("coupling.regions[0]: holds no junction") != std::string::npos);
 }
 
 TEST_CASE("mpirun -n 2: settle split over ranks gives one process's outputs") {

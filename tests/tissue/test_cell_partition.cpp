@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "support/scenes.hpp"
@@ -223,6 +224,57 @@ TEST_CASE("rank cells: ghosts close each rank's coupling, and the ranks agree on
   CHECK(alone.ghosts.empty());
   CHECK(alone.neighbours.empty());
   CHECK_THROWS_AS(rank_cells(tissue, p, 3), std::invalid_argument);
+}
+
+TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank's edges and shares") {
+  // A rank's tissue built without its graph, the graph given edge by edge:
+  // rcb with the whole graph's pitch (the same parts), the whole graph's
+  // counts, only the edges with one of its cells at an end, and from those
+  // the same share (owned, ghosts, halo) as from the whole tissue.
+  const Tissue whole = built_tissue();
+  const auto each_edge = [&whole](const std::function<void(int, int)>& visit) {
+    for (const auto& [a, b] : whole.cell_edges) visit(a, b);
+  };
+  const CellPartition reference = partition_cells(whole, 3);
+  for (int rank = 0; rank < 3; ++rank) {
+    CAPTURE(rank);
+    Tissue part = whole;
+    part.cell_edges.clear();
+    std::size_t seen = 0;
+    const PartialGraphCut cut = cut_without_graph(part, 3, rank, each_edge, [&seen](int, int) { ++seen; });
+    CHECK(cut.partition.part_of == reference.part_of);
+    CHECK(cut.pitch.x_um == cell_pitch(whole).x_um);
+    CHECK(cut.pitch.y_um == cell_pitch(whole).y_um);
+    CHECK(cut.cut_edges == reference.cut_edges(whole));
+    CHECK(seen == whole.cell_edges.size());
+    CHECK(part.graph_partial());
+    CHECK(part.built_cell_edges() == whole.cell_edges.size());
+    std::vector<std::pair<int, int>> expected;
+    for (const auto& [a, b] : whole.cell_edges)
+      if (reference.part_of[static_cast<std::size_t>(a)] == rank || reference.part_of[static_cast<std::size_t>(b)] == rank)
+        expected.emplace_back(a, b);
+    CHECK(part.cell_edges == expected);
+    CHECK(part.cell_edges.size() < whole.cell_edges.size());
+    const RankCells from_part = rank_cells(part, cut.partition, rank), from_whole = rank_cells(whole, reference, rank);
+    CHECK(from_part.owned == from_whole.owned);
+    CHECK(from_part.ghosts == from_whole.ghosts);
+    REQUIRE(from_part.neighbours.size() == from_whole.neighbours.size());
+    for (std::size_t k = 0; k < from_part.neighbours.size(); ++k) {
+      CHECK(from_part.neighbours[k].send == from_whole.neighbours[k].send);
+      CHECK(from_part.neighbours[k].receive == from_whole.neighbours[k].receive);
+    }
+    // Cut again (a checkpoint's parts) with the whole graph's pitch: the
+    // same parts; without it, refused (the part's pitch is not the whole's).
+    CHECK(partition_cells(part, 3, PartitionMethod::rcb, &cut.pitch).part_of == reference.part_of);
+    CHECK_THROWS_AS(partition_cells(part, 3), std::logic_error);
+    CHECK_THROWS_AS(partition_cells(part, 3, PartitionMethod::scotch), std::logic_error);
+  }
+  // Edges out of order (a builder that does not give them sorted) are refused.
+  Tissue part = whole;
+  const auto reversed = [&whole](const std::function<void(int, int)>& visit) {
+    for (auto e = whole.cell_edges.rbegin(); e != whole.cell_edges.rend(); ++e) visit(e->first, e->second);
+  };
+  CHECK_THROWS_AS(cut_without_graph(part, 3, 0, reversed), std::logic_error);
 }
 
 TEST_CASE("cell numbering: a rank holds its own cells, then its ghosts, and finds each by tissue number") {

@@ -339,13 +339,23 @@ TEST_CASE("fibrotic_sheet: mechanics builds on it") {
 
 namespace {
 
-// What build_cells and for_each_particle give against build(): the same
-// cells and graph, the particles' and bonds' counts and bounds, and the
-// particles themselves in their order, to the bit.
+// What build_cells, build_cells_without_graph, for_each_cell_edge and
+// for_each_particle give against build(): the same cells and graph (the
+// graph edge by edge in its order), the particles' and bonds' counts and
+// bounds, and the particles themselves in their order, to the bit.
 void check_cells_alone(const TissueBuilder& builder, std::uint64_t seed) {
   const Tissue whole = builder.build(seed);
   const Tissue cells = builder.build_cells(seed);
   CHECK(same_tissue(cells, whole));
+  Tissue without_graph = builder.build_cells_without_graph(seed);
+  CHECK(without_graph.cell_edges.empty());
+  CHECK(without_graph.built_bonds() == whole.built_bonds());
+  CHECK(without_graph.bounds_um() == whole.bounds_um());
+  std::vector<std::pair<int, int>> edges;
+  builder.for_each_cell_edge(seed, [&edges](int a, int b) { edges.emplace_back(a, b); });
+  CHECK(edges == whole.cell_edges);
+  without_graph.cell_edges = edges;
+  CHECK(same_tissue(without_graph, whole));
   CHECK(cells.particles_released());
   CHECK(cells.particles.empty());
   CHECK(cells.bonds.empty());

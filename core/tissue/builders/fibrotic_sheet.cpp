@@ -239,7 +239,35 @@ class FibroticSheetBuilder final : public TissueBuilder {
   // build()'s cells and graph, counting its particles and bonds: the cell
   // graph's edges are the junctions that bond two cells' disks not through
   // collagen (each once, where build() adds one a bond).
-  Tissue build_cells(std::uint64_t seed) const override {
+  Tissue build_cells(std::uint64_t seed) const override { return cells(seed, true); }
+  Tissue build_cells_without_graph(std::uint64_t seed) const override { return cells(seed, false); }
+
+  // The junctions' edges in build_cells()'s order, which is increasing: a
+  // slot's cell is numbered before the cells up its column and in the next
+  // column, and its junctions go up, then to the next column's rows in
+  // order.
+  void for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const override {
+    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
+    const std::vector<int> cell_of = cells_of_slots(sheet, grid_.slots());
+    sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
+      if (!septum && cell_of[a] >= 0 && cell_of[b] >= 0) visit(cell_of[a], cell_of[b]);
+    });
+  }
+
+  void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const override {
+    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
+    int cell = 0;
+    sheet.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
+      if (kind == SlotKind::empty || kind == SlotKind::collagen) return;
+      for (const Particle& p : sheet.disks(c, r, kind, cell)) visit(p);
+      ++cell;
+    });
+  }
+
+  bool builds_cells_alone() const override { return true; }
+
+ private:
+  Tissue cells(std::uint64_t seed, bool graph) const {
     const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
     Tissue tissue;
     tissue.type.reserve(grid_.slots());
@@ -257,29 +285,27 @@ class FibroticSheetBuilder final : public TissueBuilder {
       cell_of[s] = tissue.add_cell(cell_type_of(kind), x, y);
       for (const Particle& p : sheet.disks(c, r, kind, cell_of[s])) extend_bounds_um(bounds, p);
     });
-    tissue.cell_edges.reserve(3 * grid_.slots());
+    if (graph) tissue.cell_edges.reserve(3 * grid_.slots());
     sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
       bonds += static_cast<std::size_t>(sheet.touching_pairs(a, b, [](int, int) {}));
-      if (!septum && cell_of[a] >= 0 && cell_of[b] >= 0) tissue.cell_edges.emplace_back(cell_of[a], cell_of[b]);
+      if (graph && !septum && cell_of[a] >= 0 && cell_of[b] >= 0)
+        tissue.cell_edges.emplace_back(cell_of[a], cell_of[b]);
     });
     tissue.finalise();
     tissue.release_unbuilt_particles(particles, bonds, bounds);
     return tissue;
   }
 
-  void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const override {
-    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
+  // Each slot's cell number (-1: no cell), as cells() numbers them.
+  static std::vector<int> cells_of_slots(const SheetSlots& sheet, std::size_t slots) {
+    std::vector<int> cell_of(slots, -1);
     int cell = 0;
-    sheet.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
-      if (kind == SlotKind::empty || kind == SlotKind::collagen) return;
-      for (const Particle& p : sheet.disks(c, r, kind, cell)) visit(p);
-      ++cell;
+    sheet.for_each_slot([&](int, int, std::size_t s, SlotKind kind) {
+      if (kind != SlotKind::empty && kind != SlotKind::collagen) cell_of[s] = cell++;
     });
+    return cell_of;
   }
 
-  bool builds_cells_alone() const override { return true; }
-
- private:
   SheetGrid grid_;
   FibrosisSpec fibrosis_;
   FibrosisAs as_;
