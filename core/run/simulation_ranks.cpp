@@ -69,7 +69,9 @@ std::string Simulation::Impl::particles_kept_on_rank0_for() const {
 // made from it. Without mechanics, a builder that makes the cells alone
 // (TissueBuilder::build_cells) spares every rank the whole tissue's
 // particles and bonds, rank 0 imprinting them one by one as the builder
-// hands them over; otherwise a rank builds the whole tissue and frees it.
+// hands them over, and a rank other than 0 cut by rcb the whole cell graph
+// (build_part_of_graph); otherwise a rank builds the whole tissue and
+// frees it.
 void Simulation::Impl::build_tissue() {
   const TissueBuilder& builder = *scene.tissue;
   // (Whether the plan builds mechanics is a property of the scene alone.)
@@ -150,7 +152,7 @@ void Simulation::Impl::release_cell_layout_over_ranks() {
   if (split.ranks->rank() != 0 && !plan.has("mechanics")) split.layout.keep_counts_only();
   if (kept.graph) return;
   system.coupled_pairs = {};  // (a view of them, read by CVODE alone, which does not run split)
-  std::vector<std::pair<int, int>>().swap(tissue.cell_edges);
+  tissue.keep_part_of_graph({}, tissue.built_cell_edges());
 }
 
 // The gap currents of this rank's cells read their ghosts' potentials (the
@@ -161,7 +163,8 @@ void Simulation::Impl::connect_ranks() {
   split.reductions = std::make_shared<RankReductions>(*split.ranks);
   system.largest_over_ranks = [reductions = split.reductions](double mine) { return reductions->largest(mine); };
   if (!system.coupler) return;
-  split.halo = std::make_unique<HaloExchange>(*split.ranks, numbered_from_ghost(split.share, split.share.owned.size()));
+  split.halo =
+      std::make_unique<HaloExchange>(*split.ranks, numbered_from_ghost(split.share, split.share.owned.size()));
   system.refresh_ghost_voltages = [h = split.halo.get()](double* V_mV) { h->refresh(V_mV); };
 }
 
