@@ -112,7 +112,8 @@ CellStatesRecut::CellStatesRecut(const CellSystem& system, const CheckpointField
       fields.insert(fields.end(), {p + "inputs", p + "outputs"});
       if (m) fields.push_back(p + "rest_sarcomere_length");
     }
-    populations_.push_back({p, std::move(fields), CellPick(tissue_cells_of(system, pop), system.numbering.tissue_cells())});
+    populations_.push_back(
+        {p, std::move(fields), CellPick(tissue_cells_of(system, pop), system.numbering.tissue_cells())});
   });
 }
 

@@ -289,7 +289,8 @@ std::vector<ResourceEstimate::Part> stepping_parts(const Counts& c) {
   std::vector<ResourceEstimate::Part> stepping;
   add_integrator(stepping, c);
   if (c.system.coupler)
-    stepping.push_back({fmt::format("coupling: {:.0f} edges", coupling_pairs(c)), coupling_bytes(c), "a smaller tissue"});
+    stepping.push_back(
+        {fmt::format("coupling: {:.0f} edges", coupling_pairs(c)), coupling_bytes(c), "a smaller tissue"});
   const Scene& scene = c.scene;
   if (const auto& re = scene.output.reentry; re.on && c.gathers) {
     // V of every cell at every sample, as float (with mechanics its fibre
@@ -327,9 +328,10 @@ void add_after_stepping(ResourceEstimate& e, const Counts& c, double stepping_by
   }
   if (c.scene.output.maps && c.gathers) {
     const double maps = 32 * c.tissue_cells + picture_bytes(c.tissue);
-    e.memory.push_back({fmt::format("maps: {:.0f} cells, beyond the stepping's freed work", c.tissue_cells),
-                        std::max(0.0, beats_after + maps - stepping_bytes) - std::max(0.0, beats_after - stepping_bytes),
-                        "output.maps false"});
+    e.memory.push_back(
+        {fmt::format("maps: {:.0f} cells, beyond the stepping's freed work", c.tissue_cells),
+         std::max(0.0, beats_after + maps - stepping_bytes) - std::max(0.0, beats_after - stepping_bytes),
+         "output.maps false"});
   }
 }
 
@@ -337,7 +339,8 @@ void add_after_stepping(ResourceEstimate& e, const Counts& c, double stepping_by
 // while it is written.
 void add_traces_dem_checkpoint(ResourceEstimate& e, const Counts& c) {
   e.memory.push_back({fmt::format("traces: {:.0f} columns x {:.0f} samples", c.columns, c.trace_samples),
-                      8 * c.columns * c.trace_samples, "output.traces: fewer cells or variables, or a larger every_ms"});
+                      8 * c.columns * c.trace_samples,
+                      "output.traces: fewer cells or variables, or a larger every_ms"});
   if (c.mechanics) e.memory.push_back(dem_memory(c.tissue));
   // The DEM split over ranks: its halo, the bodies shared at each list
   // rebuild and, at a checkpoint, every contact's state gathered on rank 0
