@@ -18,7 +18,7 @@ std::vector<std::string> unsupported_over_ranks(const Scene& scene, const std::s
 
 std::vector<std::string> unsupported_over_ranks(const Scene& scene) {
   if (scene.solver.method != "auto") return unsupported_over_ranks(scene, scene.solver.method);
-  const std::size_t cells = scene.tissue->build_cells(scene.seed).cell_count();  // (not the particles)
+  const std::size_t cells = scene.tissue->cell_count(scene.seed);  // (not the tissue: its count alone)
   return unsupported_over_ranks(scene, choose_method(scene.solver, cells).solver.method);
 }
 

@@ -20,6 +20,8 @@ Tissue TissueBuilder::build_cells_without_graph(std::uint64_t seed) const {
   return tissue;
 }
 
+std::size_t TissueBuilder::cell_count(std::uint64_t seed) const { return build_cells_without_graph(seed).cell_count(); }
+
 void TissueBuilder::for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const {
   for (const auto& [a, b] : build_cells(seed).cell_edges) visit(a, b);
 }

@@ -2,6 +2,7 @@
 // (`tissue`), deterministically for a seed. Builders are registered by name.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -36,6 +37,10 @@ class TissueBuilder {
   // from build_cells().
   virtual Tissue build_cells_without_graph(std::uint64_t seed) const;
   virtual void for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const;
+  // The tissue's cell count (build_cells()'s), for a choice made before the
+  // tissue is built (solver.method "auto" over ranks). By default from
+  // build_cells_without_graph().
+  virtual std::size_t cell_count(std::uint64_t seed) const;
 };
 
 // Reads a builder's own parameters from the `tissue` object (its `builder` key

@@ -339,10 +339,11 @@ TEST_CASE("fibrotic_sheet: mechanics builds on it") {
 
 namespace {
 
-// What build_cells, build_cells_without_graph, for_each_cell_edge and
-// for_each_particle give against build(): the same cells and graph (the
-// graph edge by edge in its order), the particles' and bonds' counts and
-// bounds, and the particles themselves in their order, to the bit.
+// What build_cells, build_cells_without_graph, for_each_cell_edge,
+// cell_count and for_each_particle give against build(): the same cells and
+// graph (the graph edge by edge in its order), the cell count, the
+// particles' and bonds' counts and bounds, and the particles themselves in
+// their order, to the bit.
 void check_cells_alone(const TissueBuilder& builder, std::uint64_t seed) {
   const Tissue whole = builder.build(seed);
   const Tissue cells = builder.build_cells(seed);
@@ -354,6 +355,7 @@ void check_cells_alone(const TissueBuilder& builder, std::uint64_t seed) {
   std::vector<std::pair<int, int>> edges;
   builder.for_each_cell_edge(seed, [&edges](int a, int b) { edges.emplace_back(a, b); });
   CHECK(edges == whole.cell_edges);
+  CHECK(builder.cell_count(seed) == whole.cell_count());
   without_graph.cell_edges = edges;
   CHECK(same_tissue(without_graph, whole));
   CHECK(cells.particles_released());

@@ -254,6 +254,16 @@ class FibroticSheetBuilder final : public TissueBuilder {
     });
   }
 
+  // Counted slot by slot: a byte a slot, not the cells.
+  std::size_t cell_count(std::uint64_t seed) const override {
+    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
+    std::size_t cells = 0;
+    sheet.for_each_slot([&cells](int, int, std::size_t, SlotKind kind) {
+      cells += kind != SlotKind::empty && kind != SlotKind::collagen;
+    });
+    return cells;
+  }
+
   void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const override {
     const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
     int cell = 0;
