@@ -173,12 +173,7 @@ TEST_CASE("mpirun -n 2 then 3: a fibrotic sheet's checkpoint resumed on ranks th
   // of one process never stopped.
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_checkpoints_partial_graph");
-  json m = testing::split_sheet_planar_wave(20);
-  m["tissue"] = {{"builder", "fibrotic_sheet"}, {"width_mm", 0.5}, {"length_mm", 1.5},
-                 {"fibrosis", {{"density", 0.15}, {"pattern", "patchy"}, {"correlation_length_mm", 0.1},
-                               {"as", "fibroblasts"}}}};
-  m["stimulus"][0]["target"] = {{"y_max_frac", 0.1}, {"type", "myocyte"}};
-  m["output"]["traces"][0]["cells"] = {0, 90, 180};
+  json m = testing::split_fibrotic_sheet_planar_wave(20, "fibroblasts");
   m["output"]["traces"][0]["every_ms"] = 0.25;
   m["output"]["checkpoint"] = {{"every_ms", 10}};
   std::ofstream(dir / "scene.json") << m.dump();

@@ -84,12 +84,7 @@ TEST_CASE("mpirun -n 3: a fibrotic sheet built cell by cell on every rank gives 
   // pictures and VTK files are one process's, drawn from the whole tissue.
   // Fibroblasts and collagen voids, so that the cells' numbers skip slots
   // and the types differ; a snapshot at 3 ms catches the wave mid-sheet.
-  json m = testing::split_sheet_planar_wave(4);
-  m["tissue"] = {{"builder", "fibrotic_sheet"}, {"width_mm", 0.5}, {"length_mm", 1.5},
-                 {"fibrosis", {{"density", 0.15}, {"pattern", "patchy"}, {"correlation_length_mm", 0.1},
-                               {"as", "collagen"}, {"collagen", "particles"}}}};
-  m["stimulus"][0]["target"] = {{"y_max_frac", 0.1}, {"type", "myocyte"}};
-  m["output"]["traces"][0]["cells"] = {0, 90, 180};
+  json m = testing::split_fibrotic_sheet_planar_wave(4, "collagen");
   // Ranks 1 and 2 hold part of the cell graph (Simulation's
   // build_part_of_graph): a coupling region over the sheet's right half,
   // which they check as the whole graph goes by and take in their rows.

@@ -66,4 +66,19 @@ inline json split_sheet_planar_wave(double duration_ms) {
   return m;
 }
 
+// The same wave on a 0.5 x 1.5 mm fibrotic_sheet with 15 % patchy fibrosis
+// `as` "fibroblasts" or "collagen" (collagen as particles): a builder that
+// makes its cells alone, whose split ranks other than 0 hold part of the
+// cell graph; the cells' numbers skip the fibrotic slots. Stimulated along
+// its lower edge, traced in cells far apart.
+inline json split_fibrotic_sheet_planar_wave(double duration_ms, const std::string& as) {
+  json m = split_sheet_planar_wave(duration_ms);
+  json fibrosis = {{"density", 0.15}, {"pattern", "patchy"}, {"correlation_length_mm", 0.1}, {"as", as}};
+  if (as == "collagen") fibrosis["collagen"] = "particles";
+  m["tissue"] = {{"builder", "fibrotic_sheet"}, {"width_mm", 0.5}, {"length_mm", 1.5}, {"fibrosis", fibrosis}};
+  m["stimulus"][0]["target"] = {{"y_max_frac", 0.1}, {"type", "myocyte"}};
+  m["output"]["traces"][0]["cells"] = {0, 90, 180};
+  return m;
+}
+
 }  // namespace fibrodem::testing
