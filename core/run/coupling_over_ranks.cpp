@@ -33,7 +33,8 @@ CouplingOverRanks::CouplingOverRanks(const Tissue& tissue, const JunctionConduct
 }
 
 void CouplingOverRanks::add_current(const double* V_mV, double* i_ext_pA) const {
-  for (std::size_t k = 0; k < owned_; ++k) i_ext_pA[k] += cg_.row_current(static_cast<long>(k), V_mV, cell_of_column_.data());
+  for (std::size_t k = 0; k < owned_; ++k)
+    i_ext_pA[k] += cg_.row_current(static_cast<long>(k), V_mV, cell_of_column_.data());
 }
 
 void CouplingOverRanks::current_into(const double* V_mV, const int* cells, std::size_t count,

@@ -251,7 +251,8 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
     CHECK(part.built_cell_edges() == whole.cell_edges.size());
     std::vector<std::pair<int, int>> expected;
     for (const auto& [a, b] : whole.cell_edges)
-      if (reference.part_of[static_cast<std::size_t>(a)] == rank || reference.part_of[static_cast<std::size_t>(b)] == rank)
+      if (reference.part_of[static_cast<std::size_t>(a)] == rank ||
+          reference.part_of[static_cast<std::size_t>(b)] == rank)
         expected.emplace_back(a, b);
     CHECK(part.cell_edges == expected);
     CHECK(part.cell_edges.size() < whole.cell_edges.size());
@@ -292,9 +293,10 @@ TEST_CASE("cell numbering: a rank holds its own cells, then its ghosts, and find
     for (int cell = 0; cell < static_cast<int>(tissue.cell_count()); ++cell) {
       const auto own = std::find(share.owned.begin(), share.owned.end(), cell);
       const auto ghost = std::find(share.ghosts.begin(), share.ghosts.end(), cell);
-      const long expected = own != share.owned.end()     ? own - share.owned.begin()
-                            : ghost != share.ghosts.end() ? static_cast<long>(share.owned.size()) + (ghost - share.ghosts.begin())
-                                                          : -1;
+      const long expected = own != share.owned.end() ? own - share.owned.begin()
+                            : ghost != share.ghosts.end()
+                                ? static_cast<long>(share.owned.size()) + (ghost - share.ghosts.begin())
+                                : -1;
       CHECK(numbering.held_cell(cell) == expected);
       CHECK(numbering.owns(cell) == (own != share.owned.end()));
       if (expected >= 0) CHECK(numbering.tissue_cell(static_cast<std::size_t>(expected)) == cell);
