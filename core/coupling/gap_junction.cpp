@@ -23,27 +23,19 @@ ManifestError holds_no_junction(const Tissue& tissue, const std::string& path, c
                                          b[0] / 1000, b[1] / 1000, b[2] / 1000, b[3] / 1000));
 }
 
-// The junction's conductance [nS] (0: none), its midpoint counted in the
-// region or map that holds it.
+// The junction's conductance [nS] (0: none), its place counted.
 double junction_conductance_nS(const Tissue& tissue, const JunctionConductances& base_nS,
                                const std::vector<CouplingRegion>& regions, const CouplingField* field, int i, int j,
                                CouplingPlaces& places) {
-  const JunctionConductances* g_nS = &base_nS;
-  // The junction's midpoint, asked only by regions and maps (a tissue made
-  // for a test of the coupling alone may have no cell positions).
-  const bool placed = !regions.empty() || field;
-  const double x_um = placed ? 0.5 * (tissue.x_um[i] + tissue.x_um[j]) : 0.0;
-  const double y_um = placed ? 0.5 * (tissue.y_um[i] + tissue.y_um[j]) : 0.0;
-  const int k = regions.empty() ? -1 : region_holding(regions, x_um, y_um);
-  if (k >= 0) g_nS = &regions[static_cast<std::size_t>(k)].g_nS;
-  const bool in_field = field && field->contains(x_um, y_um);
-  places.count(k, in_field);
+  const JunctionPlace place = places.count(tissue, i, j);
+  const JunctionConductances* g_nS =
+      place.region >= 0 ? &regions[static_cast<std::size_t>(place.region)].g_nS : &base_nS;
   const bool both_myocytes = tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
   const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
   double g = !both_myocytes                              ? g_nS->D_f_nS
              : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS
                                                          : g_nS->D_m_side_nS;
-  if (in_field) g *= field->scale_at(x_um, y_um);
+  if (place.in_field) g *= field->scale_at(place.x_um, place.y_um);
   return g;
 }
 
@@ -52,10 +44,18 @@ double junction_conductance_nS(const Tissue& tissue, const JunctionConductances&
 CouplingPlaces::CouplingPlaces(const std::vector<CouplingRegion>& regions, const CouplingField* field)
     : regions_(regions), field_(field), junctions_held_(regions.size(), 0) {}
 
-void CouplingPlaces::count(const Tissue& tissue, int i, int j) {
-  const double x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]);
-  const double y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
-  count(regions_.empty() ? -1 : region_holding(regions_, x_um, y_um), field_ && field_->contains(x_um, y_um));
+JunctionPlace CouplingPlaces::count(const Tissue& tissue, int i, int j) {
+  JunctionPlace place;
+  // The midpoint, asked only by regions and maps (a tissue made for a test
+  // of the coupling alone may have no cell positions).
+  if (regions_.empty() && !field_) return place;
+  place.x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]);
+  place.y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
+  place.region = regions_.empty() ? -1 : region_holding(regions_, place.x_um, place.y_um);
+  place.in_field = field_ && field_->contains(place.x_um, place.y_um);
+  if (place.region >= 0) ++junctions_held_[static_cast<std::size_t>(place.region)];
+  junctions_in_field_ += place.in_field;
+  return place;
 }
 
 void CouplingPlaces::check(const Tissue& tissue) const {

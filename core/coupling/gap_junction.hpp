@@ -26,15 +26,20 @@ namespace fibrodem {
 // ManifestError naming it (check), so that one off the tissue is seen at
 // once. (junction_laplacian_nS counts and checks a tissue holding its
 // whole graph; a rank holding part of it counts every edge as it goes by.)
+// Where a junction lies: the last region holding its midpoint (-1: none),
+// whether the map holds it, and the midpoint (0, 0 where neither regions
+// nor a map are given).
+struct JunctionPlace {
+  int region = -1;
+  bool in_field = false;
+  double x_um = 0, y_um = 0;
+};
+
 class CouplingPlaces {
  public:
   CouplingPlaces(const std::vector<CouplingRegion>& regions, const CouplingField* field);
-  void count(const Tissue& tissue, int i, int j);
-  // The junction in region k (-1: none), in the map or not.
-  void count(int region, bool in_field) {
-    if (region >= 0) ++junctions_held_[static_cast<std::size_t>(region)];
-    junctions_in_field_ += in_field;
-  }
+  // The place of the junction of cells i and j, counted.
+  JunctionPlace count(const Tissue& tissue, int i, int j);
   void check(const Tissue& tissue) const;
 
  private:
