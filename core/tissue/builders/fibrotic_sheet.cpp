@@ -91,6 +91,9 @@ class SheetSlots {
     if (!holes_) return SlotKind::fibroblast;
     return collagen_particles_ ? SlotKind::collagen : SlotKind::empty;
   }
+  // Whether a slot holds a cell (a myocyte or a fibroblast), which the
+  // cells are numbered by, slot after slot.
+  static bool holds_cell(SlotKind kind) { return kind == SlotKind::myocyte || kind == SlotKind::fibroblast; }
   // Whether a slot's disks are separate bodies, each bonded to the next (a
   // fibroblast's, collagen's), not one myocyte's clump.
   static bool chained(SlotKind kind) { return kind == SlotKind::fibroblast || kind == SlotKind::collagen; }
@@ -259,7 +262,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
     const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
     std::size_t cells = 0;
     sheet.for_each_slot([&cells](int, int, std::size_t, SlotKind kind) {
-      cells += kind != SlotKind::empty && kind != SlotKind::collagen;
+      cells += SheetSlots::holds_cell(kind);
     });
     return cells;
   }
@@ -268,7 +271,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
     const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
     int cell = 0;
     sheet.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
-      if (kind == SlotKind::empty || kind == SlotKind::collagen) return;
+      if (!SheetSlots::holds_cell(kind)) return;
       for (const Particle& p : sheet.disks(c, r, kind, cell)) visit(p);
       ++cell;
     });
@@ -311,7 +314,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
     std::vector<int> cell_of(slots, -1);
     int cell = 0;
     sheet.for_each_slot([&](int, int, std::size_t s, SlotKind kind) {
-      if (kind != SlotKind::empty && kind != SlotKind::collagen) cell_of[s] = cell++;
+      if (SheetSlots::holds_cell(kind)) cell_of[s] = cell++;
     });
     return cell_of;
   }
