@@ -182,6 +182,45 @@ class SheetSlots {
   bool septa_ = false, holes_ = false, collagen_particles_ = false;
 };
 
+// The cell numbers of two neighbouring columns' slots (-1: no cell), as
+// the cells are numbered, slot after slot, moved along as the junctions
+// go column by column (for_each_junction: slot a's column never goes back,
+// slot b's is a's or the next): no map of every slot's cell is held.
+class ColumnCellNumbers {
+ public:
+  ColumnCellNumbers(const SheetSlots& sheet, const SheetGrid& grid)
+      : sheet_(sheet), grid_(grid), numbers_{std::vector<int>(grid.rows), std::vector<int>(grid.rows)} {
+    number(0);
+    if (grid.columns > 1) number(1);
+  }
+
+  int cell_of(std::size_t slot) {
+    const auto rows = static_cast<std::size_t>(grid_.rows);
+    const int column = static_cast<int>(slot / rows);
+    while (column > first_column_ + 1) {
+      std::swap(numbers_[0], numbers_[1]);
+      ++first_column_;
+      if (first_column_ + 1 < grid_.columns) number(first_column_ + 1);
+    }
+    if (column < first_column_) throw std::logic_error("fibrotic_sheet: the junctions went back a column");
+    return numbers_[static_cast<std::size_t>(column - first_column_)][slot % rows];
+  }
+
+ private:
+  // Numbers the next column's cells into its half (columns come in order).
+  void number(int column) {
+    std::vector<int>& numbers = numbers_[static_cast<std::size_t>(column - first_column_)];
+    for (int r = 0; r < grid_.rows; ++r)
+      numbers[static_cast<std::size_t>(r)] =
+          SheetSlots::holds_cell(sheet_.kind(grid_.slot(column, r))) ? next_cell_++ : -1;
+  }
+
+  const SheetSlots& sheet_;
+  const SheetGrid& grid_;
+  std::array<std::vector<int>, 2> numbers_;  // columns first_column_ and first_column_ + 1
+  int first_column_ = 0, next_cell_ = 0;
+};
+
 CellType cell_type_of(SlotKind kind) { return kind == SlotKind::myocyte ? CellType::myocyte : CellType::fibroblast; }
 
 // The particles of one slot: [first, first + count) of the tissue's
@@ -251,9 +290,10 @@ class FibroticSheetBuilder final : public TissueBuilder {
   // order.
   void for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const override {
     const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
-    const std::vector<int> cell_of = cells_of_slots(sheet, grid_.slots());
+    ColumnCellNumbers numbers(sheet, grid_);
     sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
-      if (!septum && cell_of[a] >= 0 && cell_of[b] >= 0) visit(cell_of[a], cell_of[b]);
+      const int cell_a = numbers.cell_of(a), cell_b = numbers.cell_of(b);
+      if (!septum && cell_a >= 0 && cell_b >= 0) visit(cell_a, cell_b);
     });
   }
 
@@ -286,37 +326,28 @@ class FibroticSheetBuilder final : public TissueBuilder {
     tissue.type.reserve(grid_.slots());
     tissue.x_um.reserve(grid_.slots());
     tissue.y_um.reserve(grid_.slots());
-    std::vector<int> cell_of(grid_.slots(), -1);
     std::size_t particles = 0, bonds = 0;
     std::array<double, 4> bounds = empty_bounds_um();
-    sheet.for_each_slot([&](int c, int r, std::size_t s, SlotKind kind) {
+    sheet.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
       if (kind == SlotKind::empty) return;
       particles += kMyocyteParticles;
       if (SheetSlots::chained(kind)) bonds += kMyocyteParticles - 1;
       if (kind == SlotKind::collagen) return;
       const auto [x, y] = sheet.centre_um(c, r, kind);
-      cell_of[s] = tissue.add_cell(cell_type_of(kind), x, y);
-      for (const Particle& p : sheet.disks(c, r, kind, cell_of[s])) extend_bounds_um(bounds, p);
+      const int cell = tissue.add_cell(cell_type_of(kind), x, y);
+      for (const Particle& p : sheet.disks(c, r, kind, cell)) extend_bounds_um(bounds, p);
     });
     if (graph) tissue.cell_edges.reserve(3 * grid_.slots());
+    ColumnCellNumbers numbers(sheet, grid_);
     sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
       bonds += static_cast<std::size_t>(sheet.touching_pairs(a, b, [](int, int) {}));
-      if (graph && !septum && cell_of[a] >= 0 && cell_of[b] >= 0)
-        tissue.cell_edges.emplace_back(cell_of[a], cell_of[b]);
+      if (!graph || septum) return;
+      const int cell_a = numbers.cell_of(a), cell_b = numbers.cell_of(b);
+      if (cell_a >= 0 && cell_b >= 0) tissue.cell_edges.emplace_back(cell_a, cell_b);
     });
     tissue.finalise();
     tissue.release_unbuilt_particles(particles, bonds, bounds);
     return tissue;
-  }
-
-  // Each slot's cell number (-1: no cell), as cells() numbers them.
-  static std::vector<int> cells_of_slots(const SheetSlots& sheet, std::size_t slots) {
-    std::vector<int> cell_of(slots, -1);
-    int cell = 0;
-    sheet.for_each_slot([&](int, int, std::size_t s, SlotKind kind) {
-      if (SheetSlots::holds_cell(kind)) cell_of[s] = cell++;
-    });
-    return cell_of;
   }
 
   SheetGrid grid_;
