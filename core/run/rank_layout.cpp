@@ -2,15 +2,19 @@
 
 namespace fibrodem {
 
-RankLayout rank_layout(const CellPartition& partition) {
+RankLayout rank_layout_counts(const std::vector<std::size_t>& cells_per_part) {
   RankLayout layout;
-  const std::vector<std::size_t> sizes = partition.sizes();
-  layout.counts.assign(sizes.size(), 0);
-  layout.offsets.assign(sizes.size(), 0);
-  for (std::size_t r = 0; r < sizes.size(); ++r) {
-    layout.counts[r] = static_cast<int>(sizes[r]);
+  layout.counts.assign(cells_per_part.size(), 0);
+  layout.offsets.assign(cells_per_part.size(), 0);
+  for (std::size_t r = 0; r < cells_per_part.size(); ++r) {
+    layout.counts[r] = static_cast<int>(cells_per_part[r]);
     if (r > 0) layout.offsets[r] = layout.offsets[r - 1] + layout.counts[r - 1];
   }
+  return layout;
+}
+
+RankLayout rank_layout(const CellPartition& partition) {
+  RankLayout layout = rank_layout_counts(partition.sizes());
   layout.cells_in_rank_order.resize(partition.part_of.size());
   std::vector<int> next = layout.offsets;
   for (std::size_t cell = 0; cell < partition.part_of.size(); ++cell)

@@ -34,6 +34,9 @@ struct RankLayout {
 // The layout of a partition's parts, one pass over its cells (each rank's
 // cells come out in increasing tissue order).
 RankLayout rank_layout(const CellPartition& partition);
+// Its counts and offsets alone (RankLayout::keep_counts_only's), from each
+// part's cell count.
+RankLayout rank_layout_counts(const std::vector<std::size_t>& cells_per_part);
 
 // Collective: each rank's values of its own cells, `own` (one a cell, in
 // cells_of(its rank)'s order), gathered on rank 0 into `by_cell` (one a

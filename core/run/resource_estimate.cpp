@@ -1,5 +1,7 @@
 #include "run/resource_estimate.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -7,14 +9,13 @@
 #include <sstream>
 #include <utility>
 
-#include <fmt/format.h>
-
 #include "integrate/adaptive.hpp"
 #include "integrate/integrator.hpp"
 #include "io/tissue_imprint.hpp"
 #include "measure/biomarkers.hpp"
 #include "run/over_ranks.hpp"
 #include "scene/effects.hpp"
+#include "tissue/coordinate_bisection.hpp"
 #include "tissue/tissue_builder.hpp"
 #include "util/manifest_error.hpp"
 
@@ -362,11 +363,13 @@ void add_traces_dem_checkpoint(ResourceEstimate& e, const Counts& c) {
 //   the stepping (rank 0 with the particles' imprint made);
 // - when the partition is cut, with every cell, its centre and graph
 //   (a rank other than 0 cut without the whole graph: the part it
-//   keeps), and the partitioner's own work: 8 bytes a cell for rcb (13
-//   without the whole graph: the builder's map of its slots while the
-//   graph goes by), 104 for Scotch's copies of the graph (heaptrack on the
-//   846,279-cell sheet: 88 MB), with the particles where the DEM is to be
-//   built;
+//   keeps, and neither a part nor a place in the ranks' order a cell),
+//   and the partitioner's own work: for rcb the centres it collects at
+//   once (CoordinateCuts::kCollectBudget) and every cell's part, 4 bytes
+//   (without the whole graph, none: the builder's kind of each slot, a
+//   byte, while the graph goes by), 104 bytes a cell for Scotch's copies
+//   of the graph (heaptrack on the 846,279-cell sheet: 88 MB), with the
+//   particles where the DEM is to be built;
 // - when its coupling is assembled (coupling/gap_junction.cpp), beside
 //   the graph it holds, its cells' states and its held cells' arrays,
 //   with three ints of every held cell while the rows are made.
@@ -382,13 +385,16 @@ void add_set_up_over_ranks(ResourceEstimate& e, const Counts& c) {
   if (tissue.particles_released() && built_whole)
     build = kProgramBytes + c.tissue_bytes(c.built_particles, static_cast<double>(tissue.built_bonds()), true, true) +
             (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
+  const double ranks_order_bytes = tissue.graph_partial() ? 4 * c.tissue_cells : 0.0;  // (not made)
   const double cells_held = c.tissue_bytes(c.mechanics ? c.particles : 0.0, c.mechanics ? c.bonds : 0.0, true, true,
-                                           built_whole ? 1.5 : 1.0);
+                                           built_whole ? 1.5 : 1.0) -
+                            ranks_order_bytes;
   const PartitionMethod method = scene.solver.partition;
-  const double partitioner_bytes_a_cell = method == PartitionMethod::scotch ? 104.0
-                                          : tissue.graph_partial()           ? 13.0
-                                                                             : 8.0;
-  const double cut = kProgramBytes + cells_held + partitioner_bytes_a_cell * c.tissue_cells;
+  const double partitioner = method == PartitionMethod::scotch
+                                 ? 104.0 * c.tissue_cells
+                                 : (tissue.graph_partial() ? 1.0 : 4.0) * c.tissue_cells +
+                                       16.0 * static_cast<double>(CoordinateCuts::kCollectBudget);
+  const double cut = kProgramBytes + cells_held + partitioner;
   const double assembly = c.system.coupler ? kProgramBytes + cells_held + c.state_bytes * c.states + 28 * c.held +
                                                  coupling_bytes(c) + 12 * c.held
                                            : 0.0;

@@ -209,10 +209,10 @@ std::vector<int> Simulation::Impl::checkpoint_parts_of_own_cells(const Checkpoin
   std::vector<char> holds(static_cast<std::size_t>(written), split.ranks ? 0 : 1);
   if (split.ranks && written > 1) {
     // (A rank holding part of the graph cuts with the whole graph's pitch.)
-    const CellPartition then = partition_cells(tissue, static_cast<int>(written), scene.solver.partition,
-                                               split.cut ? &split.cut->pitch : nullptr);
+    const auto part_then = part_of_cells(tissue, static_cast<int>(written), scene.solver.partition,
+                                         split.cut ? &split.cut->pitch : nullptr);
     for (std::size_t c = 0; c < system.numbering.own(); ++c)
-      holds[static_cast<std::size_t>(then.part_of[static_cast<std::size_t>(system.numbering.tissue_cell(c))])] = 1;
+      holds[static_cast<std::size_t>(part_then(system.numbering.tissue_cell(c)))] = 1;
   }
   std::vector<int> parts;
   for (std::size_t r = 0; r < holds.size(); ++r)

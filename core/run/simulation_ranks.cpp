@@ -37,21 +37,33 @@ void Simulation::Impl::split_over_ranks() {
   if (!split.ranks) return;
   const std::vector<std::string> unsupported = unsupported_over_ranks(scene, scene.solver.method);
   if (!unsupported.empty()) throw std::runtime_error(refusal_over_ranks("run", split.ranks->size(), unsupported));
-  // (Cut as the tissue was built, holding part of its graph: build_tissue.)
-  const CellPartition partition = split.cut ? std::move(split.cut->partition)
-                                            : partition_cells(tissue, split.ranks->size(), scene.solver.partition);
-  split.share = rank_cells(tissue, partition, split.ranks->rank());
+  // (Cut as the tissue was built, holding part of its graph: build_tissue.
+  // Each cell's part is then read from the cuts, none held; the layout's
+  // counts alone, which is all a rank other than 0 without mechanics keeps.)
+  std::size_t cut_edges = 0;
+  if (split.cut) {
+    const CoordinateCuts& cuts = split.cut->cuts;
+    split.share = rank_cells(
+        tissue, cuts.parts(), [&](int cell) { return part_by_cuts(cuts, tissue, cell); }, split.ranks->rank());
+    std::vector<std::size_t> sizes(static_cast<std::size_t>(cuts.parts()));
+    for (int p = 0; p < cuts.parts(); ++p) sizes[static_cast<std::size_t>(p)] = cuts.cells_in(p);
+    split.layout = rank_layout_counts(sizes);
+    cut_edges = split.cut->cut_edges;
+  } else {
+    const CellPartition partition = partition_cells(tissue, split.ranks->size(), scene.solver.partition);
+    split.share = rank_cells(tissue, partition, split.ranks->rank());
+    split.layout = rank_layout(partition);
+    cut_edges = partition.cut_edges(tissue);
+  }
   system.numbering = CellNumbering(tissue.cell_count(), split.share);
-  split.layout = rank_layout(partition);
   const std::vector<int>& sizes = split.layout.counts;
-  plan.notes.push_back(fmt::format("split over {} MPI ranks ({}): {} to {} cells a rank, {} of {} cell-graph "
-                                   "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
-                                   split.ranks->size(), scene.solver.partition == PartitionMethod::scotch ? "Scotch" : "rcb",
-                                   *std::min_element(sizes.begin(), sizes.end()),
-                                   *std::max_element(sizes.begin(), sizes.end()),
-                                   split.cut ? split.cut->cut_edges : partition.cut_edges(tissue),
-                                   tissue.built_cell_edges(), split.ranks->rank(), split.share.owned.size(),
-                                   split.share.ghosts.size(), split.share.neighbours.size()));
+  plan.notes.push_back(
+      fmt::format("split over {} MPI ranks ({}): {} to {} cells a rank, {} of {} cell-graph "
+                  "edges between ranks; rank {}: {} cells, {} ghost cells from {} ranks",
+                  split.ranks->size(), scene.solver.partition == PartitionMethod::scotch ? "Scotch" : "rcb",
+                  *std::min_element(sizes.begin(), sizes.end()), *std::max_element(sizes.begin(), sizes.end()),
+                  cut_edges, tissue.built_cell_edges(), split.ranks->rank(), split.share.owned.size(),
+                  split.share.ghosts.size(), split.share.neighbours.size()));
 }
 
 // What rank 0 of a split run without mechanics keeps the particles for:

@@ -1,6 +1,7 @@
 #include "tissue/cell_partition.hpp"
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -36,13 +37,6 @@ std::vector<std::size_t> CellPartition::sizes() const {
   std::vector<std::size_t> count(static_cast<std::size_t>(parts), 0);
   for (int part : part_of) ++count[static_cast<std::size_t>(part)];
   return count;
-}
-
-std::vector<int> CellPartition::cells_of(int part) const {
-  std::vector<int> cells;
-  for (std::size_t cell = 0; cell < part_of.size(); ++cell)
-    if (part_of[cell] == part) cells.push_back(static_cast<int>(cell));
-  return cells;
 }
 
 std::size_t CellPartition::cut_edges(const Tissue& tissue) const {
@@ -81,6 +75,13 @@ void check_parts(std::size_t n, int parts) {
                                 " parts: expected 1 to " + std::to_string(n) + " parts (one per MPI rank)");
 }
 
+void check_centres(const Tissue& tissue) {
+  if (tissue.centres_released())
+    throw std::logic_error(
+        "rcb needs the cells' centres, which this tissue does not hold (freed, or never given); scotch cuts the "
+        "cell graph alone");
+}
+
 }  // namespace
 
 CellPitch cell_pitch(const Tissue& tissue) {
@@ -102,21 +103,39 @@ CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod m
       throw std::logic_error("partition_cells: Scotch cuts the whole cell graph, which this tissue holds part of");
     partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
   } else {
-    if (tissue.centres_released())
-      throw std::logic_error(
-          "partition_cells: rcb needs the cells' centres, which this tissue does not hold (freed, or never "
-          "given); scotch cuts the cell graph alone");
+    check_centres(tissue);
     if (!pitch && tissue.graph_partial())
       throw std::logic_error("partition_cells: rcb's pitch is the whole graph's, which this tissue holds part of");
-    partition.part_of = bisect_coordinates(tissue.x_um, tissue.y_um, pitch ? *pitch : cell_pitch(tissue), parts);
+    const CoordinateCuts cuts = cut_by_centres(tissue, parts, pitch ? *pitch : cell_pitch(tissue));
+    for (std::size_t cell = 0; cell < n; ++cell)
+      partition.part_of[cell] = part_by_cuts(cuts, tissue, static_cast<int>(cell));
   }
   return partition;
+}
+
+std::function<int(int)> part_of_cells(const Tissue& tissue, int parts, PartitionMethod method, const CellPitch* pitch) {
+  if (method == PartitionMethod::rcb && parts > 1 && (pitch || !tissue.graph_partial())) {
+    auto cuts =
+        std::make_shared<const CoordinateCuts>(cut_by_centres(tissue, parts, pitch ? *pitch : cell_pitch(tissue)));
+    return [cuts, &tissue](int cell) { return part_by_cuts(*cuts, tissue, cell); };
+  }
+  auto part_of = std::make_shared<const std::vector<int>>(partition_cells(tissue, parts, method, pitch).part_of);
+  return [part_of](int cell) { return (*part_of)[static_cast<std::size_t>(cell)]; };
+}
+
+CoordinateCuts cut_by_centres(const Tissue& tissue, int parts, CellPitch pitch) {
+  check_centres(tissue);
+  check_parts(tissue.cell_count(), parts);
+  return CoordinateCuts(tissue.cell_count(), parts, pitch,
+                        [&tissue](const std::function<void(int, double, double)>& visit) {
+                          for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
+                            visit(static_cast<int>(cell), tissue.x_um[cell], tissue.y_um[cell]);
+                        });
 }
 
 PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const EachCellEdge& each_edge,
                                   const std::function<void(int, int)>& every_edge) {
   check_parts(tissue.cell_count(), parts);
-  PartialGraphCut cut;
   PitchSum sum;
   std::pair<int, int> last{-1, -1};
   each_edge([&](int a, int b) {
@@ -125,17 +144,13 @@ PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const Eac
     last = {a, b};
     sum.add(tissue, a, b);
   });
-  cut.pitch = sum.pitch();
-  cut.partition.parts = parts;
-  cut.partition.part_of = parts == 1 ? std::vector<int>(tissue.cell_count(), 0)
-                                     : bisect_coordinates(tissue.x_um, tissue.y_um, cut.pitch, parts);
+  PartialGraphCut cut{cut_by_centres(tissue, parts, sum.pitch()), sum.pitch()};
   std::vector<std::pair<int, int>> kept;
   std::size_t edges = 0;
-  const std::vector<int>& part_of = cut.partition.part_of;
   each_edge([&](int a, int b) {
     if (every_edge) every_edge(a, b);
     ++edges;
-    const int part_a = part_of[static_cast<std::size_t>(a)], part_b = part_of[static_cast<std::size_t>(b)];
+    const int part_a = part_by_cuts(cut.cuts, tissue, a), part_b = part_by_cuts(cut.cuts, tissue, b);
     cut.cut_edges += part_a != part_b;
     if (part_a == rank || part_b == rank) kept.emplace_back(a, b);
   });

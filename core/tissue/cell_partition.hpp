@@ -33,8 +33,6 @@ struct CellPartition {
   std::vector<int> part_of;  // per cell: its part, in [0, parts)
 
   std::vector<std::size_t> sizes() const;  // cells per part
-  // The cells of part p, in increasing global order.
-  std::vector<int> cells_of(int part) const;
   // Edges of the tissue's cell graph whose two cells lie in different parts.
   std::size_t cut_edges(const Tissue& tissue) const;
 };
@@ -48,6 +46,21 @@ struct CellPartition {
 CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod method = PartitionMethod::rcb,
                               const CellPitch* pitch = nullptr);
 
+// partition_cells' part of each cell, asked cell by cell (a rank asks for
+// its own cells' alone): rcb's held as its cuts, Scotch's for every cell.
+std::function<int(int)> part_of_cells(const Tissue& tissue, int parts, PartitionMethod method,
+                                      const CellPitch* pitch = nullptr);
+
+// rcb's cuts of the tissue's cells (their centres, which it must hold) into
+// `parts` parts, kept as cuts: a cell's part is then read from its centre
+// (part_by_cuts), and no process need hold every cell's part. partition_cells
+// with rcb gives each cell the part its centre gives here.
+CoordinateCuts cut_by_centres(const Tissue& tissue, int parts, CellPitch pitch);
+inline int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell) {
+  const auto i = static_cast<std::size_t>(cell);
+  return cuts.part_of(cell, tissue.x_um[i], tissue.y_um[i]);
+}
+
 // The cells' mean spacing along x and along y: the mean of |dx| and of |dy|
 // over the cell graph's edges (1 um along an axis no edge spans), which
 // rcb compares its boxes' sides by.
@@ -59,14 +72,14 @@ using EachCellEdge = std::function<void(const std::function<void(int, int)>&)>;
 
 // Rank `rank`'s cut of a tissue built without its graph
 // (TissueBuilder::build_cells_without_graph), whose edges `each_edge` gives
-// twice over: rcb's partition (the partition_cells of the whole tissue, the
+// twice over: rcb's cuts (those of partition_cells on the whole tissue, the
 // pitch summed in the same order), then the edges the rank keeps (those with
 // one of its cells at an end: all its ghosts and coupling need), set in the
 // tissue (Tissue::keep_part_of_graph). `every_edge`, if given, sees every
 // edge on the second pass. Throws std::logic_error if the edges do not come
-// in increasing order.
+// in increasing order. No cell's part is held: each is read from the cuts.
 struct PartialGraphCut {
-  CellPartition partition;
+  CoordinateCuts cuts;
   CellPitch pitch;
   std::size_t cut_edges = 0;  // of the whole graph
 };

@@ -17,16 +17,22 @@ void sort_unique(std::vector<int>& cells) {
 }  // namespace
 
 RankCells rank_cells(const Tissue& tissue, const CellPartition& partition, int rank) {
-  if (rank < 0 || rank >= partition.parts)
+  return rank_cells(
+      tissue, partition.parts, [&partition](int cell) { return partition.part_of[static_cast<std::size_t>(cell)]; },
+      rank);
+}
+
+RankCells rank_cells(const Tissue& tissue, int parts, const PartOfCell& part_of, int rank) {
+  if (rank < 0 || rank >= parts)
     throw std::invalid_argument("rank " + std::to_string(rank) + " out of range: the partition has " +
-                                std::to_string(partition.parts) + " parts");
+                                std::to_string(parts) + " parts");
   RankCells share;
   share.rank = rank;
-  share.owned = partition.cells_of(rank);
+  for (int cell = 0; cell < static_cast<int>(tissue.cell_count()); ++cell)
+    if (part_of(cell) == rank) share.owned.push_back(cell);
   std::map<int, HaloNeighbour> by_rank;  // ordered: neighbours come out by increasing rank
   for (const auto& edge : tissue.cell_edges) {
-    const int part_a = partition.part_of[static_cast<std::size_t>(edge.first)];
-    const int part_b = partition.part_of[static_cast<std::size_t>(edge.second)];
+    const int part_a = part_of(edge.first), part_b = part_of(edge.second);
     if (part_a == part_b || (part_a != rank && part_b != rank)) continue;
     const bool first_is_ours = part_a == rank;
     const int ours = first_is_ours ? edge.first : edge.second;

@@ -163,7 +163,9 @@ TEST_CASE("coupling.regions: a rank holding part of the graph names a region wit
     }
     CHECK(part_error == whole_error);
     CHECK((whole_error == "(no error)") == !off);
-    const CellNumbering held(part.cell_count(), rank_cells(part, cut.partition, 0));
+    const CellNumbering held(part.cell_count(),
+                             rank_cells(
+                                 part, 2, [&](int cell) { return part_by_cuts(cut.cuts, part, cell); }, 0));
     CHECK_NOTHROW(junction_laplacian_nS(part, g_nS, scene.coupling.regions, nullptr, &held));
   }
 }

@@ -58,10 +58,57 @@ void check_is_partition(const CellPartition& p, const Tissue& tissue, int parts)
   REQUIRE(p.parts == parts);
   REQUIRE(p.part_of.size() == tissue.cell_count());
   for (int part : p.part_of) REQUIRE((part >= 0 && part < parts));
-  std::vector<int> seen(tissue.cell_count(), 0);
-  for (int part = 0; part < parts; ++part)
-    for (int cell : p.cells_of(part)) ++seen[static_cast<std::size_t>(cell)];
-  CHECK(std::all_of(seen.begin(), seen.end(), [](int times) { return times == 1; }));
+  const std::vector<std::size_t> sizes = p.sizes();
+  CHECK(std::all_of(sizes.begin(), sizes.end(), [](std::size_t size) { return size > 0; }));
+}
+
+// The cells of part p, in increasing order.
+std::vector<int> cells_of(const CellPartition& p, int part) {
+  std::vector<int> cells;
+  for (std::size_t cell = 0; cell < p.part_of.size(); ++cell)
+    if (p.part_of[cell] == part) cells.push_back(static_cast<int>(cell));
+  return cells;
+}
+
+// Each cell's part by CoordinateCuts, the cells handed over last first.
+std::vector<int> parts_by_cuts(const std::vector<double>& x_um, const std::vector<double>& y_um, CellPitch pitch,
+                               int parts, std::size_t collect_budget = CoordinateCuts::kCollectBudget) {
+  const std::size_t n = x_um.size();
+  const CoordinateCuts cuts(
+      n, parts, pitch,
+      [&](const std::function<void(int, double, double)>& visit) {
+        for (std::size_t i = n; i-- > 0;) visit(static_cast<int>(i), x_um[i], y_um[i]);
+      },
+      collect_budget);
+  std::vector<int> part_of(n);
+  for (std::size_t i = 0; i < n; ++i) part_of[i] = cuts.part_of(static_cast<int>(i), x_um[i], y_um[i]);
+  return part_of;
+}
+
+// Recursive coordinate bisection as its definition reads, by sorting: the
+// cells of a box sorted by (coordinate along its longer side in cells,
+// number), the first as many as its lower half of parts holds go there.
+void bisect_by_sorting(const std::vector<double>& x_um, const std::vector<double>& y_um, CellPitch pitch,
+                       std::vector<int> cells, int first_part, int parts, std::size_t n_all, int parts_all,
+                       std::vector<int>& part_of) {
+  if (parts == 1) {
+    for (int cell : cells) part_of[static_cast<std::size_t>(cell)] = first_part;
+    return;
+  }
+  const auto extent = [&](const std::vector<double>& v) {
+    const auto [low, high] = std::minmax_element(cells.begin(), cells.end(), [&](int a, int b) { return v[a] < v[b]; });
+    return v[static_cast<std::size_t>(*high)] - v[static_cast<std::size_t>(*low)];
+  };
+  const std::vector<double>& along = extent(x_um) / pitch.x_um >= extent(y_um) / pitch.y_um ? x_um : y_um;
+  std::sort(cells.begin(), cells.end(), [&](int a, int b) { return std::pair(along[a], a) < std::pair(along[b], b); });
+  const int lower_parts = parts / 2;
+  std::size_t lower = 0;
+  for (int p = first_part; p < first_part + lower_parts; ++p)
+    lower += n_all / parts_all + (static_cast<std::size_t>(p) < n_all % parts_all ? 1 : 0);
+  const auto middle = cells.begin() + static_cast<std::ptrdiff_t>(lower);
+  bisect_by_sorting(x_um, y_um, pitch, {cells.begin(), middle}, first_part, lower_parts, n_all, parts_all, part_of);
+  bisect_by_sorting(x_um, y_um, pitch, {middle, cells.end()}, first_part + lower_parts, parts - lower_parts, n_all,
+                    parts_all, part_of);
 }
 
 // No part above (1 + kPartImbalance) times the mean, rounded up to whole cells.
@@ -119,17 +166,60 @@ TEST_CASE("coordinate bisection: a function of the centres alone, whatever their
   without_graph.cell_edges.clear();
   // Without edges the pitch is 1 um both ways; with the same pitch the
   // parts are the same cells.
-  CHECK(bisect_coordinates(tissue.x_um, tissue.y_um, cell_pitch(tissue), 3) ==
-        bisect_coordinates(without_graph.x_um, without_graph.y_um, cell_pitch(tissue), 3));
+  CHECK(parts_by_cuts(tissue.x_um, tissue.y_um, cell_pitch(tissue), 3) ==
+        parts_by_cuts(without_graph.x_um, without_graph.y_um, cell_pitch(tissue), 3));
+  CHECK(partition_cells(tissue, 3).part_of == parts_by_cuts(tissue.x_um, tissue.y_um, cell_pitch(tissue), 3));
   // Cells on one point: split by cell number, lower numbers first.
   const std::vector<double> same(10, 5.0);
-  CHECK(bisect_coordinates(same, same, CellPitch{}, 3) == std::vector<int>{0, 0, 0, 0, 1, 1, 1, 2, 2, 2});
+  CHECK(parts_by_cuts(same, same, CellPitch{}, 3) == std::vector<int>{0, 0, 0, 0, 1, 1, 1, 2, 2, 2});
   // A tissue without centres cannot be cut by them.
   Tissue graph_only;
   graph_only.type.assign(4, CellType::myocyte);
   graph_only.cell_edges = {{0, 1}, {1, 2}, {2, 3}};
   CHECK_THROWS_AS(partition_cells(graph_only, 2, PartitionMethod::rcb), std::logic_error);
   CHECK(partition_cells(graph_only, 2, PartitionMethod::scotch).cut_edges(graph_only) == 1);
+}
+
+TEST_CASE("coordinate cuts: the parts of bisection by sorting, whatever the cells' order and the memory held") {
+  // Random centres on a coarse lattice (many cells share a coordinate, some
+  // a centre), on a line, and spread: the cuts, found in passes over the
+  // cells handed over last first, narrowing each median through histograms
+  // when it may collect few cells at once, give each cell the part that
+  // sorting every box gives.
+  std::mt19937_64 random(2021);
+  for (int shape = 0; shape < 3; ++shape)
+    for (const std::size_t n : {std::size_t{1}, std::size_t{37}, std::size_t{1000}, std::size_t{20000}}) {
+      std::vector<double> x(n), y(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        x[i] = shape == 1   ? 1.0
+               : shape == 0 ? 23.57 * static_cast<double>(random() % 9)
+                            : std::ldexp(random() >> 11, -40);
+        y[i] = shape == 2 ? std::ldexp(random() >> 11, -53) : 125.0 * static_cast<double>(random() % 13);
+      }
+      for (const int parts : {1, 2, 3, 7, 16})
+        for (const std::size_t budget : {std::size_t{16}, std::size_t{500}, CoordinateCuts::kCollectBudget}) {
+          if (static_cast<std::size_t>(parts) > n) continue;
+          CAPTURE(shape);
+          CAPTURE(n);
+          CAPTURE(parts);
+          CAPTURE(budget);
+          const CellPitch pitch{23.57, 125};
+          std::vector<int> expected(n), cells(n);
+          for (std::size_t i = 0; i < n; ++i) cells[i] = static_cast<int>(i);
+          bisect_by_sorting(x, y, pitch, cells, 0, parts, n, parts, expected);
+          CHECK(parts_by_cuts(x, y, pitch, parts, budget) == expected);
+        }
+    }
+}
+
+TEST_CASE("coordinate cuts: cells that change between passes are refused") {
+  int calls = 0;
+  const auto fewer_each_time = [&calls](const std::function<void(int, double, double)>& visit) {
+    const int n = 100 - calls++;
+    for (int cell = 0; cell < n; ++cell) visit(cell, cell, 0);
+  };
+  CHECK_THROWS_AS(CoordinateCuts(100, 2, CellPitch{}, fewer_each_time), std::logic_error);
+  CHECK_THROWS_AS(CoordinateCuts(3, 4, CellPitch{}, fewer_each_time), std::invalid_argument);
 }
 
 TEST_CASE("cell partition: a built tissue with fibroblasts, 2 to 4 parts") {
@@ -186,7 +276,7 @@ TEST_CASE("rank cells: ghosts close each rank's coupling, and the ranks agree on
   for (const RankCells& share : shares) {
     CAPTURE(share.rank);
     owned_total += share.owned.size();
-    CHECK(share.owned == p.cells_of(share.rank));
+    CHECK(share.owned == cells_of(p, share.rank));
     // Every neighbour of an owned cell is owned or a ghost; every ghost is
     // another rank's and a neighbour of an owned cell.
     std::vector<char> reachable(tissue.cell_count(), 0);
@@ -242,7 +332,8 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
     part.cell_edges.clear();
     std::size_t seen = 0;
     const PartialGraphCut cut = cut_without_graph(part, 3, rank, each_edge, [&seen](int, int) { ++seen; });
-    CHECK(cut.partition.part_of == reference.part_of);
+    for (int cell = 0; cell < static_cast<int>(whole.cell_count()); ++cell)
+      REQUIRE(part_by_cuts(cut.cuts, part, cell) == reference.part_of[static_cast<std::size_t>(cell)]);
     CHECK(cut.pitch.x_um == cell_pitch(whole).x_um);
     CHECK(cut.pitch.y_um == cell_pitch(whole).y_um);
     CHECK(cut.cut_edges == reference.cut_edges(whole));
@@ -256,7 +347,9 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
         expected.emplace_back(a, b);
     CHECK(part.cell_edges == expected);
     CHECK(part.cell_edges.size() < whole.cell_edges.size());
-    const RankCells from_part = rank_cells(part, cut.partition, rank), from_whole = rank_cells(whole, reference, rank);
+    const RankCells from_part = rank_cells(
+        part, 3, [&](int cell) { return part_by_cuts(cut.cuts, part, cell); }, rank);
+    const RankCells from_whole = rank_cells(whole, reference, rank);
     CHECK(from_part.owned == from_whole.owned);
     CHECK(from_part.ghosts == from_whole.ghosts);
     REQUIRE(from_part.neighbours.size() == from_whole.neighbours.size());
