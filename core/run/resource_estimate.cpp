@@ -137,7 +137,7 @@ struct Counts {
   // Rush-Larsen). Sheet 1 cm: 23.7 MB for 830,692 states with a and b.
   double state_bytes = 0;
   double particles = 0, built_particles = 0, bonds = 0, edges = 0;
-  CellLayoutKept layout;
+  CellLayoutKept layout{};
   double onsets = 0, beats = 0;
   double trace_samples = 0, columns = 0;
 

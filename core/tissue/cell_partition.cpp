@@ -147,10 +147,12 @@ PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const Eac
   PartialGraphCut cut{cut_by_centres(tissue, parts, sum.pitch()), sum.pitch()};
   std::vector<std::pair<int, int>> kept;
   std::size_t edges = 0;
+  int a_before = -1, part_a = -1;  // (the edges come by their first cell: its part found once)
   each_edge([&](int a, int b) {
     if (every_edge) every_edge(a, b);
     ++edges;
-    const int part_a = part_by_cuts(cut.cuts, tissue, a), part_b = part_by_cuts(cut.cuts, tissue, b);
+    if (a != a_before) part_a = part_by_cuts(cut.cuts, tissue, a), a_before = a;
+    const int part_b = part_by_cuts(cut.cuts, tissue, b);
     cut.cut_edges += part_a != part_b;
     if (part_a == rank || part_b == rank) kept.emplace_back(a, b);
   });

@@ -13,6 +13,8 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
+#include <utility>
 #include <vector>
 
 namespace fibrodem {
@@ -21,6 +23,14 @@ namespace fibrodem {
 // columns pitch_x_um apart, so the box's sides are compared in cells.
 struct CellPitch {
   double x_um = 1, y_um = 1;
+};
+
+// The bounding box of some cells' centres [um] (empty: infinite bounds).
+struct CellBox {
+  double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+  double y_low = x_low, y_high = -x_low;
+  void add(double x_um, double y_um);
+  void add(const CellBox& other);
 };
 
 // Every cell once, in any order: visit(cell number, x_um, y_um).
@@ -52,6 +62,7 @@ class CoordinateCuts {
   struct Node {
     int first_part = 0, parts = 1;
     std::size_t cells = 0;
+    CellBox box;
     bool along_x = true;
     double at_um = 0;
     int at_cell = 0;
@@ -61,12 +72,10 @@ class CoordinateCuts {
 
   // The node a cell is in, descending through the cuts made so far.
   int node_of(int cell, double x_um, double y_um) const;
-  std::vector<Search> start_searches(const std::vector<int>& level, const std::vector<int>& search_of, CellPitch pitch,
-                                     const EachCellCentre& each_cell) const;
+  std::vector<Search> start_searches(const std::vector<int>& level, CellPitch pitch) const;
   std::vector<int> cut_at_medians(std::vector<Search>& searches, std::vector<int>& search_of,
                                   const EachCellCentre& each_cell, std::size_t collect_budget);
-  void cut(std::size_t n, bool along_x, double at_um, int at_cell, std::size_t lower_cells,
-           std::vector<int>& next_level);
+  void cut(std::size_t n, const Search& search, std::pair<double, int> at, std::vector<int>& next_level);
 
   int parts_ = 1;
   std::size_t cells_per_part_ = 0, parts_with_one_more_ = 0;
