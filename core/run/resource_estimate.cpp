@@ -1,13 +1,13 @@
 #include "run/resource_estimate.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "integrate/adaptive.hpp"
 #include "integrate/integrator.hpp"
@@ -393,7 +393,7 @@ void add_set_up_over_ranks(ResourceEstimate& e, const Counts& c) {
   const double partitioner = method == PartitionMethod::scotch
                                  ? 104.0 * c.tissue_cells
                                  : (tissue.graph_partial() ? 1.0 : 4.0) * c.tissue_cells +
-                                       16.0 * static_cast<double>(CoordinateCuts::kCollectBudget);
+                                       static_cast<double>(CoordinateCuts::kCandidateBytes * CoordinateCuts::kCollectBudget);
   const double cut = kProgramBytes + cells_held + partitioner;
   const double assembly = c.system.coupler ? kProgramBytes + cells_held + c.state_bytes * c.states + 28 * c.held +
                                                  coupling_bytes(c) + 12 * c.held

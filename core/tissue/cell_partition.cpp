@@ -113,7 +113,7 @@ CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod m
   return partition;
 }
 
-std::function<int(int)> part_of_cells(const Tissue& tissue, int parts, PartitionMethod method, const CellPitch* pitch) {
+PartOfCell part_of_cells(const Tissue& tissue, int parts, PartitionMethod method, const CellPitch* pitch) {
   if (method == PartitionMethod::rcb && parts > 1 && (pitch || !tissue.graph_partial())) {
     auto cuts =
         std::make_shared<const CoordinateCuts>(cut_by_centres(tissue, parts, pitch ? *pitch : cell_pitch(tissue)));

@@ -48,7 +48,8 @@ CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod m
 
 // partition_cells' part of each cell, asked cell by cell (a rank asks for
 // its own cells' alone): rcb's held as its cuts, Scotch's for every cell.
-std::function<int(int)> part_of_cells(const Tissue& tissue, int parts, PartitionMethod method,
+using PartOfCell = std::function<int(int)>;
+PartOfCell part_of_cells(const Tissue& tissue, int parts, PartitionMethod method,
                                       const CellPitch* pitch = nullptr);
 
 // rcb's cuts of the tissue's cells (their centres, which it must hold) into

@@ -26,6 +26,7 @@ struct Candidate {
   int cell;
   double across_um;
 };
+static_assert(sizeof(Candidate) == CoordinateCuts::kCandidateBytes);
 
 }  // namespace
 
@@ -114,8 +115,8 @@ class CoordinateCuts::Search {
   // candidates below it go to the lower half's box, the rest the upper's.
   std::pair<double, int> median() {
     if (collected_.size() != candidates_)
-      throw std::logic_error("CoordinateCuts: the cells changed between passes (" +
-                             std::to_string(collected_.size()) + " collected of " + std::to_string(candidates_) + ")");
+      throw std::logic_error("CoordinateCuts: the cells changed between passes (" + std::to_string(collected_.size()) +
+                             " collected of " + std::to_string(candidates_) + ")");
     const auto middle = collected_.begin() + static_cast<std::ptrdiff_t>(rank_ - below_);
     std::nth_element(collected_.begin(), middle, collected_.end(), [](const Candidate& a, const Candidate& b) {
       return a.along_um < b.along_um || (a.along_um == b.along_um && a.cell < b.cell);

@@ -5,7 +5,7 @@
 // are compact, as a spatial split of the DEM wants.
 //
 // The cuts are found from the cells handed over one at a time, as often as
-// asked (a pass for each level's boxes, a few for its medians), so that a
+// asked (a pass for the tissue's box, then a few a level of cuts), so that a
 // process need not hold every cell's centre to know where they lie:
 // CoordinateCuts keeps the cuts alone (a few numbers a part), and tells
 // any cell's part from its number and centre.
@@ -44,9 +44,10 @@ using EachCellCentre = std::function<void(const std::function<void(int, double, 
 class CoordinateCuts {
  public:
   // `collect_budget`: about how many cells' coordinates a pass may hold at
-  // once (16 bytes each) to pick the medians among; more passes narrow
-  // the boxes' medians down to it.
+  // once (kCandidateBytes each) to pick the medians among; more passes
+  // narrow the boxes' medians down to it.
   static constexpr std::size_t kCollectBudget = std::size_t{1} << 16;
+  static constexpr std::size_t kCandidateBytes = 24;
   CoordinateCuts(std::size_t cells, int parts, CellPitch pitch, const EachCellCentre& each_cell,
                  std::size_t collect_budget = kCollectBudget);
 

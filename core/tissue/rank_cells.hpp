@@ -8,7 +8,6 @@
 // of ranks (docs/guide/parallel.md).
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "tissue/cell_partition.hpp"
@@ -31,7 +30,6 @@ struct RankCells {
 // Rank `rank`'s share (0 <= rank < parts), each cell's part asked of
 // `part_of` (a partition's cuts need not hold every cell's part); the
 // tissue's graph must hold every edge with one of the rank's cells at an end.
-using PartOfCell = std::function<int(int)>;
 RankCells rank_cells(const Tissue& tissue, int parts, const PartOfCell& part_of, int rank);
 RankCells rank_cells(const Tissue& tissue, const CellPartition& partition, int rank);
 

@@ -290,7 +290,7 @@ TEST_CASE("a scene too large for the machine is refused at set-up with the estim
 // the graph, 104 bytes a cell (measured with heaptrack on the 846,279-cell
 // sheet: 88 MB), which set a rank's peak from 16 ranks on that sheet; with
 // rcb every cell's part (4 bytes a cell) and the centres it collects at
-// once (16 bytes each, CoordinateCuts::kCollectBudget). A rank with no
+// once (CoordinateCuts::kCollectBudget, kCandidateBytes each). A rank with no
 // cells of its own to step (an empty system) shows the set-up alone.
 TEST_CASE("validate counts a split rank's set-up: the cells' build and the partitioner's work") {
   json m = json::parse(R"({
@@ -311,7 +311,8 @@ TEST_CASE("validate counts a split rank's set-up: the cells' build and the parti
   const double cells = 966;  // (the 1 x 3 mm sheet's)
   const double rcb = set_up_bytes("rcb"), scotch = set_up_bytes("scotch");
   CHECK(rcb > 0);
-  CHECK(scotch - rcb == doctest::Approx((104 - 4) * cells - 16.0 * CoordinateCuts::kCollectBudget));
+  const double collected = CoordinateCuts::kCandidateBytes * CoordinateCuts::kCollectBudget;
+  CHECK(scotch - rcb == doctest::Approx((104 - 4) * cells - collected));
 }
 
 TEST_CASE("the estimate of the snapshots' size bounds what is written, within a factor of ten") {
