@@ -45,9 +45,7 @@ void Simulation::Impl::split_over_ranks() {
     const CoordinateCuts& cuts = split.cut->cuts;
     split.share = rank_cells(
         tissue, cuts.parts(), [&](int cell) { return part_by_cuts(cuts, tissue, cell); }, split.ranks->rank());
-    std::vector<std::size_t> sizes(static_cast<std::size_t>(cuts.parts()));
-    for (int p = 0; p < cuts.parts(); ++p) sizes[static_cast<std::size_t>(p)] = cuts.cells_in(p);
-    split.layout = rank_layout_counts(sizes);
+    split.layout = rank_layout_counts(cuts.sizes());
     cut_edges = split.cut->cut_edges;
   } else {
     const CellPartition partition = partition_cells(tissue, split.ranks->size(), scene.solver.partition);

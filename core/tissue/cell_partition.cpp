@@ -82,6 +82,14 @@ void check_centres(const Tissue& tissue) {
         "cell graph alone");
 }
 
+// rcb's cuts with the given pitch, or the tissue's whole graph's.
+CoordinateCuts rcb_cuts(const Tissue& tissue, int parts, const CellPitch* pitch) {
+  check_centres(tissue);  // (before the pitch, which reads the centres)
+  if (!pitch && tissue.graph_partial())
+    throw std::logic_error("partition_cells: rcb's pitch is the whole graph's, which this tissue holds part of");
+  return cut_by_centres(tissue, parts, pitch ? *pitch : cell_pitch(tissue));
+}
+
 }  // namespace
 
 CellPitch cell_pitch(const Tissue& tissue) {
@@ -103,10 +111,7 @@ CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod m
       throw std::logic_error("partition_cells: Scotch cuts the whole cell graph, which this tissue holds part of");
     partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
   } else {
-    check_centres(tissue);
-    if (!pitch && tissue.graph_partial())
-      throw std::logic_error("partition_cells: rcb's pitch is the whole graph's, which this tissue holds part of");
-    const CoordinateCuts cuts = cut_by_centres(tissue, parts, pitch ? *pitch : cell_pitch(tissue));
+    const CoordinateCuts cuts = rcb_cuts(tissue, parts, pitch);
     for (std::size_t cell = 0; cell < n; ++cell)
       partition.part_of[cell] = part_by_cuts(cuts, tissue, static_cast<int>(cell));
   }
@@ -114,9 +119,8 @@ CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod m
 }
 
 PartOfCell part_of_cells(const Tissue& tissue, int parts, PartitionMethod method, const CellPitch* pitch) {
-  if (method == PartitionMethod::rcb && parts > 1 && (pitch || !tissue.graph_partial())) {
-    auto cuts =
-        std::make_shared<const CoordinateCuts>(cut_by_centres(tissue, parts, pitch ? *pitch : cell_pitch(tissue)));
+  if (method == PartitionMethod::rcb && parts > 1) {
+    auto cuts = std::make_shared<const CoordinateCuts>(rcb_cuts(tissue, parts, pitch));
     return [cuts, &tissue](int cell) { return part_by_cuts(*cuts, tissue, cell); };
   }
   auto part_of = std::make_shared<const std::vector<int>>(partition_cells(tissue, parts, method, pitch).part_of);

@@ -145,6 +145,12 @@ std::size_t CoordinateCuts::cells_in(int part) const {
   return cells_per_part_ + (static_cast<std::size_t>(part) < parts_with_one_more_ ? 1 : 0);
 }
 
+std::vector<std::size_t> CoordinateCuts::sizes() const {
+  std::vector<std::size_t> sizes(static_cast<std::size_t>(parts_));
+  for (int part = 0; part < parts_; ++part) sizes[static_cast<std::size_t>(part)] = cells_in(part);
+  return sizes;
+}
+
 int CoordinateCuts::node_of(int cell, double x_um, double y_um) const {
   int n = 0;
   while (nodes_[static_cast<std::size_t>(n)].lower >= 0) {

@@ -52,7 +52,7 @@ class CoordinateCuts {
                  std::size_t collect_budget = kCollectBudget);
 
   int parts() const { return parts_; }
-  std::size_t cells_in(int part) const;
+  std::vector<std::size_t> sizes() const;  // cells per part
   // The part of a cell of the tissue cut (its number and centre).
   int part_of(int cell, double x_um, double y_um) const;
 
@@ -73,6 +73,7 @@ class CoordinateCuts {
 
   // The node a cell is in, descending through the cuts made so far.
   int node_of(int cell, double x_um, double y_um) const;
+  std::size_t cells_in(int part) const;
   std::vector<Search> start_searches(const std::vector<int>& level, CellPitch pitch) const;
   std::vector<int> cut_at_medians(std::vector<Search>& searches, std::vector<int>& search_of,
                                   const EachCellCentre& each_cell, std::size_t collect_budget);
