@@ -45,12 +45,18 @@ CouplingPlaces::CouplingPlaces(const std::vector<CouplingRegion>& regions, const
     : regions_(regions), field_(field), junctions_held_(regions.size(), 0) {}
 
 JunctionPlace CouplingPlaces::count(const Tissue& tissue, int i, int j) {
-  JunctionPlace place;
   // The midpoint, asked only by regions and maps (a tissue made for a test
   // of the coupling alone may have no cell positions).
+  if (regions_.empty() && !field_) return {};
+  const auto at_i = tissue.centre_um(i), at_j = tissue.centre_um(j);
+  return count({i, at_i[0], at_i[1]}, {j, at_j[0], at_j[1]});
+}
+
+JunctionPlace CouplingPlaces::count(const CellCentre& i, const CellCentre& j) {
+  JunctionPlace place;
   if (regions_.empty() && !field_) return place;
-  place.x_um = 0.5 * (tissue.x_um[i] + tissue.x_um[j]);
-  place.y_um = 0.5 * (tissue.y_um[i] + tissue.y_um[j]);
+  place.x_um = 0.5 * (i.x_um + j.x_um);
+  place.y_um = 0.5 * (i.y_um + j.y_um);
   place.region = regions_.empty() ? -1 : region_holding(regions_, place.x_um, place.y_um);
   place.in_field = field_ && field_->contains(place.x_um, place.y_um);
   if (place.region >= 0) ++junctions_held_[static_cast<std::size_t>(place.region)];

@@ -40,6 +40,7 @@ class CouplingPlaces {
   CouplingPlaces(const std::vector<CouplingRegion>& regions, const CouplingField* field);
   // The place of the junction of cells i and j, counted.
   JunctionPlace count(const Tissue& tissue, int i, int j);
+  JunctionPlace count(const CellCentre& i, const CellCentre& j);
   void check(const Tissue& tissue) const;
 
  private:

@@ -363,7 +363,8 @@ void add_traces_dem_checkpoint(ResourceEstimate& e, const Counts& c) {
 //   the stepping (rank 0 with the particles' imprint made);
 // - when the partition is cut, with every cell, its centre and graph
 //   (a rank other than 0 cut without the whole graph: the part it
-//   keeps, and neither a part nor a place in the ranks' order a cell),
+//   keeps, its own cells' and ghosts' centres, and neither a part nor a
+//   place in the ranks' order a cell),
 //   and the partitioner's own work: for rcb the centres it collects at
 //   once (CoordinateCuts::kCollectBudget) and every cell's part, 4 bytes
 //   (without the whole graph, none: the builder's kind of each slot, a
@@ -385,10 +386,12 @@ void add_set_up_over_ranks(ResourceEstimate& e, const Counts& c) {
   if (tissue.particles_released() && built_whole)
     build = kProgramBytes + c.tissue_bytes(c.built_particles, static_cast<double>(tissue.built_bonds()), true, true) +
             (imprint ? static_cast<double>(imprint->bytes()) : 0.0);
-  const double ranks_order_bytes = tissue.graph_partial() ? 4 * c.tissue_cells : 0.0;  // (not made)
-  const double cells_held = c.tissue_bytes(c.mechanics ? c.particles : 0.0, c.mechanics ? c.bonds : 0.0, true, true,
-                                           built_whole ? 1.5 : 1.0) -
-                            ranks_order_bytes;
+  // (Cut without the whole graph, a rank holds every cell's type, the
+  // centres of its own cells and ghosts, and no ranks' order of the cells.)
+  const double cells_held = tissue.graph_partial()
+                                ? sizeof(std::pair<int, int>) * c.edges + c.tissue_cells + sizeof(CellCentre) * c.held
+                                : c.tissue_bytes(c.mechanics ? c.particles : 0.0, c.mechanics ? c.bonds : 0.0, true,
+                                                 true, built_whole ? 1.5 : 1.0);
   const PartitionMethod method = scene.solver.partition;
   const double partitioner = method == PartitionMethod::scotch
                                  ? 104.0 * c.tissue_cells

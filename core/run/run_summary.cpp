@@ -48,7 +48,7 @@ json conduction(const Tissue& tissue, const Stimulus& stimulus, const std::vecto
   json per_beat = json::array();
   // (Not on a rank other than 0 of a split run, which freed the centres:
   // rank 0 measures the conduction of every rank's beats.)
-  if (tissue.cell_count() < 2 || tissue.centres_released()) return per_beat;
+  if (tissue.cell_count() < 2 || !tissue.centres_whole()) return per_beat;
   std::vector<bool> stimulated(tissue.cell_count(), false);
   for (const auto& train : stimulus.trains())
     for (int c : train.cells) stimulated[c] = true;

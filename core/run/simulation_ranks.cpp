@@ -80,8 +80,8 @@ std::string Simulation::Impl::particles_kept_on_rank0_for() const {
 // (TissueBuilder::build_cells) spares every rank the whole tissue's
 // particles and bonds, rank 0 imprinting them one by one as the builder
 // hands them over, and a rank other than 0 cut by rcb the whole cell graph
-// (build_part_of_graph); otherwise a rank builds the whole tissue and
-// frees it.
+// and every cell's centre (build_part_of_graph); otherwise a rank builds
+// the whole tissue and frees it.
 void Simulation::Impl::build_tissue() {
   const TissueBuilder& builder = *scene.tissue;
   // (Whether the plan builds mechanics is a property of the scene alone.)
@@ -105,22 +105,22 @@ void Simulation::Impl::build_tissue() {
 }
 
 // A rank other than 0 of a run without mechanics, cut by the cells'
-// centres, never holds the whole cell graph: the builder makes the cells
-// and centres, then gives the graph edge by edge, twice (the partition's
-// pitch, then the edges with one of this rank's cells at an end, which the
-// tissue keeps). As the whole graph goes by, where the coupling's regions
-// and map hold its junctions is counted, for build_coupling's check.
+// centres, never holds every cell's centre nor the whole cell graph: the
+// builder hands the cells and the graph's edges over one at a time
+// (TissueBuilder::stream_cells), as often as the cut asks; the tissue keeps
+// every cell's type, its own cells' and ghosts' centres and the edges with
+// one of its cells at an end, and reads any other centre from the stream
+// until the run starts. As the whole graph goes by, where the coupling's
+// regions and map hold its junctions is counted, for build_coupling's check.
 void Simulation::Impl::build_part_of_graph() {
-  const TissueBuilder& builder = *scene.tissue;
-  tissue = builder.build_cells_without_graph(scene.seed);
-  const std::uint64_t seed = scene.seed;
+  std::shared_ptr<const CellStream> cells = scene.tissue->stream_cells(scene.seed);
+  tissue = cells->cell_types();
   split.coupling_places.emplace(scene.coupling.regions, scene.coupling.field ? &*scene.coupling.field : nullptr);
   CouplingPlaces& places = *split.coupling_places;
   const bool placed = !scene.coupling.regions.empty() || scene.coupling.field;
   split.cut = cut_without_graph(
-      tissue, split.ranks->size(), split.ranks->rank(),
-      [&builder, seed](const std::function<void(int, int)>& visit) { builder.for_each_cell_edge(seed, visit); },
-      placed ? std::function<void(int, int)>([&](int a, int b) { places.count(tissue, a, b); }) : nullptr);
+      tissue, split.ranks->size(), split.ranks->rank(), std::move(cells),
+      placed ? EachCellEdge([&places](const CellCentre& a, const CellCentre& b) { places.count(a, b); }) : nullptr);
 }
 
 // With mechanics, once the DEM, set up on every rank for the same refusals,

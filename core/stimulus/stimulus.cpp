@@ -11,12 +11,11 @@
 namespace fibrodem {
 
 namespace {
-// Whether cell c's centre lies in the target's region (edges included, with
-// a 1e-9 um tolerance: a cell exactly on an edge given in mm is in); box is
-// the tissue's bounds_um(), taken once for all cells.
-bool region_contains(const StimulusTarget& target, const Tissue& tissue, const std::array<double, 4>& box, int c) {
+// Whether a cell centred at (x, y) lies in the target's region (edges
+// included, with a 1e-9 um tolerance: a cell exactly on an edge given in mm
+// is in); box is the tissue's bounds_um(), taken once for all cells.
+bool region_contains(const StimulusTarget& target, const std::array<double, 4>& box, double x, double y) {
   constexpr double kEdge_um = 1e-9;
-  const double x = tissue.x_um[c], y = tissue.y_um[c];
   switch (target.shape) {
     case StimulusTarget::Shape::fractions: {
       const double w = box[1] - box[0], h = box[3] - box[2];
@@ -58,12 +57,14 @@ std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tiss
       }
       break;
     case StimulusTarget::Kind::region: {
+      // (Every cell's centre, which a rank of a split run takes from the
+      // builder: Tissue::for_each_centre.)
       const auto box = tissue.bounds_um();
-      for (int c = 0; c < n; ++c) {
-        if (!region_contains(target, tissue, box, c)) continue;
-        if (target.region_type && tissue.type[c] != *target.region_type) continue;
+      tissue.for_each_centre([&](int c, double x, double y) {
+        if (!region_contains(target, box, x, y)) return;
+        if (target.region_type && tissue.type[static_cast<std::size_t>(c)] != *target.region_type) return;
         cells.push_back(c);
-      }
+      });
       if (cells.empty()) {
         throw ManifestError(path + ".target",
                             fmt::format("this region contains no cell{} (the tissue spans x {:g}..{:g} mm, "

@@ -1,5 +1,6 @@
 #include "tissue/cell_partition.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -52,9 +53,9 @@ namespace {
 // given edge by edge sums the same bits as the whole graph held).
 class PitchSum {
  public:
-  void add(const Tissue& tissue, int a, int b) {
-    sum_x_um_ += std::abs(tissue.x_um[static_cast<std::size_t>(a)] - tissue.x_um[static_cast<std::size_t>(b)]);
-    sum_y_um_ += std::abs(tissue.y_um[static_cast<std::size_t>(a)] - tissue.y_um[static_cast<std::size_t>(b)]);
+  void add(const CellCentre& a, const CellCentre& b) {
+    sum_x_um_ += std::abs(a.x_um - b.x_um);
+    sum_y_um_ += std::abs(a.y_um - b.y_um);
     ++edges_;
   }
   CellPitch pitch() const {
@@ -82,6 +83,11 @@ void check_centres(const Tissue& tissue) {
         "cell graph alone");
 }
 
+CellCentre centre_of(const Tissue& tissue, int cell) {
+  const auto [x, y] = tissue.centre_um(cell);
+  return {cell, x, y};
+}
+
 // rcb's cuts with the given pitch, or the tissue's whole graph's.
 CoordinateCuts rcb_cuts(const Tissue& tissue, int parts, const CellPitch* pitch) {
   check_centres(tissue);  // (before the pitch, which reads the centres)
@@ -94,7 +100,7 @@ CoordinateCuts rcb_cuts(const Tissue& tissue, int parts, const CellPitch* pitch)
 
 CellPitch cell_pitch(const Tissue& tissue) {
   PitchSum sum;
-  for (const auto& [a, b] : tissue.cell_edges) sum.add(tissue, a, b);
+  for (const auto& [a, b] : tissue.cell_edges) sum.add(centre_of(tissue, a), centre_of(tissue, b));
   return sum.pitch();
 }
 
@@ -112,8 +118,9 @@ CellPartition partition_cells(const Tissue& tissue, int parts, PartitionMethod m
     partition.part_of = split_graph(compressed_graph(tissue), parts, kPartImbalance);
   } else {
     const CoordinateCuts cuts = rcb_cuts(tissue, parts, pitch);
-    for (std::size_t cell = 0; cell < n; ++cell)
-      partition.part_of[cell] = part_by_cuts(cuts, tissue, static_cast<int>(cell));
+    tissue.for_each_centre([&](int cell, double x_um, double y_um) {
+      partition.part_of[static_cast<std::size_t>(cell)] = cuts.part_of(cell, x_um, y_um);
+    });
   }
   return partition;
 }
@@ -130,38 +137,61 @@ PartOfCell part_of_cells(const Tissue& tissue, int parts, PartitionMethod method
 CoordinateCuts cut_by_centres(const Tissue& tissue, int parts, CellPitch pitch) {
   check_centres(tissue);
   check_parts(tissue.cell_count(), parts);
-  return CoordinateCuts(tissue.cell_count(), parts, pitch,
-                        [&tissue](const std::function<void(int, double, double)>& visit) {
-                          for (std::size_t cell = 0; cell < tissue.cell_count(); ++cell)
-                            visit(static_cast<int>(cell), tissue.x_um[cell], tissue.y_um[cell]);
-                        });
+  return CoordinateCuts(
+      tissue.cell_count(), parts, pitch,
+      [&tissue](const std::function<void(int, double, double)>& visit) { tissue.for_each_centre(visit); });
 }
 
-PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const EachCellEdge& each_edge,
-                                  const std::function<void(int, int)>& every_edge) {
+int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell) {
+  const auto [x_um, y_um] = tissue.centre_um(cell);
+  return cuts.part_of(cell, x_um, y_um);
+}
+
+PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shared_ptr<const CellStream> cells,
+                                  const EachCellEdge& every_edge) {
   check_parts(tissue.cell_count(), parts);
   PitchSum sum;
   std::pair<int, int> last{-1, -1};
-  each_edge([&](int a, int b) {
-    if (!(a < b && std::pair(a, b) > last))
+  cells->for_each_edge([&](const CellCentre& a, const CellCentre& b) {
+    if (!(a.cell < b.cell && std::pair(a.cell, b.cell) > last))
       throw std::logic_error("cut_without_graph: the tissue's edges do not come in increasing order");
-    last = {a, b};
-    sum.add(tissue, a, b);
+    last = {a.cell, b.cell};
+    sum.add(a, b);
   });
-  PartialGraphCut cut{cut_by_centres(tissue, parts, sum.pitch()), sum.pitch()};
+  PartialGraphCut cut{
+      CoordinateCuts(tissue.cell_count(), parts, sum.pitch(),
+                     [&cells](const std::function<void(int, double, double)>& visit) { cells->for_each_cell(visit); }),
+      sum.pitch()};
+  // The own cells' centres, then the ghosts' (each edge's end on another
+  // rank), as the edges at own cells go by.
+  std::vector<CellCentre> held;
+  cells->for_each_cell([&](int cell, double x_um, double y_um) {
+    if (cut.cuts.part_of(cell, x_um, y_um) == rank) held.push_back({cell, x_um, y_um});
+  });
+  const std::size_t own = held.size();
   std::vector<std::pair<int, int>> kept;
   std::size_t edges = 0;
   int a_before = -1, part_a = -1;  // (the edges come by their first cell: its part found once)
-  each_edge([&](int a, int b) {
+  cells->for_each_edge([&](const CellCentre& a, const CellCentre& b) {
     if (every_edge) every_edge(a, b);
     ++edges;
-    if (a != a_before) part_a = part_by_cuts(cut.cuts, tissue, a), a_before = a;
-    const int part_b = part_by_cuts(cut.cuts, tissue, b);
+    if (a.cell != a_before) part_a = cut.cuts.part_of(a.cell, a.x_um, a.y_um), a_before = a.cell;
+    const int part_b = cut.cuts.part_of(b.cell, b.x_um, b.y_um);
     cut.cut_edges += part_a != part_b;
-    if (part_a == rank || part_b == rank) kept.emplace_back(a, b);
+    if (part_a != rank && part_b != rank) return;
+    kept.emplace_back(a.cell, b.cell);
+    if (part_a != part_b) held.push_back(part_a == rank ? b : a);
   });
   kept.shrink_to_fit();
+  std::sort(held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
+            [](const CellCentre& p, const CellCentre& q) { return p.cell < q.cell; });
+  held.erase(std::unique(held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
+                         [](const CellCentre& p, const CellCentre& q) { return p.cell == q.cell; }),
+             held.end());
+  std::inplace_merge(held.begin(), held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
+                     [](const CellCentre& p, const CellCentre& q) { return p.cell < q.cell; });
   tissue.keep_part_of_graph(std::move(kept), edges);
+  tissue.hold_centres_of(std::move(held), std::move(cells));
   return cut;
 }
 

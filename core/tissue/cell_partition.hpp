@@ -14,8 +14,10 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <vector>
 
+#include "tissue/cell_stream.hpp"
 #include "tissue/coordinate_bisection.hpp"
 #include "tissue/tissue.hpp"
 
@@ -57,34 +59,33 @@ PartOfCell part_of_cells(const Tissue& tissue, int parts, PartitionMethod method
 // (part_by_cuts), and no process need hold every cell's part. partition_cells
 // with rcb gives each cell the part its centre gives here.
 CoordinateCuts cut_by_centres(const Tissue& tissue, int parts, CellPitch pitch);
-inline int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell) {
-  const auto i = static_cast<std::size_t>(cell);
-  return cuts.part_of(cell, tissue.x_um[i], tissue.y_um[i]);
-}
+int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell);
 
 // The cells' mean spacing along x and along y: the mean of |dx| and of |dy|
 // over the cell graph's edges (1 um along an axis no edge spans), which
 // rcb compares its boxes' sides by.
 CellPitch cell_pitch(const Tissue& tissue);
 
-// A tissue's graph given edge by edge (a cell graph's edges each once, in
-// increasing order, as Tissue::cell_edges holds them).
-using EachCellEdge = std::function<void(const std::function<void(int, int)>&)>;
+// An edge of a tissue's cell graph as a stream gives it, each end with its centre.
+using EachCellEdge = std::function<void(const CellCentre&, const CellCentre&)>;
 
-// Rank `rank`'s cut of a tissue built without its graph
-// (TissueBuilder::build_cells_without_graph), whose edges `each_edge` gives
-// twice over: rcb's cuts (those of partition_cells on the whole tissue, the
-// pitch summed in the same order), then the edges the rank keeps (those with
-// one of its cells at an end: all its ghosts and coupling need), set in the
-// tissue (Tissue::keep_part_of_graph). `every_edge`, if given, sees every
-// edge on the second pass. Throws std::logic_error if the edges do not come
-// in increasing order. No cell's part is held: each is read from the cuts.
+// Rank `rank`'s cut of a tissue whose cells come one at a time from
+// `cells` (a builder's stream: tissue/cell_stream.hpp), `tissue` holding
+// their types alone (CellStream::cell_types): rcb's cuts (those of
+// partition_cells on the whole tissue, the pitch summed in the same order)
+// found in passes over the cells, then the centres the rank holds (its own
+// cells' and its ghosts') and the edges it keeps (those with one of its
+// cells at an end: all its ghosts and coupling need), set in the tissue
+// (Tissue::hold_centres_of, Tissue::keep_part_of_graph), which reads any
+// other cell's centre from `cells`. `every_edge`, if given, sees every edge
+// on the last pass. Throws std::logic_error if the edges do not come in
+// increasing order. No cell's part is held: each is read from the cuts.
 struct PartialGraphCut {
   CoordinateCuts cuts;
   CellPitch pitch;
   std::size_t cut_edges = 0;  // of the whole graph
 };
-PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, const EachCellEdge& each_edge,
-                                  const std::function<void(int, int)>& every_edge = nullptr);
+PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shared_ptr<const CellStream> cells,
+                                  const EachCellEdge& every_edge = nullptr);
 
 }  // namespace fibrodem

@@ -28,8 +28,14 @@ RankCells rank_cells(const Tissue& tissue, int parts, const PartOfCell& part_of,
                                 std::to_string(parts) + " parts");
   RankCells share;
   share.rank = rank;
-  for (int cell = 0; cell < static_cast<int>(tissue.cell_count()); ++cell)
-    if (part_of(cell) == rank) share.owned.push_back(cell);
+  // (A tissue holding part of the centres holds its own cells'.)
+  if (tissue.centres_partial()) {
+    for (const CellCentre& held : tissue.held_centres())
+      if (part_of(held.cell) == rank) share.owned.push_back(held.cell);
+  } else {
+    for (int cell = 0; cell < static_cast<int>(tissue.cell_count()); ++cell)
+      if (part_of(cell) == rank) share.owned.push_back(cell);
+  }
   std::map<int, HaloNeighbour> by_rank;  // ordered: neighbours come out by increasing rank
   for (const auto& edge : tissue.cell_edges) {
     const int part_a = part_of(edge.first), part_b = part_of(edge.second);

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "tissue/cell_stream.hpp"
 
 namespace fibrodem {
 
@@ -35,6 +39,38 @@ std::array<double, 4> Tissue::bounds_um() const {
 void Tissue::release_centres() {
   std::vector<double>().swap(x_um);
   std::vector<double>().swap(y_um);
+  std::vector<CellCentre>().swap(held_centres_);
+  every_centre_.reset();
+}
+
+void Tissue::hold_centres_of(std::vector<CellCentre> held, std::shared_ptr<const CellStream> every_centre) {
+  if (!every_centre) throw std::logic_error("Tissue::hold_centres_of: no stream of every cell's centre");
+  for (std::size_t k = 1; k < held.size(); ++k)
+    if (held[k].cell <= held[k - 1].cell)
+      throw std::logic_error("Tissue::hold_centres_of: the held centres are not by increasing cell number");
+  std::vector<double>().swap(x_um);
+  std::vector<double>().swap(y_um);
+  held_centres_ = std::move(held);
+  held_centres_.shrink_to_fit();
+  every_centre_ = std::move(every_centre);
+}
+
+std::array<double, 2> Tissue::centre_um(int cell) const {
+  if (centres_whole()) {
+    const auto c = static_cast<std::size_t>(cell);
+    return {x_um.at(c), y_um.at(c)};
+  }
+  const auto held = std::lower_bound(held_centres_.begin(), held_centres_.end(), cell,
+                                     [](const CellCentre& c, int wanted) { return c.cell < wanted; });
+  if (held == held_centres_.end() || held->cell != cell)
+    throw std::logic_error("Tissue::centre_um: cell " + std::to_string(cell) + "'s centre is not held");
+  return {held->x_um, held->y_um};
+}
+
+void Tissue::for_each_centre(const std::function<void(int, double, double)>& visit) const {
+  if (every_centre_) return every_centre_->for_each_cell(visit);
+  if (!centres_whole()) throw std::logic_error("Tissue::for_each_centre: the cells' centres were freed");
+  for (std::size_t c = 0; c < type.size(); ++c) visit(static_cast<int>(c), x_um[c], y_um[c]);
 }
 
 int Tissue::add_cell(CellType t, double x, double y) {
@@ -120,8 +156,7 @@ int CellComponents::largest() const {
 }
 
 bool end_to_end(const Tissue& tissue, int i, int j) {
-  return std::abs(tissue.x_um[static_cast<std::size_t>(i)] - tissue.x_um[static_cast<std::size_t>(j)]) <
-         kParticleRadius_um;
+  return std::abs(tissue.centre_um(i)[0] - tissue.centre_um(j)[0]) < kParticleRadius_um;
 }
 
 CellComponents cell_graph_components(const Tissue& tissue) {

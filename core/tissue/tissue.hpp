@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -18,6 +19,14 @@ namespace fibrodem {
 
 // What the outputs keep of released particles (io/tissue_imprint.hpp).
 struct TissueImprint;
+// Every cell's centre handed over one at a time (tissue/cell_stream.hpp).
+class CellStream;
+
+// A cell and its centre.
+struct CellCentre {
+  int cell = -1;
+  double x_um = 0, y_um = 0;
+};
 
 struct Particle {
   double x_um = 0, y_um = 0, r_um = 0;
@@ -71,11 +80,30 @@ struct Tissue {
   // within `bounds_um`.
   void release_unbuilt_particles(std::size_t particle_count, std::size_t bond_count, const std::array<double, 4>& bounds_um);
   bool particles_released() const { return particles_released_; }
-  // Frees the cells' centres (x_um, y_um), keeping their types: for a rank
-  // other than 0 of a split run once it has started, which reads them no
-  // more (docs/guide/parallel.md). The particles must have been released.
+  // Frees the cells' centres (x_um, y_um, or those held in part), keeping
+  // their types: for a rank other than 0 of a split run once it has
+  // started, which reads them no more (docs/guide/parallel.md). The
+  // particles must have been released.
   void release_centres();
-  bool centres_released() const { return x_um.size() != type.size(); }
+  // Whether x_um and y_um hold every cell's centre (a tissue holding part
+  // of them holds neither), and whether the centres are neither held nor
+  // at hand (released: for_each_centre refused).
+  bool centres_whole() const { return x_um.size() == type.size(); }
+  bool centres_released() const { return !centres_whole() && !every_centre_; }
+  // Holds the centres of some cells alone, `held` by increasing cell number
+  // (a rank of a split run: its own cells and ghosts), every cell's from
+  // `every_centre` when asked for all (a builder's stream, which need not
+  // hold them): x_um and y_um are then empty (docs/guide/parallel.md).
+  void hold_centres_of(std::vector<CellCentre> held, std::shared_ptr<const CellStream> every_centre);
+  bool centres_partial() const { return every_centre_ != nullptr; }
+  // The cells whose centres a tissue holding part of them holds (empty otherwise).
+  const std::vector<CellCentre>& held_centres() const { return held_centres_; }
+  // A cell's centre, held whole or in part (std::logic_error if not held).
+  std::array<double, 2> centre_um(int cell) const;
+  // Every cell's centre by increasing cell number, visit(cell, x_um, y_um):
+  // from x_um and y_um, or from the stream of a tissue holding part of them
+  // (std::logic_error if released).
+  void for_each_centre(const std::function<void(int, double, double)>& visit) const;
   // Keeps of the cell graph the edges `kept` (in cell_edges' order),
   // counting the whole graph's `edges` as built: for a rank of a split run,
   // which never holds the whole graph (docs/guide/parallel.md).
@@ -100,6 +128,8 @@ struct Tissue {
   bool graph_partial_ = false;
   std::size_t built_cell_edges_ = 0;
   std::shared_ptr<const TissueImprint> imprint_;
+  std::vector<CellCentre> held_centres_;
+  std::shared_ptr<const CellStream> every_centre_;
 };
 
 // A bounding box (x_min, x_max, y_min, y_max) that holds nothing yet, and

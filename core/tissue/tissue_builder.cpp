@@ -14,17 +14,11 @@ void TissueBuilder::for_each_particle(std::uint64_t seed, const std::function<vo
   for (const Particle& p : build(seed).particles) visit(p);
 }
 
-Tissue TissueBuilder::build_cells_without_graph(std::uint64_t seed) const {
-  Tissue tissue = build_cells(seed);
-  std::vector<std::pair<int, int>>().swap(tissue.cell_edges);
-  return tissue;
+std::unique_ptr<CellStream> TissueBuilder::stream_cells(std::uint64_t seed) const {
+  return stream_of(build_cells(seed));
 }
 
-std::size_t TissueBuilder::cell_count(std::uint64_t seed) const { return build_cells_without_graph(seed).cell_count(); }
-
-void TissueBuilder::for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const {
-  for (const auto& [a, b] : build_cells(seed).cell_edges) visit(a, b);
-}
+std::size_t TissueBuilder::cell_count(std::uint64_t seed) const { return build_cells(seed).cell_count(); }
 
 const std::map<std::string, TissueBuilderFactory>& tissue_builders() {
   static const std::map<std::string, TissueBuilderFactory> builders = {

@@ -9,8 +9,9 @@
 #include <memory>
 #include <string>
 
-#include "util/json_reader.hpp"
+#include "tissue/cell_stream.hpp"
 #include "tissue/tissue.hpp"
+#include "util/json_reader.hpp"
 
 namespace fibrodem {
 
@@ -30,16 +31,15 @@ class TissueBuilder {
   virtual Tissue build_cells(std::uint64_t seed) const;
   virtual void for_each_particle(std::uint64_t seed, const std::function<void(const Particle&)>& visit) const;
   virtual bool builds_cells_alone() const { return false; }
-  // For a process that keeps part of the cell graph (a rank of a split run
-  // without mechanics, cut by the cells' centres): build_cells()'s cells
-  // and centres without their graph, and the graph's edges one at a time,
-  // each once, in Tissue::cell_edges' order (increasing). By default both
-  // from build_cells().
-  virtual Tissue build_cells_without_graph(std::uint64_t seed) const;
-  virtual void for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const;
+  // For a process that keeps part of the cells and of their graph (a rank
+  // of a split run without mechanics, cut by the cells' centres):
+  // build_cells()'s cells, centres and graph handed over one at a time
+  // (tissue/cell_stream.hpp). By default from build_cells(), which the
+  // stream holds.
+  virtual std::unique_ptr<CellStream> stream_cells(std::uint64_t seed) const;
   // The tissue's cell count (build_cells()'s), for a choice made before the
   // tissue is built (solver.method "auto" over ranks). By default from
-  // build_cells_without_graph().
+  // build_cells().
   virtual std::size_t cell_count(std::uint64_t seed) const;
 };
 

@@ -147,14 +147,10 @@ TEST_CASE("coupling.regions: a rank holding part of the graph names a region wit
     }
     // Rank 0 of 2: the strand's first cells, away from the region.
     CouplingPlaces places(scene.coupling.regions, nullptr);
-    Tissue part = whole;
-    part.cell_edges.clear();
-    const PartialGraphCut cut = cut_without_graph(
-        part, 2, 0,
-        [&whole](const std::function<void(int, int)>& visit) {
-          for (const auto& [a, b] : whole.cell_edges) visit(a, b);
-        },
-        [&](int a, int b) { places.count(part, a, b); });
+    std::shared_ptr<const CellStream> stream = stream_of(whole);
+    Tissue part = stream->cell_types();
+    const PartialGraphCut cut =
+        cut_without_graph(part, 2, 0, stream, [&](const CellCentre& a, const CellCentre& b) { places.count(a, b); });
     std::string part_error = "(no error)";
     try {
       places.check(part);

@@ -167,10 +167,11 @@ TEST_CASE("mpirun -n 2: a one-process checkpoint resumed split writes one proces
 
 TEST_CASE("mpirun -n 2 then 3: a fibrotic sheet's checkpoint resumed on ranks that hold part of the graph") {
   // On fibrotic_sheet (cut by rcb, no mechanics) ranks other than 0 never
-  // hold the whole cell graph: resumed on 3 ranks, ranks 1 and 2 guess which
-  // of the 2-rank checkpoint's parts hold their cells with the whole graph's
-  // pitch, as the builder gave its edges one by one. The outputs are those
-  // of one process never stopped.
+  // hold the whole cell graph nor every cell's centre: resumed on 3 ranks,
+  // ranks 1 and 2 guess which of the 2-rank checkpoint's parts hold their
+  // cells by cutting the cells the builder hands over one by one again, with
+  // the whole graph's pitch. The outputs are those of one process never
+  // stopped.
   FIBRODEM_SKIP_WITHOUT_MPIRUN();
   const auto dir = testing::scratch_dir("mpi_checkpoints_partial_graph");
   json m = testing::split_fibrotic_sheet_planar_wave(20, "fibroblasts");

@@ -322,18 +322,34 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
   // counts, only the edges with one of its cells at an end, and from those
   // the same share (owned, ghosts, halo) as from the whole tissue.
   const Tissue whole = built_tissue();
-  const auto each_edge = [&whole](const std::function<void(int, int)>& visit) {
-    for (const auto& [a, b] : whole.cell_edges) visit(a, b);
-  };
   const CellPartition reference = partition_cells(whole, 3);
   for (int rank = 0; rank < 3; ++rank) {
     CAPTURE(rank);
-    Tissue part = whole;
-    part.cell_edges.clear();
+    std::shared_ptr<const CellStream> stream = stream_of(whole);
+    Tissue part = stream->cell_types();
+    CHECK(part.type == whole.type);
+    CHECK(part.centres_released());
     std::size_t seen = 0;
-    const PartialGraphCut cut = cut_without_graph(part, 3, rank, each_edge, [&seen](int, int) { ++seen; });
-    for (int cell = 0; cell < static_cast<int>(whole.cell_count()); ++cell)
-      REQUIRE(part_by_cuts(cut.cuts, part, cell) == reference.part_of[static_cast<std::size_t>(cell)]);
+    const PartialGraphCut cut =
+        cut_without_graph(part, 3, rank, stream, [&seen](const CellCentre&, const CellCentre&) { ++seen; });
+    // Its own cells' and ghosts' centres held (the others' read from the stream).
+    CHECK(part.centres_partial());
+    CHECK(part.x_um.empty());
+    std::vector<int> held_cells;
+    for (const CellCentre& c : part.held_centres()) {
+      held_cells.push_back(c.cell);
+      const auto i = static_cast<std::size_t>(c.cell);
+      CHECK((c.x_um == whole.x_um[i] && c.y_um == whole.y_um[i]));
+    }
+    std::size_t visited = 0;
+    part.for_each_centre([&](int cell, double x_um, double y_um) {
+      visited += cell == static_cast<int>(visited) && x_um == whole.x_um[visited] && y_um == whole.y_um[visited];
+    });
+    CHECK(visited == whole.cell_count());
+    for (int cell = 0; cell < static_cast<int>(whole.cell_count()); ++cell) {
+      const auto i = static_cast<std::size_t>(cell);
+      REQUIRE(cut.cuts.part_of(cell, whole.x_um[i], whole.y_um[i]) == reference.part_of[i]);
+    }
     CHECK(cut.pitch.x_um == cell_pitch(whole).x_um);
     CHECK(cut.pitch.y_um == cell_pitch(whole).y_um);
     CHECK(cut.cut_edges == reference.cut_edges(whole));
@@ -352,6 +368,10 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
     const RankCells from_whole = rank_cells(whole, reference, rank);
     CHECK(from_part.owned == from_whole.owned);
     CHECK(from_part.ghosts == from_whole.ghosts);
+    std::vector<int> own_and_ghosts = from_whole.owned;
+    own_and_ghosts.insert(own_and_ghosts.end(), from_whole.ghosts.begin(), from_whole.ghosts.end());
+    std::sort(own_and_ghosts.begin(), own_and_ghosts.end());
+    CHECK(held_cells == own_and_ghosts);
     REQUIRE(from_part.neighbours.size() == from_whole.neighbours.size());
     for (std::size_t k = 0; k < from_part.neighbours.size(); ++k) {
       CHECK(from_part.neighbours[k].send == from_whole.neighbours[k].send);
@@ -362,12 +382,21 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
     CHECK(partition_cells(part, 3, PartitionMethod::rcb, &cut.pitch).part_of == reference.part_of);
     CHECK_THROWS_AS(partition_cells(part, 3), std::logic_error);
     CHECK_THROWS_AS(partition_cells(part, 3, PartitionMethod::scotch), std::logic_error);
+    // A centre neither held nor whole is refused; once freed, every centre is.
+    const int not_held = [&] {
+      for (int cell = 0;; ++cell)
+        if (!std::binary_search(held_cells.begin(), held_cells.end(), cell)) return cell;
+    }();
+    CHECK_THROWS_AS(part.centre_um(not_held), std::logic_error);
+    part.release_centres();
+    CHECK(part.centres_released());
+    CHECK_THROWS_AS(part.for_each_centre([](int, double, double) {}), std::logic_error);
   }
   // Edges out of order (a builder that does not give them sorted) are refused.
-  Tissue part = whole;
-  const auto reversed = [&whole](const std::function<void(int, int)>& visit) {
-    for (auto e = whole.cell_edges.rbegin(); e != whole.cell_edges.rend(); ++e) visit(e->first, e->second);
-  };
+  Tissue reversed_graph = whole;
+  std::reverse(reversed_graph.cell_edges.begin(), reversed_graph.cell_edges.end());
+  std::shared_ptr<const CellStream> reversed = stream_of(reversed_graph);
+  Tissue part = reversed->cell_types();
   CHECK_THROWS_AS(cut_without_graph(part, 3, 0, reversed), std::logic_error);
 }
 

@@ -339,25 +339,40 @@ TEST_CASE("fibrotic_sheet: mechanics builds on it") {
 
 namespace {
 
-// What build_cells, build_cells_without_graph, for_each_cell_edge,
-// cell_count and for_each_particle give against build(): the same cells and
-// graph (the graph edge by edge in its order), the cell count, the
-// particles' and bonds' counts and bounds, and the particles themselves in
-// their order, to the bit.
+// What build_cells, stream_cells, cell_count and for_each_particle give
+// against build(): the same cells and graph (the stream's cells and edges
+// one by one in their order, each edge's ends with their centres), the cell
+// count, the particles' and bonds' counts and bounds, and the particles
+// themselves in their order, to the bit.
 void check_cells_alone(const TissueBuilder& builder, std::uint64_t seed) {
   const Tissue whole = builder.build(seed);
   const Tissue cells = builder.build_cells(seed);
   CHECK(same_tissue(cells, whole));
-  Tissue without_graph = builder.build_cells_without_graph(seed);
-  CHECK(without_graph.cell_edges.empty());
-  CHECK(without_graph.built_bonds() == whole.built_bonds());
-  CHECK(without_graph.bounds_um() == whole.bounds_um());
-  std::vector<std::pair<int, int>> edges;
-  builder.for_each_cell_edge(seed, [&edges](int a, int b) { edges.emplace_back(a, b); });
-  CHECK(edges == whole.cell_edges);
+  const std::unique_ptr<CellStream> stream = builder.stream_cells(seed);
+  Tissue streamed_cells = stream->cell_types();
+  CHECK(streamed_cells.type == whole.type);
+  CHECK(streamed_cells.x_um.empty());
+  CHECK(streamed_cells.cell_edges.empty());
+  CHECK(streamed_cells.built_particles() == whole.built_particles());
+  CHECK(streamed_cells.built_bonds() == whole.built_bonds());
+  CHECK(streamed_cells.bounds_um() == whole.bounds_um());
+  stream->for_each_cell([&](int cell, double x_um, double y_um) {
+    CHECK(cell == static_cast<int>(streamed_cells.x_um.size()));
+    streamed_cells.x_um.push_back(x_um);
+    streamed_cells.y_um.push_back(y_um);
+  });
+  std::size_t misplaced_ends = 0;
+  stream->for_each_edge([&](const CellCentre& a, const CellCentre& b) {
+    streamed_cells.cell_edges.emplace_back(a.cell, b.cell);
+    for (const CellCentre& end : {a, b}) {
+      const auto i = static_cast<std::size_t>(end.cell);
+      misplaced_ends += end.x_um != whole.x_um.at(i) || end.y_um != whole.y_um.at(i);
+    }
+  });
+  CHECK(misplaced_ends == 0);
+  CHECK(streamed_cells.cell_edges == whole.cell_edges);
   CHECK(builder.cell_count(seed) == whole.cell_count());
-  without_graph.cell_edges = edges;
-  CHECK(same_tissue(without_graph, whole));
+  CHECK(same_tissue(streamed_cells, whole));
   CHECK(cells.particles_released());
   CHECK(cells.particles.empty());
   CHECK(cells.bonds.empty());

@@ -43,7 +43,9 @@
 // alone (build_cells: the same cells and graph, without the particles and
 // bonds, ~40 of the ~330 bytes a cell), and rank 0 the particles one by one
 // for their imprint (for_each_particle): no rank holds the whole tissue's
-// particles (docs/guide/parallel.md).
+// particles; a rank other than 0 takes them one at a time from the slots
+// (stream_cells), keeping the centres of its own cells and ghosts alone
+// (docs/guide/parallel.md).
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -155,6 +157,13 @@ class SheetSlots {
       }
   }
 
+  // The centre of the cell in slot s, numbered `cell`.
+  CellCentre centre_of(std::size_t s, int cell) const {
+    const auto [c, r] = column_row(s);
+    const auto [x, y] = centre_um(c, r, kind(s));
+    return {cell, x, y};
+  }
+
   // The touching pairs (i, j) of slot a's and slot b's disks, each handed
   // to bond(i, j); returns how many. Neighbouring slots always touch.
   template <class Bond>
@@ -172,9 +181,13 @@ class SheetSlots {
   }
 
  private:
+  std::array<int, 2> column_row(std::size_t s) const {
+    const auto rows = static_cast<std::size_t>(grid_.rows);
+    return {static_cast<int>(s / rows), static_cast<int>(s % rows)};
+  }
   SlotDisks disks_of(std::size_t s) const {
-    const int c = static_cast<int>(s / static_cast<std::size_t>(grid_.rows));
-    return disks(c, static_cast<int>(s % static_cast<std::size_t>(grid_.rows)), kind(s), -1);
+    const auto [c, r] = column_row(s);
+    return disks(c, r, kind(s), -1);
   }
 
   SheetGrid grid_;
@@ -222,6 +235,64 @@ class ColumnCellNumbers {
 };
 
 CellType cell_type_of(SlotKind kind) { return kind == SlotKind::myocyte ? CellType::myocyte : CellType::fibroblast; }
+
+// The sheet's cells, centres and graph for a seed, handed over one at a
+// time from its slots (a byte a slot), as build() numbers them and makes
+// its graph: build_cells() is made from it too.
+class SheetCellStream final : public CellStream {
+ public:
+  SheetCellStream(const SheetGrid& grid, const FibrosisSpec& fibrosis, FibrosisAs as, CollagenAs collagen,
+                  std::uint64_t seed)
+      : grid_(grid), sheet_(grid, fibrosis, as, collagen, seed) {}
+
+  // The types, with build()'s particles and bonds counted and their bounds.
+  Tissue cell_types() const override {
+    std::size_t particles = 0, bonds = 0;
+    std::array<double, 4> bounds = empty_bounds_um();
+    sheet_.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
+      if (kind == SlotKind::empty) return;
+      particles += kMyocyteParticles;
+      if (SheetSlots::chained(kind)) bonds += kMyocyteParticles - 1;
+      if (kind == SlotKind::collagen) return;  // (a tissue's bounds are its cells' particles')
+      for (const Particle& p : sheet_.disks(c, r, kind, -1)) extend_bounds_um(bounds, p);
+    });
+    sheet_.for_each_junction([&](std::size_t a, std::size_t b, bool) {
+      bonds += static_cast<std::size_t>(sheet_.touching_pairs(a, b, [](int, int) {}));
+    });
+    Tissue tissue;
+    tissue.release_unbuilt_particles(particles, bonds, bounds);
+    tissue.type.reserve(grid_.slots());
+    sheet_.for_each_slot([&tissue](int, int, std::size_t, SlotKind kind) {
+      if (SheetSlots::holds_cell(kind)) tissue.type.push_back(cell_type_of(kind));
+    });
+    tissue.type.shrink_to_fit();
+    return tissue;
+  }
+
+  void for_each_cell(const std::function<void(int, double, double)>& visit) const override {
+    int cell = 0;
+    sheet_.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
+      if (!SheetSlots::holds_cell(kind)) return;
+      const auto [x, y] = sheet_.centre_um(c, r, kind);
+      visit(cell++, x, y);
+    });
+  }
+
+  // The junctions' edges, which come in increasing order: a slot's cell is
+  // numbered before the cells up its column and in the next column, and
+  // its junctions go up, then to the next column's rows in order.
+  void for_each_edge(const std::function<void(const CellCentre&, const CellCentre&)>& visit) const override {
+    ColumnCellNumbers numbers(sheet_, grid_);
+    sheet_.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
+      const int cell_a = numbers.cell_of(a), cell_b = numbers.cell_of(b);
+      if (!septum && cell_a >= 0 && cell_b >= 0) visit(sheet_.centre_of(a, cell_a), sheet_.centre_of(b, cell_b));
+    });
+  }
+
+ private:
+  SheetGrid grid_;
+  SheetSlots sheet_;
+};
 
 // The particles of one slot: [first, first + count) of the tissue's
 // particles, or of its collagen particles.
@@ -281,20 +352,24 @@ class FibroticSheetBuilder final : public TissueBuilder {
   // build()'s cells and graph, counting its particles and bonds: the cell
   // graph's edges are the junctions that bond two cells' disks not through
   // collagen (each once, where build() adds one a bond).
-  Tissue build_cells(std::uint64_t seed) const override { return cells(seed, true); }
-  Tissue build_cells_without_graph(std::uint64_t seed) const override { return cells(seed, false); }
-
-  // The junctions' edges in build_cells()'s order, which is increasing: a
-  // slot's cell is numbered before the cells up its column and in the next
-  // column, and its junctions go up, then to the next column's rows in
-  // order.
-  void for_each_cell_edge(std::uint64_t seed, const std::function<void(int, int)>& visit) const override {
-    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
-    ColumnCellNumbers numbers(sheet, grid_);
-    sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
-      const int cell_a = numbers.cell_of(a), cell_b = numbers.cell_of(b);
-      if (!septum && cell_a >= 0 && cell_b >= 0) visit(cell_a, cell_b);
+  Tissue build_cells(std::uint64_t seed) const override {
+    const SheetCellStream stream(grid_, fibrosis_, as_, collagen_, seed);
+    Tissue tissue = stream.cell_types();
+    tissue.x_um.reserve(tissue.cell_count());
+    tissue.y_um.reserve(tissue.cell_count());
+    stream.for_each_cell([&tissue](int, double x, double y) {
+      tissue.x_um.push_back(x);
+      tissue.y_um.push_back(y);
     });
+    tissue.cell_edges.reserve(3 * grid_.slots());
+    stream.for_each_edge(
+        [&tissue](const CellCentre& a, const CellCentre& b) { tissue.cell_edges.emplace_back(a.cell, b.cell); });
+    tissue.finalise();
+    return tissue;
+  }
+
+  std::unique_ptr<CellStream> stream_cells(std::uint64_t seed) const override {
+    return std::make_unique<SheetCellStream>(grid_, fibrosis_, as_, collagen_, seed);
   }
 
   // Counted slot by slot: a byte a slot, not the cells.
@@ -320,36 +395,6 @@ class FibroticSheetBuilder final : public TissueBuilder {
   bool builds_cells_alone() const override { return true; }
 
  private:
-  Tissue cells(std::uint64_t seed, bool graph) const {
-    const SheetSlots sheet(grid_, fibrosis_, as_, collagen_, seed);
-    Tissue tissue;
-    tissue.type.reserve(grid_.slots());
-    tissue.x_um.reserve(grid_.slots());
-    tissue.y_um.reserve(grid_.slots());
-    std::size_t particles = 0, bonds = 0;
-    std::array<double, 4> bounds = empty_bounds_um();
-    sheet.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
-      if (kind == SlotKind::empty) return;
-      particles += kMyocyteParticles;
-      if (SheetSlots::chained(kind)) bonds += kMyocyteParticles - 1;
-      if (kind == SlotKind::collagen) return;
-      const auto [x, y] = sheet.centre_um(c, r, kind);
-      const int cell = tissue.add_cell(cell_type_of(kind), x, y);
-      for (const Particle& p : sheet.disks(c, r, kind, cell)) extend_bounds_um(bounds, p);
-    });
-    if (graph) tissue.cell_edges.reserve(3 * grid_.slots());
-    ColumnCellNumbers numbers(sheet, grid_);
-    sheet.for_each_junction([&](std::size_t a, std::size_t b, bool septum) {
-      bonds += static_cast<std::size_t>(sheet.touching_pairs(a, b, [](int, int) {}));
-      if (!graph || septum) return;
-      const int cell_a = numbers.cell_of(a), cell_b = numbers.cell_of(b);
-      if (cell_a >= 0 && cell_b >= 0) tissue.cell_edges.emplace_back(cell_a, cell_b);
-    });
-    tissue.finalise();
-    tissue.release_unbuilt_particles(particles, bonds, bounds);
-    return tissue;
-  }
-
   SheetGrid grid_;
   FibrosisSpec fibrosis_;
   FibrosisAs as_;
