@@ -3,10 +3,12 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 namespace fibrodem {
 
-enum class CellType { myocyte = 0, fibroblast = 1 };
+// (A byte: a tissue holds one a cell.)
+enum class CellType : std::uint8_t { myocyte = 0, fibroblast = 1 };
 inline constexpr std::array<const char*, 2> kCellTypeNames = {"myocyte", "fibroblast"};
 inline const char* cell_type_name(CellType t) { return kCellTypeNames[static_cast<int>(t)]; }
 
