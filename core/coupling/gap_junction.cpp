@@ -30,7 +30,7 @@ double junction_conductance_nS(const Tissue& tissue, const JunctionConductances&
   const JunctionPlace place = places.count(tissue, i, j);
   const JunctionConductances* g_nS =
       place.region >= 0 ? &regions[static_cast<std::size_t>(place.region)].g_nS : &base_nS;
-  const bool both_myocytes = tissue.type[i] == CellType::myocyte && tissue.type[j] == CellType::myocyte;
+  const bool both_myocytes = tissue.type_of(i) == CellType::myocyte && tissue.type_of(j) == CellType::myocyte;
   const bool anisotropic = g_nS->D_m_side_nS != g_nS->D_m_nS;  // (else the junction's direction is not asked)
   double g = !both_myocytes                              ? g_nS->D_f_nS
              : !anisotropic || end_to_end(tissue, i, j) ? g_nS->D_m_nS

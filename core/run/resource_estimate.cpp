@@ -200,9 +200,15 @@ void add_held_throughout(ResourceEstimate& e, const Counts& c) {
   e.memory.push_back({fmt::format("cell states: {:.0f}", c.states), c.state_bytes * c.states, "a smaller tissue"});
   const CellLayoutKept& layout = c.layout;
   const char* freed = layout.graph ? "" : layout.centres ? ", its graph freed" : ", its graph and centres freed";
-  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}", c.particles, c.bonds,
-                                  c.tissue_cells, freed),
-                      c.tissue_bytes(c.particles, c.bonds, layout.graph, layout.centres), "a smaller tissue"});
+  // (A tissue holding part of its cells holds their list and types alone,
+  // freed with the centres.)
+  const double tissue_bytes =
+      c.tissue.cells_partial()
+          ? (layout.centres ? static_cast<double>(sizeof(CellCentre) + sizeof(CellType)) * c.held : 0.0)
+          : c.tissue_bytes(c.particles, c.bonds, layout.graph, layout.centres);
+  e.memory.push_back({fmt::format("tissue: {:.0f} particles, {:.0f} bonds, {:.0f} cells{}{}", c.particles, c.bonds,
+                                  c.tissue_cells, c.tissue.cells_partial() ? ", held in part" : "", freed),
+                      tissue_bytes, "a smaller tissue"});
   // Split over ranks, a rank holds its own cells' and its ghosts' potential,
   // stimulus current, place (population, index) and tissue number
   // (CellSystem::numbering): 28 bytes a held cell (in one process they are

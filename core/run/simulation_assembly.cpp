@@ -107,7 +107,7 @@ void Simulation::Impl::build_populations() {
   const std::size_t held = system.numbering.held(), own = system.numbering.own();
   system.where.resize(held);
   for (std::size_t c = 0; c < held; ++c) {
-    const int p = population_of.at(tissue.type[static_cast<std::size_t>(system.numbering.tissue_cell(c))]);
+    const int p = population_of.at(tissue.type_of(system.numbering.tissue_cell(c)));
     if (c >= own) {
       system.where[c] = {p, std::numeric_limits<std::uint32_t>::max()};
       continue;
@@ -142,15 +142,32 @@ void Simulation::Impl::settle(Population& pop, const CellTypeSpec& spec) {
   }
 }
 
+// The type of each cell output.traces names (of those in the tissue), read
+// at once: a rank holding part of the cells reads those it does not hold
+// from the builder, in one pass (Tissue::types_of).
+std::map<int, CellType> Simulation::Impl::types_of_traced_cells() const {
+  std::vector<int> cells;
+  for (const auto& block : scene.output.traces.blocks)
+    for (int cell : block.cells)
+      if (cell >= 0 && static_cast<std::size_t>(cell) < tissue.cell_count()) cells.push_back(cell);
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  const std::vector<CellType> types = tissue.types_of(cells);
+  std::map<int, CellType> type_of;
+  for (std::size_t k = 0; k < cells.size(); ++k) type_of.emplace(cells[k], types[k]);
+  return type_of;
+}
+
 // Without a list of effects, a traced variable of a cell type's myofilament
 // model calls for contraction.
 void Simulation::Impl::derive_contraction_from_traces() {
   if (scene.effects_listed || plan.has("contraction")) return;
+  const std::map<int, CellType> traced_type = types_of_traced_cells();
   for (const auto& block : scene.output.traces.blocks) {
     for (const auto& var : block.variables)
       for (const auto& cell : block.cells) {
-        if (cell < 0 || cell >= static_cast<int>(tissue.cell_count())) continue;
-        const Population& host = population_of_type(tissue.type[static_cast<std::size_t>(cell)]);
+        if (!traced_type.contains(cell)) continue;  // (not in the tissue)
+        const Population& host = population_of_type(traced_type.at(cell));
         const auto& spec = scene.cells.at(host.type);
         if (!spec.myofilament || find_state(host.info(), var) >= 0 || find_output(host.info(), var) >= 0) continue;
         const ModelInfo& info = registry->load(spec.myofilament->model)->info();

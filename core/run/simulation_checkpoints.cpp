@@ -266,8 +266,10 @@ void Simulation::Impl::restore_beats(const CheckpointFields& f) {
     std::underlying_type_t<CellType> type{};
     std::memcpy(&cell, beat + offsetof(BeatBiomarkers, cell), sizeof cell);
     std::memcpy(&type, beat + offsetof(BeatBiomarkers, type), sizeof type);
+    // (A rank holding part of the cells is given its own cells' beats alone.)
     if (cell < 0 || static_cast<std::size_t>(cell) >= tissue.cell_count() ||
-        type != static_cast<std::underlying_type_t<CellType>>(tissue.type[static_cast<std::size_t>(cell)]))
+        (tissue.cells_partial() && !system.numbering.owns(cell)) ||
+        type != static_cast<std::underlying_type_t<CellType>>(tissue.type_of(cell)))
       throw CheckpointError("its biomarkers name a cell this tissue does not have");
     std::memcpy(static_cast<void*>(&beats[i]), beat, sizeof(BeatBiomarkers));
   }

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -185,6 +186,7 @@ struct Simulation::Impl : StepObserver {
   void build_populations();
   const Population& population_of_type(CellType type) const;
   void settle(Population& pop, const CellTypeSpec& spec);
+  std::map<int, CellType> types_of_traced_cells() const;
   void derive_contraction_from_traces();
   void build_myofilaments();
   void connect_stretch_activated_current();

@@ -184,12 +184,7 @@ void Simulation::Impl::connect_ranks() {
 // are the first of the held ones (CellSystem::numbering): it reads the
 // per-cell arrays as they are.
 std::unique_ptr<BiomarkerTracker> Simulation::Impl::make_tracker() {
-  std::vector<CellType> types = tissue.type;
-  if (split.ranks) {
-    types.clear();
-    types.reserve(split.share.owned.size());
-    for (int cell : split.share.owned) types.push_back(tissue.type[static_cast<std::size_t>(cell)]);
-  }
+  std::vector<CellType> types = split.ranks ? tissue.types_of(split.share.owned) : tissue.type;
   auto made = std::make_unique<BiomarkerTracker>(std::move(types), system.stimulus.onsets(scene.duration_ms),
                                                  scene.output.biomarkers_from_ms,
                                                  [this](const BeatBiomarkers& b) { record_beat(b); });
@@ -229,11 +224,12 @@ Scene Simulation::Impl::scene_of_own_traces() const {
 // (Decided from the models of the cells' types, the same on every rank.)
 void Simulation::Impl::refuse_traced_outputs() const {
   if (!split.ranks) return;
+  const std::map<int, CellType> traced_type = types_of_traced_cells();
   for (const auto& block : scene.output.traces.blocks)
     for (std::size_t j = 0; j < block.variables.size(); ++j)
       for (int cell : block.cells) {
-        if (cell < 0 || static_cast<std::size_t>(cell) >= tissue.cell_count()) continue;
-        const Population& pop = population_of_type(tissue.type[static_cast<std::size_t>(cell)]);
+        if (!traced_type.contains(cell)) continue;  // (not in the tissue)
+        const Population& pop = population_of_type(traced_type.at(cell));
         const std::string& var = block.variables[j];
         if (find_state(pop.info(), var) < 0 && find_output(pop.info(), var) >= 0)
           throw ManifestError(index_path(block.path + ".variables", j),

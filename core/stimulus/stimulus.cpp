@@ -41,8 +41,9 @@ std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tiss
   const int n = static_cast<int>(tissue.cell_count());
   switch (target.kind) {
     case StimulusTarget::Kind::cell_type:
-      for (int c = 0; c < n; ++c)
-        if (tissue.type[c] == target.type) cells.push_back(c);
+      tissue.for_each_type([&](int c, CellType t) {
+        if (t == target.type) cells.push_back(c);
+      });
       if (cells.empty())
         throw ManifestError(path + ".target", std::string("the tissue has no ") +
                                                   cell_type_name(target.type) + " to stimulate");
@@ -57,12 +58,12 @@ std::vector<int> resolve_target(const StimulusTarget& target, const Tissue& tiss
       }
       break;
     case StimulusTarget::Kind::region: {
-      // (Every cell's centre, which a rank of a split run takes from the
-      // builder: Tissue::for_each_centre.)
+      // (Every cell, which a rank of a split run may take from the
+      // builder: Tissue::for_each_cell.)
       const auto box = tissue.bounds_um();
-      tissue.for_each_centre([&](int c, double x, double y) {
+      tissue.for_each_cell([&](int c, CellType t, double x, double y) {
         if (!region_contains(target, box, x, y)) return;
-        if (target.region_type && tissue.type[static_cast<std::size_t>(c)] != *target.region_type) return;
+        if (target.region_type && t != *target.region_type) return;
         cells.push_back(c);
       });
       if (cells.empty()) {

@@ -160,12 +160,14 @@ PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shar
   });
   PartialGraphCut cut{
       CoordinateCuts(tissue.cell_count(), parts, sum.pitch(),
-                     [&cells](const std::function<void(int, double, double)>& visit) { cells->for_each_cell(visit); }),
+                     [&cells](const std::function<void(int, double, double)>& visit) {
+                       cells->for_each_cell([&visit](int cell, CellType, double x, double y) { visit(cell, x, y); });
+                     }),
       sum.pitch()};
   // The own cells' centres, then the ghosts' (each edge's end on another
   // rank), as the edges at own cells go by.
   std::vector<CellCentre> held;
-  cells->for_each_cell([&](int cell, double x_um, double y_um) {
+  cells->for_each_cell([&](int cell, CellType, double x_um, double y_um) {
     if (cut.cuts.part_of(cell, x_um, y_um) == rank) held.push_back({cell, x_um, y_um});
   });
   const std::size_t own = held.size();
@@ -191,7 +193,7 @@ PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shar
   std::inplace_merge(held.begin(), held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
                      [](const CellCentre& p, const CellCentre& q) { return p.cell < q.cell; });
   tissue.keep_part_of_graph(std::move(kept), edges);
-  tissue.hold_centres_of(std::move(held), std::move(cells));
+  tissue.hold_cells_of(std::move(held), std::move(cells));
   return cut;
 }
 

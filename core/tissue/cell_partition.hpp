@@ -76,8 +76,8 @@ using EachCellEdge = std::function<void(const CellCentre&, const CellCentre&)>;
 // found in passes over the cells, then the centres the rank holds (its own
 // cells' and its ghosts') and the edges it keeps (those with one of its
 // cells at an end: all its ghosts and coupling need), set in the tissue
-// (Tissue::hold_centres_of, Tissue::keep_part_of_graph), which reads any
-// other cell's centre from `cells`. `every_edge`, if given, sees every edge
+// (Tissue::hold_cells_of, Tissue::keep_part_of_graph), which reads any
+// other cell's type and centre from `cells`. `every_edge`, if given, sees every edge
 // on the last pass. Throws std::logic_error if the edges do not come in
 // increasing order. No cell's part is held: each is read from the cuts.
 struct PartialGraphCut {

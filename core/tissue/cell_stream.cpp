@@ -16,8 +16,8 @@ class HeldTissueStream final : public CellStream {
     types.type = tissue_.type;  // (after: a tissue without particles would take its bounds from its centres)
     return types;
   }
-  void for_each_cell(const std::function<void(int, double, double)>& visit) const override {
-    tissue_.for_each_centre(visit);
+  void for_each_cell(const std::function<void(int, CellType, double, double)>& visit) const override {
+    tissue_.for_each_cell(visit);
   }
   void for_each_edge(const std::function<void(const CellCentre&, const CellCentre&)>& visit) const override {
     for (const auto& [a, b] : tissue_.cell_edges) {

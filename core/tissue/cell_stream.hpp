@@ -20,8 +20,8 @@ class CellStream {
   // particles and bonds counted and their bounds kept
   // (Tissue::release_unbuilt_particles): no centres, no graph.
   virtual Tissue cell_types() const = 0;
-  // Every cell once, by increasing number: visit(cell, x_um, y_um).
-  virtual void for_each_cell(const std::function<void(int, double, double)>& visit) const = 0;
+  // Every cell once, by increasing number: visit(cell, type, x_um, y_um).
+  virtual void for_each_cell(const std::function<void(int, CellType, double, double)>& visit) const = 0;
   // Every edge of the cell graph once, in Tissue::cell_edges' order
   // (increasing), each end with its centre.
   virtual void for_each_edge(const std::function<void(const CellCentre&, const CellCentre&)>& visit) const = 0;

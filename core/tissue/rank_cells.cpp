@@ -28,9 +28,9 @@ RankCells rank_cells(const Tissue& tissue, int parts, const PartOfCell& part_of,
                                 std::to_string(parts) + " parts");
   RankCells share;
   share.rank = rank;
-  // (A tissue holding part of the centres holds its own cells'.)
-  if (tissue.centres_partial()) {
-    for (const CellCentre& held : tissue.held_centres())
+  // (A tissue holding part of its cells holds its own.)
+  if (tissue.cells_partial()) {
+    for (const CellCentre& held : tissue.held_cells())
       if (part_of(held.cell) == rank) share.owned.push_back(held.cell);
   } else {
     for (int cell = 0; cell < static_cast<int>(tissue.cell_count()); ++cell)

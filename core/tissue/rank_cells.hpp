@@ -30,8 +30,8 @@ struct RankCells {
 // Rank `rank`'s share (0 <= rank < parts), each cell's part asked of
 // `part_of` (a partition's cuts need not hold every cell's part); the
 // tissue's graph must hold every edge with one of the rank's cells at an
-// end, and a tissue holding part of the centres its own cells' (the cells
-// asked are then those held).
+// end, and a tissue holding part of its cells its own (the cells asked
+// are then those held).
 RankCells rank_cells(const Tissue& tissue, int parts, const PartOfCell& part_of, int rank);
 RankCells rank_cells(const Tissue& tissue, const CellPartition& partition, int rank);
 

@@ -12,6 +12,7 @@
 namespace fibrodem {
 
 std::size_t Tissue::count(CellType t) const {
+  if (cells_partial_) return t == CellType::myocyte ? partial_myocytes_ : partial_cell_count_ - partial_myocytes_;
   return static_cast<std::size_t>(std::count(type.begin(), type.end(), t));
 }
 
@@ -39,38 +40,94 @@ std::array<double, 4> Tissue::bounds_um() const {
 void Tissue::release_centres() {
   std::vector<double>().swap(x_um);
   std::vector<double>().swap(y_um);
-  std::vector<CellCentre>().swap(held_centres_);
-  every_centre_.reset();
+  // (Held in part, the cells' list goes too, 25 bytes a held cell: a
+  // rank's populations and trackers hold what they need of their types.)
+  std::vector<CellCentre>().swap(held_cells_);
+  std::vector<CellType>().swap(held_types_);
+  every_cell_.reset();
 }
 
-void Tissue::hold_centres_of(std::vector<CellCentre> held, std::shared_ptr<const CellStream> every_centre) {
-  if (!every_centre) throw std::logic_error("Tissue::hold_centres_of: no stream of every cell's centre");
-  for (std::size_t k = 1; k < held.size(); ++k)
-    if (held[k].cell <= held[k - 1].cell)
-      throw std::logic_error("Tissue::hold_centres_of: the held centres are not by increasing cell number");
-  std::vector<double>().swap(x_um);
-  std::vector<double>().swap(y_um);
-  held_centres_ = std::move(held);
-  held_centres_.shrink_to_fit();
-  every_centre_ = std::move(every_centre);
+void Tissue::hold_cells_of(std::vector<CellCentre> held, std::shared_ptr<const CellStream> every_cell) {
+  if (!every_cell) throw std::logic_error("Tissue::hold_cells_of: no stream of every cell");
+  if (cells_partial_) throw std::logic_error("Tissue::hold_cells_of: the tissue holds part of its cells already");
+  held_types_.reserve(held.size());
+  for (std::size_t k = 0; k < held.size(); ++k) {
+    if (k > 0 && held[k].cell <= held[k - 1].cell)
+      throw std::logic_error("Tissue::hold_cells_of: the held cells are not by increasing cell number");
+    held_types_.push_back(type.at(static_cast<std::size_t>(held[k].cell)));
+  }
+  partial_cell_count_ = type.size();
+  partial_myocytes_ = count(CellType::myocyte);
+  cells_partial_ = true;
+  for (auto* v : {&x_um, &y_um}) std::vector<double>().swap(*v);
+  std::vector<CellType>().swap(type);
+  held_cells_ = std::move(held);
+  held_cells_.shrink_to_fit();
+  every_cell_ = std::move(every_cell);
+}
+
+std::size_t Tissue::held_index(int cell) const {
+  const auto held = std::lower_bound(held_cells_.begin(), held_cells_.end(), cell,
+                                     [](const CellCentre& c, int wanted) { return c.cell < wanted; });
+  if (held == held_cells_.end() || held->cell != cell)
+    throw std::logic_error("Tissue: cell " + std::to_string(cell) + " is not held on this rank");
+  return static_cast<std::size_t>(held - held_cells_.begin());
+}
+
+CellType Tissue::type_of(int cell) const {
+  return cells_partial_ ? held_types_[held_index(cell)] : type.at(static_cast<std::size_t>(cell));
 }
 
 std::array<double, 2> Tissue::centre_um(int cell) const {
-  if (centres_whole()) {
+  if (!cells_partial_) {
     const auto c = static_cast<std::size_t>(cell);
     return {x_um.at(c), y_um.at(c)};
   }
-  const auto held = std::lower_bound(held_centres_.begin(), held_centres_.end(), cell,
-                                     [](const CellCentre& c, int wanted) { return c.cell < wanted; });
-  if (held == held_centres_.end() || held->cell != cell)
-    throw std::logic_error("Tissue::centre_um: cell " + std::to_string(cell) + "'s centre is not held");
-  return {held->x_um, held->y_um};
+  if (!every_cell_) throw std::logic_error("Tissue::centre_um: the cells' centres were freed");
+  const CellCentre& held = held_cells_[held_index(cell)];
+  return {held.x_um, held.y_um};
+}
+
+std::vector<CellType> Tissue::types_of(const std::vector<int>& cells) const {
+  std::vector<CellType> types(cells.size());
+  if (!cells_partial_) {
+    for (std::size_t k = 0; k < cells.size(); ++k) types[k] = type.at(static_cast<std::size_t>(cells[k]));
+    return types;
+  }
+  // Those not held, by cell number, then one pass over every cell for them.
+  std::vector<std::pair<int, std::size_t>> wanted;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const auto held = std::lower_bound(held_cells_.begin(), held_cells_.end(), cells[k],
+                                       [](const CellCentre& c, int want) { return c.cell < want; });
+    if (held != held_cells_.end() && held->cell == cells[k])
+      types[k] = held_types_[static_cast<std::size_t>(held - held_cells_.begin())];
+    else
+      wanted.emplace_back(cells[k], k);
+  }
+  if (wanted.empty()) return types;
+  std::sort(wanted.begin(), wanted.end());
+  std::size_t next = 0, found = 0;
+  for_each_type([&](int cell, CellType t) {
+    for (; next < wanted.size() && wanted[next].first == cell; ++next, ++found) types[wanted[next].second] = t;
+  });
+  if (found != wanted.size())
+    throw std::logic_error("Tissue::types_of: cell " + std::to_string(wanted[found].first) + " is not in the tissue");
+  return types;
+}
+
+void Tissue::for_each_cell(const std::function<void(int, CellType, double, double)>& visit) const {
+  if (every_cell_) return every_cell_->for_each_cell(visit);
+  if (!centres_whole()) throw std::logic_error("Tissue::for_each_cell: the cells' centres were freed");
+  for (std::size_t c = 0; c < type.size(); ++c) visit(static_cast<int>(c), type[c], x_um[c], y_um[c]);
 }
 
 void Tissue::for_each_centre(const std::function<void(int, double, double)>& visit) const {
-  if (every_centre_) return every_centre_->for_each_cell(visit);
-  if (!centres_whole()) throw std::logic_error("Tissue::for_each_centre: the cells' centres were freed");
-  for (std::size_t c = 0; c < type.size(); ++c) visit(static_cast<int>(c), x_um[c], y_um[c]);
+  for_each_cell([&visit](int cell, CellType, double x_um, double y_um) { visit(cell, x_um, y_um); });
+}
+
+void Tissue::for_each_type(const std::function<void(int, CellType)>& visit) const {
+  if (cells_partial_) return for_each_cell([&visit](int cell, CellType t, double, double) { visit(cell, t); });
+  for (std::size_t c = 0; c < type.size(); ++c) visit(static_cast<int>(c), type[c]);
 }
 
 int Tissue::add_cell(CellType t, double x, double y) {

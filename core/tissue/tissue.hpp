@@ -52,7 +52,7 @@ struct Tissue {
   std::vector<Particle> collagen;
   std::vector<Bond> collagen_bonds;
 
-  std::size_t cell_count() const { return type.size(); }
+  std::size_t cell_count() const { return cells_partial_ ? partial_cell_count_ : type.size(); }
   std::size_t count(CellType t) const;
   // Bounding box of the particles (cell centroids if there are none).
   std::array<double, 4> bounds_um() const;  // x_min, x_max, y_min, y_max
@@ -80,30 +80,43 @@ struct Tissue {
   // within `bounds_um`.
   void release_unbuilt_particles(std::size_t particle_count, std::size_t bond_count, const std::array<double, 4>& bounds_um);
   bool particles_released() const { return particles_released_; }
-  // Frees the cells' centres (x_um, y_um, or those held in part), keeping
-  // their types: for a rank other than 0 of a split run once it has
-  // started, which reads them no more (docs/guide/parallel.md). The
-  // particles must have been released.
+  // Frees the cells' centres (x_um, y_um), keeping their types, or a
+  // tissue holding part of its cells every cell held, keeping their counts:
+  // for a rank other than 0 of a split run once it has started, which
+  // reads them no more (docs/guide/parallel.md). The particles must have
+  // been released.
   void release_centres();
   // Whether x_um and y_um hold every cell's centre (a tissue holding part
-  // of them holds neither), and whether the centres are neither held nor
-  // at hand (released: for_each_centre refused).
-  bool centres_whole() const { return x_um.size() == type.size(); }
-  bool centres_released() const { return !centres_whole() && !every_centre_; }
-  // Holds the centres of some cells alone, `held` by increasing cell number
-  // (a rank of a split run: its own cells and ghosts), every cell's from
-  // `every_centre` when asked for all (a builder's stream, which need not
-  // hold them): x_um and y_um are then empty (docs/guide/parallel.md).
-  void hold_centres_of(std::vector<CellCentre> held, std::shared_ptr<const CellStream> every_centre);
-  bool centres_partial() const { return every_centre_ != nullptr; }
-  // The cells whose centres a tissue holding part of them holds (empty otherwise).
-  const std::vector<CellCentre>& held_centres() const { return held_centres_; }
-  // A cell's centre, held whole or in part (std::logic_error if not held).
+  // of its cells holds neither), and whether the centres are neither held
+  // nor at hand (released: for_each_centre refused).
+  bool centres_whole() const { return !cells_partial_ && x_um.size() == type.size(); }
+  bool centres_released() const { return !centres_whole() && !every_cell_; }
+
+  // Holds some cells alone, `held` by increasing cell number (a rank of a
+  // split run: its own cells and ghosts), with their types and centres;
+  // every cell's type and centre come from `every_cell` when asked for all
+  // (a builder's stream, which need not hold them), until the centres are
+  // released. The types are taken from `type`, which must hold every
+  // cell's; type, x_um and y_um are then empty (docs/guide/parallel.md).
+  void hold_cells_of(std::vector<CellCentre> held, std::shared_ptr<const CellStream> every_cell);
+  bool cells_partial() const { return cells_partial_; }
+  // The cells a tissue holding part of them holds (empty otherwise).
+  const std::vector<CellCentre>& held_cells() const { return held_cells_; }
+  // A cell's type and centre, held whole or in part (std::logic_error if
+  // not held, or its centre released).
+  CellType type_of(int cell) const;
   std::array<double, 2> centre_um(int cell) const;
-  // Every cell's centre by increasing cell number, visit(cell, x_um, y_um):
-  // from x_um and y_um, or from the stream of a tissue holding part of them
-  // (std::logic_error if released).
+  // The types of some cells, held or not: a tissue holding part of its
+  // cells reads those it does not hold from its stream, in one pass.
+  std::vector<CellType> types_of(const std::vector<int>& cells) const;
+  // Every cell by increasing cell number, visit(cell, type, x_um, y_um), and
+  // every cell's centre alone, visit(cell, x_um, y_um): from type, x_um and
+  // y_um, or from the stream of a tissue holding part of its cells
+  // (std::logic_error if the centres were released). for_each_type needs
+  // no centres where the types are whole.
+  void for_each_cell(const std::function<void(int, CellType, double, double)>& visit) const;
   void for_each_centre(const std::function<void(int, double, double)>& visit) const;
+  void for_each_type(const std::function<void(int, CellType)>& visit) const;
   // Keeps of the cell graph the edges `kept` (in cell_edges' order),
   // counting the whole graph's `edges` as built: for a rank of a split run,
   // which never holds the whole graph (docs/guide/parallel.md).
@@ -128,8 +141,14 @@ struct Tissue {
   bool graph_partial_ = false;
   std::size_t built_cell_edges_ = 0;
   std::shared_ptr<const TissueImprint> imprint_;
-  std::vector<CellCentre> held_centres_;
-  std::shared_ptr<const CellStream> every_centre_;
+  // A tissue holding part of its cells: those held, their types, every
+  // cell's count and each type's, and the stream of every cell.
+  bool cells_partial_ = false;
+  std::vector<CellCentre> held_cells_;
+  std::vector<CellType> held_types_;
+  std::size_t partial_cell_count_ = 0, partial_myocytes_ = 0;
+  std::shared_ptr<const CellStream> every_cell_;
+  std::size_t held_index(int cell) const;  // (std::logic_error if not held)
 };
 
 // A bounding box (x_min, x_max, y_min, y_max) that holds nothing yet, and

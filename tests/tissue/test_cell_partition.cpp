@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numeric>
 #include <random>
 
 #include "support/scenes.hpp"
@@ -332,15 +333,27 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
     std::size_t seen = 0;
     const PartialGraphCut cut =
         cut_without_graph(part, 3, rank, stream, [&seen](const CellCentre&, const CellCentre&) { ++seen; });
-    // Its own cells' and ghosts' centres held (the others' read from the stream).
-    CHECK(part.centres_partial());
+    // Its own cells and ghosts held, with their types and centres (the
+    // others' read from the stream), and the counts of the whole tissue.
+    CHECK(part.cells_partial());
     CHECK(part.x_um.empty());
+    CHECK(part.type.empty());
+    CHECK(part.cell_count() == whole.cell_count());
+    CHECK(part.count(CellType::myocyte) == whole.count(CellType::myocyte));
+    CHECK(part.count(CellType::fibroblast) == whole.count(CellType::fibroblast));
+    REQUIRE(whole.count(CellType::fibroblast) > 0);  // (the premise: both types to tell apart)
     std::vector<int> held_cells;
-    for (const CellCentre& c : part.held_centres()) {
+    for (const CellCentre& c : part.held_cells()) {
       held_cells.push_back(c.cell);
       const auto i = static_cast<std::size_t>(c.cell);
       CHECK((c.x_um == whole.x_um[i] && c.y_um == whole.y_um[i]));
+      CHECK(part.type_of(c.cell) == whole.type[i]);
     }
+    std::vector<int> every_cell(whole.cell_count());
+    std::iota(every_cell.begin(), every_cell.end(), 0);
+    std::reverse(every_cell.begin(), every_cell.end());  // (asked in any order)
+    std::vector<CellType> reversed_types(whole.type.rbegin(), whole.type.rend());
+    CHECK(part.types_of(every_cell) == reversed_types);
     std::size_t visited = 0;
     part.for_each_centre([&](int cell, double x_um, double y_um) {
       visited += cell == static_cast<int>(visited) && x_um == whole.x_um[visited] && y_um == whole.y_um[visited];
@@ -388,9 +401,14 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
         if (!std::binary_search(held_cells.begin(), held_cells.end(), cell)) return cell;
     }();
     CHECK_THROWS_AS(part.centre_um(not_held), std::logic_error);
+    CHECK_THROWS_AS(part.type_of(not_held), std::logic_error);
     part.release_centres();
     CHECK(part.centres_released());
     CHECK_THROWS_AS(part.for_each_centre([](int, double, double) {}), std::logic_error);
+    CHECK_THROWS_AS(part.centre_um(held_cells.front()), std::logic_error);
+    CHECK_THROWS_AS(part.type_of(held_cells.front()), std::logic_error);
+    CHECK(part.cell_count() == whole.cell_count());
+    CHECK(part.count(CellType::fibroblast) == whole.count(CellType::fibroblast));
   }
   // Edges out of order (a builder that does not give them sorted) are refused.
   Tissue reversed_graph = whole;

@@ -356,8 +356,9 @@ void check_cells_alone(const TissueBuilder& builder, std::uint64_t seed) {
   CHECK(streamed_cells.built_particles() == whole.built_particles());
   CHECK(streamed_cells.built_bonds() == whole.built_bonds());
   CHECK(streamed_cells.bounds_um() == whole.bounds_um());
-  stream->for_each_cell([&](int cell, double x_um, double y_um) {
+  stream->for_each_cell([&](int cell, CellType type, double x_um, double y_um) {
     CHECK(cell == static_cast<int>(streamed_cells.x_um.size()));
+    CHECK(type == whole.type.at(static_cast<std::size_t>(cell)));
     streamed_cells.x_um.push_back(x_um);
     streamed_cells.y_um.push_back(y_um);
   });

@@ -269,12 +269,12 @@ class SheetCellStream final : public CellStream {
     return tissue;
   }
 
-  void for_each_cell(const std::function<void(int, double, double)>& visit) const override {
+  void for_each_cell(const std::function<void(int, CellType, double, double)>& visit) const override {
     int cell = 0;
     sheet_.for_each_slot([&](int c, int r, std::size_t, SlotKind kind) {
       if (!SheetSlots::holds_cell(kind)) return;
       const auto [x, y] = sheet_.centre_um(c, r, kind);
-      visit(cell++, x, y);
+      visit(cell++, cell_type_of(kind), x, y);
     });
   }
 
@@ -357,7 +357,7 @@ class FibroticSheetBuilder final : public TissueBuilder {
     Tissue tissue = stream.cell_types();
     tissue.x_um.reserve(tissue.cell_count());
     tissue.y_um.reserve(tissue.cell_count());
-    stream.for_each_cell([&tissue](int, double x, double y) {
+    stream.for_each_cell([&tissue](int, CellType, double x, double y) {
       tissue.x_um.push_back(x);
       tissue.y_um.push_back(y);
     });
