@@ -108,9 +108,9 @@ void Simulation::Impl::build_tissue() {
 // centres, never holds every cell's centre nor the whole cell graph: the
 // builder hands the cells and the graph's edges over one at a time
 // (TissueBuilder::stream_cells), as often as the cut asks; the tissue keeps
-// every cell's type, its own cells' and ghosts' centres and the edges with
-// one of its cells at an end, and reads any other centre from the stream
-// until the run starts. As the whole graph goes by, where the coupling's
+// its own cells and ghosts (their types and centres) and the edges with one
+// of its cells at an end, and reads any other cell from the stream until
+// the run starts. As the whole graph goes by, where the coupling's
 // regions and map hold its junctions is counted, for build_coupling's check.
 void Simulation::Impl::build_part_of_graph() {
   std::shared_ptr<const CellStream> cells = scene.tissue->stream_cells(scene.seed);
@@ -120,7 +120,7 @@ void Simulation::Impl::build_part_of_graph() {
   const bool placed = !scene.coupling.regions.empty() || scene.coupling.field;
   split.cut = cut_without_graph(
       tissue, split.ranks->size(), split.ranks->rank(), std::move(cells),
-      placed ? EachCellEdge([&places](const CellCentre& a, const CellCentre& b) { places.count(a, b); }) : nullptr);
+      placed ? VisitCellEdge([&places](const CellCentre& a, const CellCentre& b) { places.count(a, b); }) : nullptr);
 }
 
 // With mechanics, once the DEM, set up on every rank for the same refusals,

@@ -148,7 +148,7 @@ int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell) {
 }
 
 PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shared_ptr<const CellStream> cells,
-                                  const EachCellEdge& every_edge) {
+                                  const VisitCellEdge& every_edge) {
   check_parts(tissue.cell_count(), parts);
   PitchSum sum;
   std::pair<int, int> last{-1, -1};

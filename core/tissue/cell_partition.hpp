@@ -67,7 +67,7 @@ int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell);
 CellPitch cell_pitch(const Tissue& tissue);
 
 // An edge of a tissue's cell graph as a stream gives it, each end with its centre.
-using EachCellEdge = std::function<void(const CellCentre&, const CellCentre&)>;
+using VisitCellEdge = std::function<void(const CellCentre&, const CellCentre&)>;
 
 // Rank `rank`'s cut of a tissue whose cells come one at a time from
 // `cells` (a builder's stream: tissue/cell_stream.hpp), `tissue` holding
@@ -86,6 +86,6 @@ struct PartialGraphCut {
   std::size_t cut_edges = 0;  // of the whole graph
 };
 PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shared_ptr<const CellStream> cells,
-                                  const EachCellEdge& every_edge = nullptr);
+                                  const VisitCellEdge& every_edge = nullptr);
 
 }  // namespace fibrodem

@@ -19,7 +19,7 @@ namespace fibrodem {
 
 // What the outputs keep of released particles (io/tissue_imprint.hpp).
 struct TissueImprint;
-// Every cell's centre handed over one at a time (tissue/cell_stream.hpp).
+// A tissue's cells handed over one at a time (tissue/cell_stream.hpp).
 class CellStream;
 
 // A cell and its centre.
@@ -38,8 +38,8 @@ struct Bond {
 };
 
 struct Tissue {
-  std::vector<CellType> type;                   // per cell
-  std::vector<double> x_um, y_um;               // cell centroids
+  std::vector<CellType> type;                   // per cell (empty if held in part: hold_cells_of)
+  std::vector<double> x_um, y_um;               // cell centroids (likewise)
   std::vector<Particle> particles;
   std::vector<Bond> bonds;
   std::vector<std::pair<int, int>> cell_edges;  // unique, i < j, sorted
