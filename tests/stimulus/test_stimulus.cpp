@@ -5,6 +5,8 @@
 
 #include "stimulus/stimulus.hpp"
 #include "support/scenes.hpp"
+#include "tissue/cell_partition.hpp"
+#include "tissue/tissue_builder.hpp"
 
 using namespace fibrodem;
 
@@ -145,4 +147,47 @@ TEST_CASE("a rank's stimulus goes into its own cells only, and is undone where i
   CHECK(held == std::vector<double>{5, 12, 9, 9, 9, 9});
   stimulus.clear_current(held.data());
   CHECK(held == std::vector<double>{0, 0, 9, 9, 9, 9});
+}
+
+TEST_CASE("a rank holding part of the cells finds every target's cells, and every error, as the whole tissue does") {
+  // The rank reads every cell's type and centre from the builder's stream
+  // (Tissue::hold_cells_of): the cells it does not hold are stimulated in
+  // the measures' list too, and a region holding no cell is the same
+  // error on every rank. The reference is the stimulus resolved on the
+  // whole tissue.
+  json m = testing::passive_cell_manifest();
+  m["tissue"] = {{"builder", "in_series"}, {"width_mm", 1.0}, {"height_mm", 2.0}, {"fm_ratio", 0.41}};
+  m["cells"]["myocyte"] = {{"model", "colman"}};
+  const json targets =
+      json::array({{{"x_min_mm", 0.2}, {"x_max_mm", 0.6}, {"y_min_mm", 0.5}, {"y_max_mm", 1.1}, {"type", "myocyte"}},
+                   {{"center_x_mm", 0.5}, {"center_y_mm", 1.0}, {"radius_mm", 0.3}},
+                   {{"y_max_frac", 0.25}},
+                   "fibroblast",
+                   {{"x_min_mm", 5}, {"x_max_mm", 6}, {"y_min_mm", 0}, {"y_max_mm", 1}}});
+  for (const auto& target : targets) {
+    CAPTURE(target.dump());
+    m["stimulus"][0]["target"] = target;
+    const Scene scene = parse_scene(m);
+    const Tissue whole = scene.tissue->build(0);
+    std::shared_ptr<const CellStream> stream = scene.tissue->stream_cells(0);
+    Tissue part = stream->cell_types();
+    cut_without_graph(part, 3, 1, stream);
+    REQUIRE(part.cells_partial());
+    REQUIRE(part.held_cells().size() < whole.cell_count() / 2);
+    std::string whole_error, part_error;
+    std::vector<int> whole_cells, part_cells;
+    try {
+      whole_cells = Stimulus(scene.stimuli, whole).trains()[0].cells;
+    } catch (const ManifestError& e) {
+      whole_error = e.what();
+    }
+    try {
+      part_cells = Stimulus(scene.stimuli, part).trains()[0].cells;
+    } catch (const ManifestError& e) {
+      part_error = e.what();
+    }
+    CHECK(part_cells == whole_cells);
+    CHECK(part_error == whole_error);
+    CHECK((whole_cells.empty() == !whole_error.empty()));  // (the last target lies off the tissue)
+  }
 }
