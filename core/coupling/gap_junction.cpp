@@ -48,8 +48,7 @@ JunctionPlace CouplingPlaces::count(const Tissue& tissue, int i, int j) {
   // The midpoint, asked only by regions and maps (a tissue made for a test
   // of the coupling alone may have no cell positions).
   if (regions_.empty() && !field_) return {};
-  const auto at_i = tissue.centre_um(i), at_j = tissue.centre_um(j);
-  return count({i, at_i[0], at_i[1]}, {j, at_j[0], at_j[1]});
+  return count(tissue.centre_of(i), tissue.centre_of(j));
 }
 
 JunctionPlace CouplingPlaces::count(const CellCentre& i, const CellCentre& j) {

@@ -83,11 +83,6 @@ void check_centres(const Tissue& tissue) {
         "cell graph alone");
 }
 
-CellCentre centre_of(const Tissue& tissue, int cell) {
-  const auto [x, y] = tissue.centre_um(cell);
-  return {cell, x, y};
-}
-
 // rcb's cuts with the given pitch, or the tissue's whole graph's.
 CoordinateCuts rcb_cuts(const Tissue& tissue, int parts, const CellPitch* pitch) {
   check_centres(tissue);  // (before the pitch, which reads the centres)
@@ -100,7 +95,7 @@ CoordinateCuts rcb_cuts(const Tissue& tissue, int parts, const CellPitch* pitch)
 
 CellPitch cell_pitch(const Tissue& tissue) {
   PitchSum sum;
-  for (const auto& [a, b] : tissue.cell_edges) sum.add(centre_of(tissue, a), centre_of(tissue, b));
+  for (const auto& [a, b] : tissue.cell_edges) sum.add(tissue.centre_of(a), tissue.centre_of(b));
   return sum.pitch();
 }
 
@@ -143,8 +138,8 @@ CoordinateCuts cut_by_centres(const Tissue& tissue, int parts, CellPitch pitch) 
 }
 
 int part_by_cuts(const CoordinateCuts& cuts, const Tissue& tissue, int cell) {
-  const auto [x_um, y_um] = tissue.centre_um(cell);
-  return cuts.part_of(cell, x_um, y_um);
+  const CellCentre c = tissue.centre_of(cell);
+  return cuts.part_of(cell, c.x_um, c.y_um);
 }
 
 PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shared_ptr<const CellStream> cells,
@@ -185,13 +180,12 @@ PartialGraphCut cut_without_graph(Tissue& tissue, int parts, int rank, std::shar
     if (part_a != part_b) held.push_back(part_a == rank ? b : a);
   });
   kept.shrink_to_fit();
-  std::sort(held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
-            [](const CellCentre& p, const CellCentre& q) { return p.cell < q.cell; });
-  held.erase(std::unique(held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
-                         [](const CellCentre& p, const CellCentre& q) { return p.cell == q.cell; }),
+  const auto by_cell = [](const CellCentre& p, const CellCentre& q) { return p.cell < q.cell; };
+  const auto ghosts = held.begin() + static_cast<std::ptrdiff_t>(own);
+  std::sort(ghosts, held.end(), by_cell);
+  held.erase(std::unique(ghosts, held.end(), [](const CellCentre& p, const CellCentre& q) { return p.cell == q.cell; }),
              held.end());
-  std::inplace_merge(held.begin(), held.begin() + static_cast<std::ptrdiff_t>(own), held.end(),
-                     [](const CellCentre& p, const CellCentre& q) { return p.cell < q.cell; });
+  std::inplace_merge(held.begin(), held.begin() + static_cast<std::ptrdiff_t>(own), held.end(), by_cell);
   tissue.keep_part_of_graph(std::move(kept), edges);
   tissue.hold_cells_of(std::move(held), std::move(cells));
   return cut;

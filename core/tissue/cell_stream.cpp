@@ -20,10 +20,7 @@ class HeldTissueStream final : public CellStream {
     tissue_.for_each_cell(visit);
   }
   void for_each_edge(const std::function<void(const CellCentre&, const CellCentre&)>& visit) const override {
-    for (const auto& [a, b] : tissue_.cell_edges) {
-      const auto ca = tissue_.centre_um(a), cb = tissue_.centre_um(b);
-      visit({a, ca[0], ca[1]}, {b, cb[0], cb[1]});
-    }
+    for (const auto& [a, b] : tissue_.cell_edges) visit(tissue_.centre_of(a), tissue_.centre_of(b));
   }
 
  private:

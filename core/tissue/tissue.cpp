@@ -66,26 +66,31 @@ void Tissue::hold_cells_of(std::vector<CellCentre> held, std::shared_ptr<const C
   every_cell_ = std::move(every_cell);
 }
 
-std::size_t Tissue::held_index(int cell) const {
+std::size_t Tissue::find_held(int cell) const {
   const auto held = std::lower_bound(held_cells_.begin(), held_cells_.end(), cell,
                                      [](const CellCentre& c, int wanted) { return c.cell < wanted; });
-  if (held == held_cells_.end() || held->cell != cell)
+  return held != held_cells_.end() && held->cell == cell ? static_cast<std::size_t>(held - held_cells_.begin())
+                                                         : held_cells_.size();
+}
+
+std::size_t Tissue::held_index(int cell) const {
+  const std::size_t k = find_held(cell);
+  if (k == held_cells_.size())
     throw std::logic_error("Tissue: cell " + std::to_string(cell) + " is not held on this rank");
-  return static_cast<std::size_t>(held - held_cells_.begin());
+  return k;
 }
 
 CellType Tissue::type_of(int cell) const {
   return cells_partial_ ? held_types_[held_index(cell)] : type.at(static_cast<std::size_t>(cell));
 }
 
-std::array<double, 2> Tissue::centre_um(int cell) const {
+CellCentre Tissue::centre_of(int cell) const {
   if (!cells_partial_) {
     const auto c = static_cast<std::size_t>(cell);
-    return {x_um.at(c), y_um.at(c)};
+    return {cell, x_um.at(c), y_um.at(c)};
   }
-  if (!every_cell_) throw std::logic_error("Tissue::centre_um: the cells' centres were freed");
-  const CellCentre& held = held_cells_[held_index(cell)];
-  return {held.x_um, held.y_um};
+  if (!every_cell_) throw std::logic_error("Tissue::centre_of: the cells' centres were freed");
+  return held_cells_[held_index(cell)];
 }
 
 std::vector<CellType> Tissue::types_of(const std::vector<int>& cells) const {
@@ -97,10 +102,9 @@ std::vector<CellType> Tissue::types_of(const std::vector<int>& cells) const {
   // Those not held, by cell number, then one pass over every cell for them.
   std::vector<std::pair<int, std::size_t>> wanted;
   for (std::size_t k = 0; k < cells.size(); ++k) {
-    const auto held = std::lower_bound(held_cells_.begin(), held_cells_.end(), cells[k],
-                                       [](const CellCentre& c, int want) { return c.cell < want; });
-    if (held != held_cells_.end() && held->cell == cells[k])
-      types[k] = held_types_[static_cast<std::size_t>(held - held_cells_.begin())];
+    const std::size_t held = find_held(cells[k]);
+    if (held < held_cells_.size())
+      types[k] = held_types_[held];
     else
       wanted.emplace_back(cells[k], k);
   }
@@ -213,7 +217,7 @@ int CellComponents::largest() const {
 }
 
 bool end_to_end(const Tissue& tissue, int i, int j) {
-  return std::abs(tissue.centre_um(i)[0] - tissue.centre_um(j)[0]) < kParticleRadius_um;
+  return std::abs(tissue.centre_of(i).x_um - tissue.centre_of(j).x_um) < kParticleRadius_um;
 }
 
 CellComponents cell_graph_components(const Tissue& tissue) {

@@ -105,7 +105,7 @@ struct Tissue {
   // A cell's type and centre, held whole or in part (std::logic_error if
   // not held, or its centre released).
   CellType type_of(int cell) const;
-  std::array<double, 2> centre_um(int cell) const;
+  CellCentre centre_of(int cell) const;
   // The types of some cells, held or not: a tissue holding part of its
   // cells reads those it does not hold from its stream, in one pass.
   std::vector<CellType> types_of(const std::vector<int>& cells) const;
@@ -148,7 +148,10 @@ struct Tissue {
   std::vector<CellType> held_types_;
   std::size_t partial_cell_count_ = 0, partial_myocytes_ = 0;
   std::shared_ptr<const CellStream> every_cell_;
-  std::size_t held_index(int cell) const;  // (std::logic_error if not held)
+  // A held cell's place in held_cells_: or held_cells_.size() if not held
+  // (find_held), or std::logic_error (held_index).
+  std::size_t find_held(int cell) const;
+  std::size_t held_index(int cell) const;
 };
 
 // A bounding box (x_min, x_max, y_min, y_max) that holds nothing yet, and

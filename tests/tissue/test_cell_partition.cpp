@@ -400,12 +400,12 @@ TEST_CASE("cut without the graph: the whole tissue's partition and cut, the rank
       for (int cell = 0;; ++cell)
         if (!std::binary_search(held_cells.begin(), held_cells.end(), cell)) return cell;
     }();
-    CHECK_THROWS_AS(part.centre_um(not_held), std::logic_error);
+    CHECK_THROWS_AS(part.centre_of(not_held), std::logic_error);
     CHECK_THROWS_AS(part.type_of(not_held), std::logic_error);
     part.release_centres();
     CHECK(part.centres_released());
     CHECK_THROWS_AS(part.for_each_centre([](int, double, double) {}), std::logic_error);
-    CHECK_THROWS_AS(part.centre_um(held_cells.front()), std::logic_error);
+    CHECK_THROWS_AS(part.centre_of(held_cells.front()), std::logic_error);
     CHECK_THROWS_AS(part.type_of(held_cells.front()), std::logic_error);
     CHECK(part.cell_count() == whole.cell_count());
     CHECK(part.count(CellType::fibroblast) == whole.count(CellType::fibroblast));
